@@ -1,0 +1,11 @@
+"""rcb4hv: host library, CLI and firmware emulator for the Kondo RCB-4HV robot controller."""
+
+from __future__ import annotations
+
+import logging
+
+__version__ = "0.1.0"
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+__all__ = ["__version__"]

@@ -1,0 +1,1 @@
+"""The ``rcb4hv`` command line."""

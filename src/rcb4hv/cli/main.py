@@ -1,0 +1,40 @@
+"""Entry point of the ``rcb4hv`` command line.
+
+Each command group lives in its own module with a ``register(group)`` function, so the
+modules stay independent of each other.
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+
+import click
+
+from rcb4hv import __version__
+
+# Modules that contribute commands; each defines ``register(cli: click.Group) -> None``.
+COMMAND_MODULES = (
+    "rcb4hv.cli.decode_cmd",
+    "rcb4hv.cli.emulate_cmd",
+    "rcb4hv.cli.board_cmd",
+    "rcb4hv.cli.project_cmd",
+)
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="rcb4hv")
+@click.option("-v", "--verbose", count=True, help="Log more (-v info, -vv debug).")
+def cli(verbose: int) -> None:
+    """Drive a Kondo RCB-4HV board, or its emulator, from the shell."""
+    level = logging.WARNING - 10 * min(verbose, 2)
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+
+
+for _name in COMMAND_MODULES:
+    importlib.import_module(_name).register(cli)
+
+
+def main() -> None:
+    """Console-script entry point."""
+    cli()
