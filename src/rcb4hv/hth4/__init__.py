@@ -1,0 +1,1 @@
+"""HeartToHeart4 files (Kondo's Windows motion editor)."""
