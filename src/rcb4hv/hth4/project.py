@@ -56,15 +56,12 @@ def parse_project(data: bytes | str) -> Project:
         motions=tuple(
             _read_motion(e) for e in r.child("MotionDataCollection").items("DictionaryEntry")
         ),
-        servos=tuple(
-            _read_servo(e) for e in r.child("ServoConfigParams").items("DictionaryEntry")
-        ),
+        servos=tuple(_read_servo(e) for e in r.child("ServoConfigParams").items("DictionaryEntry")),
         startup_motion_address=r.int_of("StartupMotionAddress"),
         low_power_motion_address=r.int_of("LowPowerMotionAddress"),
         low_power_value=r.int_of("LowPowerValue"),
         priority_motions=tuple(
-            _read_priority(e)
-            for e in r.child("PriorityMotionCollection").items("DictionaryEntry")
+            _read_priority(e) for e in r.child("PriorityMotionCollection").items("DictionaryEntry")
         ),
         picture_file_name=r.opt_str_of("PictureFileName"),
         link_file_list=_read_raw_list(r, "LinkFileList"),
