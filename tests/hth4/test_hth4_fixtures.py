@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from decimal import Decimal
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -38,7 +40,9 @@ def test_project_motion_slots(project: hth4.Project) -> None:
     assert (first.key, first.number, first.slot) == ("M001", 0, 1)
     assert first.name == "XL2G_101_微細歩行前"
     assert first.date == "2023-09-22T14:06:20.014026+09:00"
-    assert first.frames[0] == bytes.fromhex("13 12 00 FF 03 00 00 01 64 64 64 64 64 64 64 64 64 64 10")
+    assert first.frames[0] == bytes.fromhex(
+        "13 12 00 FF 03 00 00 01 64 64 64 64 64 64 64 64 64 64 10"
+    )
     assert len(first.frames) == 21
     assert first.address == 0x0B80
     empty = project.motion(18)
@@ -81,7 +85,13 @@ def test_servo_configuration(project: hth4.Project) -> None:
     assert len(project.servos) == 35
     assert [s.ics_number for s in project.servos] == list(range(35))
     s = project.servo(2)
-    assert (s.key, s.name, s.id, s.port, s.mode) == ("右肩（ピッチ）", "右肩（ピッチ）", 1, "SIO1", "Normal")
+    assert (s.key, s.name, s.id, s.port, s.mode) == (
+        "右肩（ピッチ）",
+        "右肩（ピッチ）",
+        1,
+        "SIO1",
+        "Normal",
+    )
     assert (s.trim, s.home_position, s.count) == (1350, 7500, 20)
     assert (s.rom_address, s.ram_address) == (0x0626 + 20 * 2, 0x0090 + 20 * 2)
     assert s.display_rate == Decimal("1.0") and s.location == hth4.Point(296, 88)
@@ -100,7 +110,12 @@ def test_config_adc_kri3_and_startup(project: hth4.Project) -> None:
     assert project.adc_reference_words[:3] == (0, 0x0111, 0x0111)
     k = project.kri3
     assert (k.name, k.count, k.ram_address, k.device_number, k.code, k.id) == (
-        "KRI-3", 11, 0x034C, 35, 1, 31,
+        "KRI-3",
+        11,
+        0x034C,
+        35,
+        1,
+        31,
     )
     assert k.receive_data_size == 7
     assert project.startup_motion_address == 80768
@@ -117,7 +132,11 @@ def test_priority_motions(project: hth4.Project) -> None:
     assert keys == [str(i) for i in range(13)] + ["-1"]
     [(index, battery)] = project.active_priority_motions
     assert index == 0
-    assert (battery.port, battery.compare_type, battery.value) == ("Battery", "LessThanOrEqualTo", 223)
+    assert (battery.port, battery.compare_type, battery.value) == (
+        "Battery",
+        "LessThanOrEqualTo",
+        223,
+    )
     target = project.motion_at(battery.address)
     assert target is not None and target.name == battery.name == "XL2G_292_電圧低下"
 
@@ -143,7 +162,13 @@ def test_trim_file(project: hth4.Project) -> None:
     trim = hth4.load_trim(fixture(TRIM))
     assert len(trim.entries) == 35
     e = trim.by_ics[3]
-    assert (e.key, e.name, e.id, e.trim, e.position) == ("左肩（ピッチ）", "左肩（ピッチ）", 1, -1350, 7500)
+    assert (e.key, e.name, e.id, e.trim, e.position) == (
+        "左肩（ピッチ）",
+        "左肩（ピッチ）",
+        1,
+        -1350,
+        7500,
+    )
     differing = {t.ics_number for t in trim.entries if t.trim != project.servo(t.ics_number).trim}
     assert differing == {12, 14, 15}
 
@@ -153,7 +178,12 @@ def test_motion_list_matches_project(project: hth4.Project) -> None:
     assert mlist.header == hth4.motionlist.DEFAULT_HEADER
     assert len(mlist.entries) == 120
     row = mlist.entries[9]
-    assert (row.key, row.name, row.button_data, row.button_label) == ("M010", "XL2G_110_高速歩行後", 514, "↓+S1")
+    assert (row.key, row.name, row.button_data, row.button_label) == (
+        "M010",
+        "XL2G_110_高速歩行後",
+        514,
+        "↓+S1",
+    )
     assert (row.used_bytes, row.used_percent, row.address) == (592, Decimal("28.9"), 21376)
     assert mlist.entries[17].name == "名称未設定"
     assert tuple(hth4.MotionListEntry.from_motion(m) for m in project.motions) == mlist.entries
@@ -161,7 +191,8 @@ def test_motion_list_matches_project(project: hth4.Project) -> None:
 
 # -- round trips -----------------------------------------------------------------------------
 
-_KINDS = {
+_Parse = Callable[[bytes | str], object]
+_KINDS: dict[str, tuple[_Parse, Callable[[Any], bytes]]] = {
     ".h4p": (hth4.parse_project, hth4.dump_project),
     ".xml": (hth4.parse_motion_xml, hth4.dump_motion_xml),
     ".h4t": (hth4.parse_trim, hth4.dump_trim),

@@ -85,10 +85,22 @@ kri3 = st.builds(
     name=opt_text,
     **{
         f: i32
-        for f in (
-            "count rom_address ram_address device_number code id receive_data_address "
-            "receive_data_size button_value pa1 pa2 pa3 pa4 checksum"
-        ).split()
+        for f in [
+            "count",
+            "rom_address",
+            "ram_address",
+            "device_number",
+            "code",
+            "id",
+            "receive_data_address",
+            "receive_data_size",
+            "button_value",
+            "pa1",
+            "pa2",
+            "pa3",
+            "pa4",
+            "checksum",
+        ]
     },
 )
 priority = st.builds(
