@@ -1,0 +1,64 @@
+"""`make bench`: run every benchmark module, print a table of ratios, write bench/results.json.
+
+Each module in MODULES defines ``run() -> list[dict]`` with keys ``name``, ``ours_us``,
+``wire_us`` (the reference time the figure is compared with, e.g. the wire time at
+1,250,000 baud or the real duration), ``ratio`` (ours / reference) and optionally
+``target`` (the ratio we aim for) and ``note``. All figures come from one run, side by side.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import platform
+import sys
+from pathlib import Path
+from typing import Any
+
+MODULES = (
+    "bench.bench_protocol",
+    "bench.bench_emulator",
+    "bench.bench_client",
+    "bench.bench_project",
+)
+
+RESULTS = Path(__file__).resolve().parent / "results.json"
+
+
+def main() -> int:
+    results: list[dict[str, Any]] = []
+    for name in MODULES:
+        try:
+            module = importlib.import_module(name)
+        except ModuleNotFoundError as exc:
+            if exc.name == name:
+                print(f"(skipping {name}: not present)")
+                continue
+            raise
+        results.extend(module.run())
+    print(f"\nrcb4hv benchmarks on Python {platform.python_version()} ({platform.machine()})\n")
+    print(f"{'benchmark':<58} {'ours µs':>11} {'reference µs':>13} {'ratio':>9} {'target':>8}")
+    failed = 0
+    for r in results:
+        target = r.get("target")
+        mark = ""
+        if target is not None:
+            ok = r["ratio"] <= target if r.get("lower_is_better", True) else r["ratio"] >= target
+            mark = "" if ok else "  (misses target)"
+            failed += 0 if ok else 1
+        tgt = (
+            ""
+            if target is None
+            else f"{'<=' if r.get('lower_is_better', True) else '>='}{target:g}"
+        )
+        print(
+            f"{r['name']:<58} {r['ours_us']:>11.2f} {r['wire_us']:>13.2f} {r['ratio']:>9.4g} "
+            f"{tgt:>8}{mark}"
+        )
+    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
+    print(f"\nwrote {RESULTS} ({len(results)} results; {failed} miss their target)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

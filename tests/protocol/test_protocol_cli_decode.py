@@ -1,0 +1,64 @@
+"""``rcb4hv decode``: readable and JSON output, one-line errors with exit status 1."""
+
+from __future__ import annotations
+
+import json
+
+from click.testing import CliRunner
+from hypothesis import given
+
+from rcb4hv import protocol as p
+from rcb4hv.cli.main import cli
+from rcb4hv.protocol.describe import describe_command
+from tests.strategies import commands
+
+
+def run(*args: str) -> tuple[int, str, str]:
+    result = CliRunner().invoke(cli, ["decode", *args])
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_single_servo_move_is_readable() -> None:
+    code, out, _ = run("07", "0F", "02", "1E", "4C", "1D", "9F")
+    assert code == 0
+    assert "RunSingleServo: ICS 2 to position 7500" in out
+    assert "at speed 30" in out
+
+
+def test_json_output_has_command_and_fields() -> None:
+    code, out, _ = run("--json", "0D10010200000 00A4C1D401FF2", "04 10 06 1A")
+    assert code == 0
+    first, second = (json.loads(line) for line in out.splitlines())
+    assert first["command"] == "RunConstFrameServo"
+    assert first["speed"] == 10
+    assert first["positions"] == [[0, 7500], [9, 8000]]
+    assert second["reply"] == "ACK of 10h"
+
+
+def test_bad_checksum_is_one_line_error() -> None:
+    code, out, err = run("07 0F 02 1E 4C 1D 00")
+    assert code == 1
+    assert out == ""
+    assert err.count("\n") == 1 and "checksum" in err
+
+
+def test_truncated_frame_reports_offset() -> None:
+    code, out, err = run("03 0D 10 07 0B 4B")
+    assert code == 1
+    assert "Return" in out
+    assert "byte 3: truncated frame" in err
+
+
+def test_not_hex() -> None:
+    code, _, err = run("zz")
+    assert code == 2
+    assert "not hex" in err
+
+
+@given(commands)
+def test_every_command_describes_and_serialises(cmd: p.Command) -> None:
+    text = describe_command(cmd)
+    assert text.startswith(type(cmd).__name__)
+    code, out, _ = run("--json", p.encode_command(cmd).hex())
+    assert code == 0
+    assert json.loads(out)["command"] == type(cmd).__name__
