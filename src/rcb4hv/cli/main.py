@@ -19,6 +19,7 @@ COMMAND_MODULES = (
     "rcb4hv.cli.emulate_cmd",
     "rcb4hv.cli.board_cmd",
     "rcb4hv.cli.project_cmd",
+    "rcb4hv.cli.asm_cmd",
 )
 
 
