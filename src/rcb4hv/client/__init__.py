@@ -1,0 +1,52 @@
+"""Host side: the typed wire-level client and the robot-level API.
+
+>>> from rcb4hv.client import Robot
+>>> with Robot.open("rcb4emu://") as robot:          # doctest: +SKIP
+...     robot.discover_servos()
+"""
+
+from __future__ import annotations
+
+from rcb4hv.client.core import (
+    DEFAULT_TIMEOUT,
+    MAX_READ,
+    MAX_WRITE,
+    ROM_WRITE_CHUNK,
+    CommandNotAllowedError,
+    Progress,
+    Rcb4Client,
+    VerifyError,
+)
+from rcb4hv.client.robot import (
+    HTH4_20,
+    HTH4_22,
+    BoardInfo,
+    Calibration,
+    MotionLayout,
+    MotionStatus,
+    Robot,
+    ServoInfo,
+    TimerState,
+    plan_reads,
+)
+
+__all__ = [
+    "DEFAULT_TIMEOUT",
+    "HTH4_20",
+    "HTH4_22",
+    "MAX_READ",
+    "MAX_WRITE",
+    "ROM_WRITE_CHUNK",
+    "BoardInfo",
+    "Calibration",
+    "CommandNotAllowedError",
+    "MotionLayout",
+    "MotionStatus",
+    "Progress",
+    "Rcb4Client",
+    "Robot",
+    "ServoInfo",
+    "TimerState",
+    "VerifyError",
+    "plan_reads",
+]

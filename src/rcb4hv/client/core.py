@@ -1,0 +1,497 @@
+"""The typed client: one method per command of the reference, one transaction at a time."""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable, Iterable, Mapping
+from types import TracebackType
+from typing import Final
+
+from rcb4hv.errors import ChecksumError, FrameError, NakError, ProtocolError, Rcb4TimeoutError
+from rcb4hv.protocol import (
+    ALWAYS,
+    MAX_REPLY_SIZE,
+    NEED_DATA,
+    Ack,
+    AcknowledgeCheck,
+    Add,
+    And,
+    Call,
+    Com,
+    Command,
+    CommunicateDevice,
+    Condition,
+    Data,
+    DataReply,
+    Destination,
+    Div,
+    FrameDecoder,
+    GetVersionInfo,
+    Jump,
+    Mod,
+    Move,
+    Mul,
+    Nak,
+    Not,
+    Or,
+    Ram,
+    Reply,
+    Return,
+    Rom,
+    RunConstFrameServo,
+    RunSeriesServo,
+    RunSingleServo,
+    SetSpeed,
+    SetStretch,
+    Shift,
+    Source,
+    Sub,
+    VersionReply,
+    Xor,
+    decode_reply,
+    reply_length,
+)
+from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+from rcb4hv.transport import (
+    BAUD_RATES,
+    DEFAULT_BAUD,
+    SerialTransport,
+    Transport,
+    open_transport,
+)
+
+__all__ = [
+    "DEFAULT_TIMEOUT",
+    "MAX_READ",
+    "MAX_WRITE",
+    "ROM_WRITE_CHUNK",
+    "CommandNotAllowedError",
+    "Progress",
+    "Rcb4Client",
+    "VerifyError",
+]
+
+log = logging.getLogger(__name__)
+
+DEFAULT_TIMEOUT: Final = 0.5
+MAX_READ: Final = 128
+"""Bytes one MOVE to COM can read (its reply frame is 131 bytes)."""
+MAX_WRITE: Final = 121
+"""Literal bytes one MOVE can carry in a 128-byte command frame."""
+ROM_WRITE_CHUNK: Final = 64
+"""ROM writes go in 64-byte chunks aligned on 64-byte boundaries: one chunk fits a MOVE literal
+(at most 121 bytes) and never straddles an EEPROM write page (64 or 128 bytes on the parts
+used in this board family), so no page write ever wraps around inside its page."""
+
+Progress = Callable[[int, int], None]
+"""Progress callback: ``progress(done_bytes, total_bytes)``."""
+
+
+class CommandNotAllowedError(PermissionError):
+    """A command the client refuses unless explicitly enabled (ICS communication, 0Eh)."""
+
+
+class VerifyError(ProtocolError):
+    """Reading back memory just written gave different bytes."""
+
+    def __init__(self, message: str, address: int) -> None:
+        super().__init__(message)
+        self.address = address
+
+
+def _name(command: Command) -> str:
+    return type(command).__name__
+
+
+class Rcb4Client:
+    """A connection to one board speaking the RCB-4HV protocol.
+
+    Methods map one to one onto the commands of Kondo's command reference (``move``, ``and_``,
+    ... ``acknowledge_check``); each returns a typed result or raises a typed error:
+    :class:`~rcb4hv.errors.NakError` (the board refused), :class:`~rcb4hv.errors.Rcb4TimeoutError`
+    (no complete reply in time), :class:`~rcb4hv.errors.ChecksumError` (the reply arrived
+    damaged), :class:`~rcb4hv.errors.FrameError` (a reply of the wrong shape) or
+    :class:`~rcb4hv.errors.TransportError` (the link failed). Bad arguments raise
+    ``ValueError`` before any byte is sent.
+
+    The client is thread-safe: one transaction at a time under a lock. Bytes that arrive
+    before the reply and cannot start it (stray bytes, late replies to earlier requests) are
+    discarded and logged.
+    """
+
+    def __init__(
+        self,
+        transport: Transport,
+        *,
+        timeout: float = DEFAULT_TIMEOUT,
+        allow_communicate_device: bool = False,
+        corrupt_grace: float = 0.02,
+    ) -> None:
+        if not timeout > 0:
+            raise ValueError("timeout must be > 0")
+        self.transport = transport
+        self.timeout = timeout
+        self.allow_communicate_device = allow_communicate_device
+        self.corrupt_grace = corrupt_grace
+        self._lock = threading.Lock()
+        self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
+
+    # ------------------------------------------------------------------ lifecycle
+
+    @classmethod
+    def open(
+        cls,
+        url: str | None = None,
+        *,
+        baudrate: int | None = DEFAULT_BAUD,
+        timeout: float = DEFAULT_TIMEOUT,
+        allow_communicate_device: bool = False,
+    ) -> Rcb4Client:
+        """Open ``url`` (None: the Kondo adapter found by VID/PID, or ``$RCB4HV_PORT``).
+
+        ``baudrate=None`` detects the rate: an ACK check at 1,250,000, 625,000, then 115,200.
+        """
+        transport = open_transport(url, baudrate or DEFAULT_BAUD)
+        client = cls(transport, timeout=timeout, allow_communicate_device=allow_communicate_device)
+        if baudrate is None:
+            try:
+                client.detect_baudrate()
+            except BaseException:
+                client.close()
+                raise
+        return client
+
+    def detect_baudrate(self, rates: Iterable[int] = BAUD_RATES, probe_timeout: float = 0.1) -> int:
+        """Find the rate the board answers at (ACK check at each) and keep it."""
+        transport = self.transport
+        inner = getattr(transport, "inner", transport)
+        if not isinstance(inner, SerialTransport):
+            raise ValueError("baud detection needs a serial port")
+        for rate in rates:
+            inner.set_baudrate(rate)
+            try:
+                self.acknowledge_check(timeout=probe_timeout)
+            except (Rcb4TimeoutError, ProtocolError, NakError):
+                log.debug("%s: no ACK at %d baud", inner.url, rate)
+                continue
+            log.info("%s: board answers at %d baud", inner.url, rate)
+            return rate
+        from rcb4hv.errors import TransportError
+
+        raise TransportError(f"{inner.url}: no answer to an ACK check at any baud rate")
+
+    def close(self) -> None:
+        self.transport.close()
+
+    def reconnect(self) -> None:
+        """Reopen the transport (after a disconnect)."""
+        with self._lock:
+            self.transport.reopen()
+
+    def __enter__(self) -> Rcb4Client:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"<Rcb4Client {self.transport.url!r}>"
+
+    # ------------------------------------------------------------------ transactions
+
+    def transact(self, command: Command, timeout: float | None = None) -> Reply:
+        """Send ``command`` and return its reply (Ack, DataReply or VersionReply).
+
+        A NAK raises :class:`NakError`; see the class docstring for the other errors.
+        """
+        if isinstance(command, CommunicateDevice) and not self.allow_communicate_device:
+            raise CommandNotAllowedError(
+                "ICS communication (0Eh) is documented as 'must not be used'; "
+                "create the client with allow_communicate_device=True to send it"
+            )
+        frame = command.encode()
+        reply = self._exchange(frame, command, self.timeout if timeout is None else timeout)
+        if isinstance(reply, Nak):
+            raise NakError(f"board answered NAK to {_name(command)}", command.cmd)
+        return reply
+
+    def _exchange(self, frame: bytes, command: Command, timeout: float) -> Reply:
+        cmd = command.cmd
+        expected = reply_length(command)
+        transport = self.transport
+        decoder = self._decoder
+        with self._lock:
+            deadline = time.monotonic() + timeout
+            decoder.reset()
+            transport.reset_input()
+            transport.write(frame)
+            corrupt: ChecksumError | None = None
+            need = 4
+            while True:
+                chunk = transport.read(need, deadline)
+                if not chunk:
+                    partial = decoder.reset()
+                    if corrupt is not None:
+                        raise corrupt
+                    got = f" (incomplete: {partial.hex(' ')})" if partial else ""
+                    raise Rcb4TimeoutError(
+                        f"no reply to {_name(command)} within {timeout:g} s{got}"
+                    )
+                decoder.receive_data(chunk)
+                while True:
+                    pending = decoder.pending
+                    skip = 0
+                    n = len(pending)
+                    while skip < n and not (
+                        (pending[skip] == expected or pending[skip] == 4)
+                        and (skip + 1 >= n or pending[skip + 1] == cmd)
+                    ):
+                        skip += 1
+                    if skip:
+                        log.warning(
+                            "discarded %d stray byte(s) before the reply to %s: %s",
+                            skip,
+                            _name(command),
+                            pending[:skip].hex(" "),
+                        )
+                        decoder.reset()
+                        decoder.receive_data(pending[skip:])
+                        pending = pending[skip:]
+                    if not pending:
+                        need = 4
+                        break
+                    try:
+                        got_frame = decoder.next_frame()
+                    except ChecksumError as exc:
+                        log.warning("reply to %s with a bad checksum: %s", _name(command), exc)
+                        corrupt = ChecksumError(
+                            f"reply to {_name(command)} has a bad checksum: "
+                            f"{exc.frame.hex(' ')}",
+                            exc.frame,
+                        )
+                        deadline = min(deadline, time.monotonic() + self.corrupt_grace)
+                        continue
+                    if got_frame is NEED_DATA:
+                        need = max(pending[0] - len(pending), 1)
+                        break
+                    assert isinstance(got_frame, bytes)
+                    if got_frame == frame:
+                        log.debug("ignored an echo of the request")
+                        continue
+                    try:
+                        return decode_reply(got_frame, command)
+                    except ProtocolError as exc:
+                        raise FrameError(f"bad reply to {_name(command)}: {exc}") from exc
+
+    # ------------------------------------------------------------------ data commands
+
+    def move(self, dst: Destination, src: Source, size: int | None = None) -> bytes | None:
+        """00h MOVE: ``dst <- src``. Returns the bytes read when ``dst`` is ``Com()``."""
+        reply = self.transact(Move(dst, src, size))
+        return reply.data if isinstance(reply, DataReply) else None
+
+    def _data(self, command: Command) -> bytes:
+        reply = self.transact(command)
+        if not isinstance(reply, DataReply):
+            raise FrameError(f"expected a data reply to {_name(command)}, got {reply}")
+        return reply.data
+
+    def and_(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> bytes:
+        """01h AND; returns the result bytes."""
+        return self._data(And(dst, src, size, no_write))
+
+    def or_(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> bytes:
+        """02h OR; returns the result bytes."""
+        return self._data(Or(dst, src, size, no_write))
+
+    def xor(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> bytes:
+        """03h XOR; returns the result bytes."""
+        return self._data(Xor(dst, src, size, no_write))
+
+    def not_(self, dst: Destination, size: int, no_write: bool = False) -> bytes:
+        """04h NOT; returns the result bytes."""
+        return self._data(Not(dst, size, no_write))
+
+    def shift(self, dst: Destination, size: int, count: int, no_write: bool = False) -> bytes:
+        """05h SHIFT (count 1-127 right, 128-255 left by 256 - count); returns the result."""
+        return self._data(Shift(dst, size, no_write, count))
+
+    def add(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> int:
+        """06h ADD (1 or 2 bytes); returns the result as an unsigned int."""
+        return int.from_bytes(self._data(Add(dst, src, size, no_write)), "little")
+
+    def sub(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> int:
+        """07h SUB (1 or 2 bytes); returns the result as an unsigned int."""
+        return int.from_bytes(self._data(Sub(dst, src, size, no_write)), "little")
+
+    def multiply(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> int:
+        """08h MUL (1 or 2 bytes, low bytes kept); returns the result."""
+        return int.from_bytes(self._data(Mul(dst, src, size, no_write)), "little")
+
+    def division(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> int:
+        """09h DIV (1 or 2 bytes, unsigned); returns the quotient."""
+        return int.from_bytes(self._data(Div(dst, src, size, no_write)), "little")
+
+    def modulo(
+        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
+    ) -> int:
+        """0Ah MOD (1 or 2 bytes, unsigned); returns the remainder."""
+        return int.from_bytes(self._data(Mod(dst, src, size, no_write)), "little")
+
+    # ------------------------------------------------------------------ control flow
+
+    def jump(self, address: int, condition: Condition = ALWAYS) -> None:
+        """0Bh JUMP: set the ROM program counter (if ``condition`` holds)."""
+        self.transact(Jump(address, condition))
+
+    def call(self, address: int, condition: Condition = ALWAYS) -> None:
+        """0Ch CALL: push the PC and jump (how a host starts a motion)."""
+        self.transact(Call(address, condition))
+
+    def return_(self) -> None:
+        """0Dh RETURN: pop the PC."""
+        self.transact(Return())
+
+    def communicate_device(
+        self, ics: int, tx_count: int, tx_address: int, rx_address: int
+    ) -> None:
+        """0Eh ICS communication. Refused (CommandNotAllowedError) unless the client was created
+        with ``allow_communicate_device=True``: the reference says it must not be used."""
+        self.transact(CommunicateDevice(ics, tx_count, tx_address, rx_address))
+
+    # ------------------------------------------------------------------ servo commands
+
+    def run_single_servo(
+        self, ics: int, speed: int, position: int, set_update_flag: bool = True
+    ) -> None:
+        """0Fh: one servo to ``position`` in ``speed`` output periods."""
+        self.transact(RunSingleServo(ics, speed, position, set_update_flag))
+
+    def run_const_frame_servo(
+        self,
+        speed: int,
+        positions: Mapping[int, int] | Iterable[tuple[int, int]],
+        set_update_flag: bool = True,
+    ) -> None:
+        """10h: several servos, one speed; ``positions`` maps ICS number to position."""
+        self.transact(RunConstFrameServo(speed, positions, set_update_flag))
+
+    def run_series_servo(
+        self, moves: Iterable[tuple[int, int, int]], set_update_flag: bool = True
+    ) -> None:
+        """11h: several servos, each ``(ics, speed, position)``. One report says it resets a
+        real RCB-4HV; HeartToHeart4 never sends it."""
+        self.transact(RunSeriesServo(moves, set_update_flag))
+
+    def set_speed(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
+        """12h sub 02: servo speed parameter 1-127 per ICS number."""
+        self.transact(SetSpeed(values))
+
+    def set_stretch(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
+        """12h sub 01: servo stretch (holding gain) 1-127 per ICS number."""
+        self.transact(SetStretch(values))
+
+    # ------------------------------------------------------------------ system
+
+    def get_version_info(self, timeout: float | None = None) -> VersionReply:
+        """FDh: the 32-byte version string (``.text`` is its printable part)."""
+        reply = self.transact(GetVersionInfo(), timeout)
+        if not isinstance(reply, VersionReply):
+            raise FrameError(f"expected a version reply, got {reply}")
+        return reply
+
+    def acknowledge_check(self, long_form: bool = False, timeout: float | None = None) -> None:
+        """FEh: link check; returns when the board ACKs, raises otherwise."""
+        reply = self.transact(AcknowledgeCheck(long_form), timeout)
+        if not isinstance(reply, Ack):
+            raise FrameError(f"expected an ACK, got {reply}")
+
+    # ------------------------------------------------------------------ memory helpers
+
+    def read_ram(self, address: int, size: int) -> bytes:
+        """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
+        _check_span("RAM", address, size, RAM_SIZE)
+        out = bytearray()
+        for a in range(address, address + size, MAX_READ):
+            n = min(MAX_READ, address + size - a)
+            out += self._data(Move(Com(), Ram(a), n))
+        return bytes(out)
+
+    def write_ram(self, address: int, data: bytes) -> None:
+        """Write ``data`` to RAM (any size; 121 bytes per frame)."""
+        data = bytes(data)
+        _check_span("RAM", address, len(data), RAM_SIZE)
+        for i in range(0, len(data), MAX_WRITE):
+            self.transact(Move(Ram(address + i), Data(data[i : i + MAX_WRITE])))
+
+    def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
+        """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
+        _check_span("ROM", address, size, ROM_SIZE)
+        out = bytearray()
+        for a in range(address, address + size, MAX_READ):
+            n = min(MAX_READ, address + size - a)
+            out += self._data(Move(Com(), Rom(a), n))
+            if progress is not None:
+                progress(len(out), size)
+        return bytes(out)
+
+    def write_rom(
+        self,
+        address: int,
+        data: bytes,
+        *,
+        verify: bool = True,
+        progress: Progress | None = None,
+    ) -> None:
+        """Write ``data`` to ROM in 64-byte page-aligned chunks (see :data:`ROM_WRITE_CHUNK`),
+        reading each chunk back when ``verify`` (raises :class:`VerifyError` on a mismatch).
+        ``progress(done, total)`` counts bytes written (and verified)."""
+        data = bytes(data)
+        _check_span("ROM", address, len(data), ROM_SIZE)
+        total, done, a = len(data), 0, address
+        while done < total:
+            n = min(ROM_WRITE_CHUNK - a % ROM_WRITE_CHUNK, total - done)
+            chunk = data[done : done + n]
+            self.transact(Move(Rom(a), Data(chunk)))
+            if verify:
+                back = self._data(Move(Com(), Rom(a), n))
+                if back != chunk:
+                    bad = next(i for i in range(n) if back[i] != chunk[i])
+                    raise VerifyError(
+                        f"ROM {a + bad:06X}: wrote {chunk[bad]:02X}, read back {back[bad]:02X}",
+                        a + bad,
+                    )
+            done += n
+            a += n
+            if progress is not None:
+                progress(done, total)
+
+
+def _check_span(kind: str, address: int, size: int, limit: int) -> None:
+    if not isinstance(address, int) or not isinstance(size, int):
+        raise ValueError(f"{kind} address and size must be ints")
+    if size < 1:
+        raise ValueError(f"{kind} size {size} must be at least 1")
+    if address < 0 or address + size > limit:
+        raise ValueError(f"{kind} {address:#x}+{size} runs outside 0..{limit - 1:#x}")

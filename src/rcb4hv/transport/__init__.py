@@ -1,0 +1,62 @@
+"""Links to a board: a small :class:`Transport` interface and its implementations.
+
+* :class:`SerialTransport` — any pyserial ``serial_for_url`` port: device paths,
+  ``socket://host:port`` (e.g. ``rcb4hv emulate --tcp``), ``rfc2217://``, ``spy://`` (hex
+  trace of the traffic) and ``rcb4emu://`` (the emulator in process, no pty needed);
+* :class:`FaultyTransport` — wraps another transport and injects faults.
+
+:func:`open_transport` picks the right one for a URL, including ``fault://SPEC@URL``.
+"""
+
+from __future__ import annotations
+
+from rcb4hv.transport.base import Transport
+from rcb4hv.transport.faults import (
+    FAULT_SCHEME,
+    Fault,
+    FaultConfig,
+    FaultyTransport,
+    parse_fault_url,
+)
+from rcb4hv.transport.protocol_rcb4emu import emulator_url
+from rcb4hv.transport.serial_port import (
+    BAUD_RATES,
+    DEFAULT_BAUD,
+    KONDO_PIDS,
+    KONDO_VID,
+    SerialTransport,
+    find_kondo_ports,
+    resolve_port,
+)
+
+__all__ = [
+    "BAUD_RATES",
+    "DEFAULT_BAUD",
+    "EMULATOR_URL",
+    "KONDO_PIDS",
+    "KONDO_VID",
+    "Fault",
+    "FaultConfig",
+    "FaultyTransport",
+    "SerialTransport",
+    "Transport",
+    "emulator_url",
+    "find_kondo_ports",
+    "open_transport",
+    "parse_fault_url",
+    "resolve_port",
+]
+
+EMULATOR_URL = "rcb4emu://"
+
+
+def open_transport(url: str | None = None, baudrate: int = DEFAULT_BAUD) -> Transport:
+    """Open ``url`` (None: auto-detect the Kondo adapter, see :func:`resolve_port`).
+
+    ``fault://SPEC@URL`` opens URL wrapped in a :class:`FaultyTransport` configured by SPEC.
+    """
+    url = resolve_port(url)
+    if url.startswith(FAULT_SCHEME):
+        config, inner = parse_fault_url(url)
+        return FaultyTransport(open_transport(inner, baudrate), config)
+    return SerialTransport.open(url, baudrate)

@@ -1,0 +1,242 @@
+"""pyserial URL handler for ``rcb4emu://``: the board emulator, in process, without a pty.
+
+``serial_for_url("rcb4emu://?speed=10&rom=/path/img.bin")`` creates an emulator
+:class:`~rcb4hv.emulator.Board` running on a :class:`~rcb4hv.emulator.RealClock` (``speed``
+times real time) and serves it synchronously inside ``write()`` / ``read()``: no threads.
+
+Options (query string):
+
+* ``speed=S``   clock speed factor (default 1);
+* ``rom=PATH``  boot this ROM image file (written back on close if the board persists it);
+* ``latency=S`` seconds between a request and its reply (default: the board's
+  ``min_reply_latency_s``);
+* ``board=N``   serve a Board registered with :func:`emulator_url` instead of a new one
+  (tests use this to drive a board on a virtual clock and inspect its RAM).
+
+The handler module is found by pyserial because :mod:`rcb4hv.transport` appends itself to
+``serial.protocol_handler_packages`` on import.
+"""
+
+from __future__ import annotations
+
+import importlib
+import itertools
+import threading
+import time
+import urllib.parse
+import weakref
+from typing import TYPE_CHECKING, Any, Protocol
+
+from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+
+if TYPE_CHECKING:
+    from typing_extensions import Buffer
+
+__all__ = ["BoardLike", "Serial", "emulator_url"]
+
+SCHEME = "rcb4emu"
+
+
+class BoardLike(Protocol):
+    """The part of the emulator's Board this handler uses."""
+
+    def feed(self, data: bytes) -> bytes: ...
+
+    def tick(self) -> None: ...
+
+    def take_output(self) -> bytes: ...
+
+    def close(self) -> None: ...
+
+
+_boards: weakref.WeakValueDictionary[int, Any] = weakref.WeakValueDictionary()
+_ids = itertools.count(1)
+_ids_lock = threading.Lock()
+
+
+def emulator_url(board: BoardLike) -> str:
+    """Register ``board`` and return a ``rcb4emu://?board=N`` URL that serves it.
+
+    The registry holds the board weakly: keep a reference for as long as the URL is used.
+    Closing such a port does not close the board (its owner does).
+    """
+    with _ids_lock:
+        n = next(_ids)
+    _boards[n] = board
+    return f"{SCHEME}://?board={n}"
+
+
+class Serial(SerialBase):
+    """A pyserial port object whose far end is an in-process emulated board."""
+
+    BAUDRATES = (115200, 625000, 1250000)
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.board: Any = None
+        self._own_board = False
+        self._latency: float | None = None
+        self._speed = 1.0
+        self._rom: str | None = None
+        self._board_id: int | None = None
+        # (release time, bytes) chunks not yet visible to read()
+        self._pending: list[tuple[float, bytes]] = []
+        self._rx = bytearray()
+        super().__init__(*args, **kwargs)
+
+    # ------------------------------------------------------------------ pyserial plumbing
+
+    def open(self) -> None:
+        if self.is_open:
+            raise SerialException("port is already open")
+        if self.port is None:
+            raise SerialException("port must be configured before it can be used")
+        self._parse_url(str(self.port))
+        if self._board_id is not None:
+            board = _boards.get(self._board_id)
+            if board is None:
+                raise SerialException(f"no emulator board registered as {self._board_id}")
+            self.board, self._own_board = board, False
+        else:
+            try:
+                emu = importlib.import_module("rcb4hv.emulator")
+            except ImportError as exc:
+                raise SerialException(f"the emulator is not available: {exc}") from exc
+            try:
+                clock = emu.RealClock(speed=self._speed)
+                if self._rom is not None:
+                    self.board = emu.Board(clock=clock, rom_path=self._rom)
+                else:
+                    self.board = emu.Board(clock=clock)
+            except (OSError, ValueError) as exc:
+                raise SerialException(f"cannot start the emulator: {exc}") from exc
+            self._own_board = True
+        if self._latency is None:
+            cfg = getattr(self.board, "config", None)
+            self._latency = float(getattr(cfg, "min_reply_latency_s", 0.0))
+        self._pending.clear()
+        self._rx.clear()
+        self.is_open = True
+
+    def close(self) -> None:
+        if self.is_open:
+            self.is_open = False
+            if self._own_board and self.board is not None:
+                self.board.close()
+            self.board = None
+        super().close()
+
+    def _parse_url(self, url: str) -> None:
+        parts = urllib.parse.urlsplit(url)
+        if parts.scheme.lower() != SCHEME:
+            raise SerialException(f"expected {SCHEME}://[?speed=S&rom=PATH], got {url!r}")
+        self._speed, self._rom, self._latency, self._board_id = 1.0, None, None, None
+        try:
+            for key, values in urllib.parse.parse_qs(parts.query, True).items():
+                value = values[-1]
+                if key == "speed":
+                    self._speed = float(value)
+                    if not self._speed > 0:
+                        raise ValueError("speed must be > 0")
+                elif key == "rom":
+                    self._rom = value
+                elif key == "latency":
+                    self._latency = float(value)
+                    if self._latency < 0:
+                        raise ValueError("latency must be >= 0")
+                elif key == "board":
+                    self._board_id = int(value)
+                else:
+                    raise ValueError(f"unknown option {key!r}")
+        except ValueError as exc:
+            raise SerialException(f"bad {SCHEME}:// URL {url!r}: {exc}") from exc
+
+    def _reconfigure_port(self) -> None:
+        """Baud, parity and the rest mean nothing in process."""
+
+    def _update_break_state(self) -> None:
+        pass
+
+    def _update_rts_state(self) -> None:
+        pass
+
+    def _update_dtr_state(self) -> None:
+        pass
+
+    @property
+    def cts(self) -> bool:
+        return True
+
+    @property
+    def dsr(self) -> bool:
+        return True
+
+    @property
+    def ri(self) -> bool:
+        return False
+
+    @property
+    def cd(self) -> bool:
+        return True
+
+    # ------------------------------------------------------------------ data
+
+    def _pump(self) -> None:
+        """Run the board up to now and move every reply that is due into the read buffer."""
+        board = self.board
+        board.tick()
+        extra = board.take_output()
+        now = time.monotonic()
+        if extra:
+            self._pending.append((now, bytes(extra)))
+        if self._pending:
+            while self._pending and self._pending[0][0] <= now:
+                self._rx += self._pending.pop(0)[1]
+
+    @property
+    def in_waiting(self) -> int:
+        if not self.is_open:
+            raise PortNotOpenError()
+        self._pump()
+        return len(self._rx)
+
+    def write(self, data: Buffer) -> int:
+        if not self.is_open:
+            raise PortNotOpenError()
+        data = bytes(data)
+        reply = self.board.feed(data)
+        if reply:
+            due = time.monotonic() + (self._latency or 0.0)
+            self._pending.append((due, bytes(reply)))
+        return len(data)
+
+    def read(self, size: int = 1) -> bytes:
+        if not self.is_open:
+            raise PortNotOpenError()
+        timeout = self.timeout
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            self._pump()
+            if len(self._rx) >= size:
+                break
+            now = time.monotonic()
+            if deadline is not None and now >= deadline:
+                break
+            # sleep until the next reply is due (or a short poll for ticks), within the deadline
+            wake = self._pending[0][0] if self._pending else now + 0.001
+            if deadline is not None:
+                wake = min(wake, deadline)
+            if wake > now:
+                time.sleep(min(wake - now, 0.002))
+        out = bytes(self._rx[:size])
+        del self._rx[:size]
+        return out
+
+    def reset_input_buffer(self) -> None:
+        if not self.is_open:
+            raise PortNotOpenError()
+        self._pump()
+        self._rx.clear()
+
+    def reset_output_buffer(self) -> None:
+        pass
+

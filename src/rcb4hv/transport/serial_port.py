@@ -1,0 +1,158 @@
+"""Ports opened with pyserial's ``serial_for_url``: device paths, ``socket://``, ``rfc2217://``,
+``spy://`` (hex traces), ``loop://`` and the in-process emulator ``rcb4emu://``."""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+from typing import Final
+
+import serial
+import serial.tools.list_ports
+
+from rcb4hv.errors import TransportError
+from rcb4hv.transport.base import Transport
+
+__all__ = [
+    "BAUD_RATES",
+    "DEFAULT_BAUD",
+    "KONDO_PIDS",
+    "KONDO_VID",
+    "SerialTransport",
+    "find_kondo_ports",
+    "resolve_port",
+]
+
+log = logging.getLogger(__name__)
+
+KONDO_VID: Final = 0x165C
+KONDO_PIDS: Final = (0x0008, 0x0007)
+BAUD_RATES: Final = (1250000, 625000, 115200)
+DEFAULT_BAUD: Final = 1250000
+PORT_ENV: Final = "RCB4HV_PORT"
+
+# A pending timeout that differs from the wanted one by less than this is left alone:
+# changing pyserial's timeout reconfigures the port (a tcsetattr on POSIX).
+_TIMEOUT_SLACK: Final = 0.002
+
+
+def _register_handlers() -> None:
+    if "rcb4hv.transport" not in serial.protocol_handler_packages:
+        serial.protocol_handler_packages.append("rcb4hv.transport")
+
+
+_register_handlers()
+
+
+def find_kondo_ports() -> list[str]:
+    """Device names of every Kondo USB adapter (VID 165C, PID 0008 or 0007) plugged in."""
+    found = []
+    for info in serial.tools.list_ports.comports():
+        if info.vid == KONDO_VID and info.pid in KONDO_PIDS:
+            found.append(info.device)
+    return sorted(found)
+
+
+def resolve_port(port: str | None) -> str:
+    """The URL to open: ``port`` if given, else ``$RCB4HV_PORT``, else the one Kondo adapter."""
+    if port:
+        return port
+    env = os.environ.get(PORT_ENV)
+    if env:
+        return env
+    found = find_kondo_ports()
+    if not found:
+        raise TransportError(
+            "no Kondo USB adapter (VID 165C, PID 0008/0007) found; "
+            f"give a port (--port URL or ${PORT_ENV}), e.g. /dev/ttyUSB0 or rcb4emu://"
+        )
+    if len(found) > 1:
+        log.warning("several Kondo adapters found (%s); using %s", ", ".join(found), found[0])
+    return found[0]
+
+
+class SerialTransport(Transport):
+    """A :class:`Transport` over any pyserial port object, at 8E1."""
+
+    def __init__(self, port: serial.Serial, url: str | None = None) -> None:
+        self.port = port
+        self.url = url if url is not None else str(port.port)
+
+    @classmethod
+    def open(cls, url: str, baudrate: int = DEFAULT_BAUD) -> SerialTransport:
+        """Open ``url`` with ``serial_for_url`` at ``baudrate``, 8 data bits, even parity, 1 stop.
+
+        ``socket://`` and ``rcb4emu://`` ignore baud and parity.
+        """
+        if baudrate <= 0:
+            raise ValueError(f"baud rate {baudrate} must be positive")
+        try:
+            port = serial.serial_for_url(
+                url,
+                baudrate=baudrate,
+                bytesize=serial.EIGHTBITS,
+                parity=serial.PARITY_EVEN,
+                stopbits=serial.STOPBITS_ONE,
+                timeout=0.5,
+                write_timeout=2.0,
+            )
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"cannot open {url}: {exc}") from exc
+        log.debug("opened %s at %d baud", url, baudrate)
+        return cls(port, url)
+
+    @property
+    def is_open(self) -> bool:
+        return bool(self.port.is_open)
+
+    @property
+    def baudrate(self) -> int:
+        return int(self.port.baudrate)
+
+    def set_baudrate(self, baudrate: int) -> None:
+        try:
+            self.port.baudrate = baudrate
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
+
+    def write(self, data: bytes) -> None:
+        try:
+            self.port.write(data)
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"{self.url}: write failed: {exc}") from exc
+
+    def read(self, size: int, deadline: float) -> bytes:
+        port = self.port
+        remaining = deadline - time.monotonic()
+        if remaining < 0.0:
+            remaining = 0.0
+        try:
+            current = port.timeout
+            if current is None or abs(current - remaining) > _TIMEOUT_SLACK:
+                port.timeout = remaining
+            data = port.read(size)
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+        except TypeError as exc:  # pyserial on a port closed under it (fd None)
+            raise TransportError(f"{self.url}: port closed: {exc}") from exc
+        return bytes(data)
+
+    def reset_input(self) -> None:
+        try:
+            self.port.reset_input_buffer()
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
+
+    def close(self) -> None:
+        try:
+            self.port.close()
+        except (serial.SerialException, OSError) as exc:
+            log.debug("closing %s: %s", self.url, exc)
+
+    def reopen(self) -> None:
+        self.close()
+        try:
+            self.port.open()
+        except (serial.SerialException, OSError) as exc:
+            raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
