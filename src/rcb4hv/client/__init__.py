@@ -17,6 +17,7 @@ from rcb4hv.client.core import (
     Rcb4Client,
     VerifyError,
 )
+from rcb4hv.client.recorder import PositionRecorder, Sample
 from rcb4hv.client.robot import (
     HTH4_20,
     HTH4_22,
@@ -42,9 +43,11 @@ __all__ = [
     "CommandNotAllowedError",
     "MotionLayout",
     "MotionStatus",
+    "PositionRecorder",
     "Progress",
     "Rcb4Client",
     "Robot",
+    "Sample",
     "ServoInfo",
     "TimerState",
     "VerifyError",
