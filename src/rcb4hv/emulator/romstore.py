@@ -1,0 +1,88 @@
+"""A ROM image file that survives restarts and is never left torn by a crash.
+
+Writes only mark the store dirty; :meth:`RomStore.maybe_flush` (called by the board on every
+tick) writes the *whole* current image once ``delay`` seconds of real time have passed since
+the first unflushed write, and :meth:`flush` writes it now. A flush writes a temporary file in
+the same directory, fsyncs it, ``os.replace``-s it over the image and fsyncs the directory, so
+the file on disk is always a complete image: every page holds either its old or its new bytes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import tempfile
+import time
+from pathlib import Path
+
+__all__ = ["RomStore"]
+
+log = logging.getLogger(__name__)
+
+
+class RomStore:
+    """Persistence of one 256 KB ROM image at ``path``."""
+
+    def __init__(self, path: str | Path, size: int, delay: float = 0.25) -> None:
+        self.path = Path(path)
+        self.size = size
+        self.delay = delay
+        self._dirty_since: float | None = None
+        self.flushes = 0
+
+    def load(self) -> bytes | None:
+        """The stored image, or None if the file does not exist."""
+        try:
+            data = self.path.read_bytes()
+        except FileNotFoundError:
+            return None
+        if len(data) != self.size:
+            raise ValueError(f"{self.path}: a ROM image is {self.size} bytes, not {len(data)}")
+        return data
+
+    def mark_dirty(self) -> None:
+        if self._dirty_since is None:
+            self._dirty_since = time.monotonic()
+
+    @property
+    def dirty(self) -> bool:
+        return self._dirty_since is not None
+
+    def seconds_until_flush(self) -> float | None:
+        """Real seconds until a pending flush is due (0 if overdue), None if clean."""
+        if self._dirty_since is None:
+            return None
+        return max(0.0, self._dirty_since + self.delay - time.monotonic())
+
+    def maybe_flush(self, image: bytes | bytearray) -> None:
+        wait = self.seconds_until_flush()
+        if wait is not None and wait <= 0:
+            self.flush(image)
+
+    def flush(self, image: bytes | bytearray) -> None:
+        """Write ``image`` atomically (temp file + fsync + os.replace + directory fsync)."""
+        if len(image) != self.size:
+            raise ValueError("image size mismatch")
+        directory = self.path.parent
+        directory.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp", dir=directory)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(image)
+                f.flush()
+                os.fsync(f.fileno())
+            os.replace(tmp, self.path)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+        with contextlib.suppress(OSError):
+            dfd = os.open(directory, os.O_RDONLY)
+            try:
+                os.fsync(dfd)
+            finally:
+                os.close(dfd)
+        self._dirty_since = None
+        self.flushes += 1
+        log.debug("flushed ROM image to %s", self.path)

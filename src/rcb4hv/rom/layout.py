@@ -1,0 +1,96 @@
+"""Addresses of the HeartToHeart4 2.2 ROM image layout (spec section 11.2).
+
+The fixed instruction slots at the start of the image copy the project's data images (further
+up the ROM) into RAM, then fall into the main loop at :data:`MAIN_LOOP`. Motion ``n`` (1-120)
+lives at :func:`motion_address`.
+
+Where the spec gives only a region (the PIO direction switches at 0454h and the 25-byte
+priority-motion checks), this module fixes the project's own choice:
+
+* ``0454h`` holds an unconditional JUMP over 24 bytes reserved for PIO direction switches
+  (no source shows their bytes, so none are generated; the reserved bytes stay erased),
+* the 13 priority checks follow at :data:`PRIORITY_CHECKS` (25 bytes each:
+  ``SUB NW <source> - value`` (9), ``CALL <motion> if <cond>`` (7), ``MOVE sysreg <- value`` (9)
+  re-arming the system register after the motion), and an unused slot is a JUMP to the next
+  slot followed by erased bytes,
+* the JUMP back to :data:`MAIN_LOOP` sits at :data:`MAIN_LOOP_JUMP` (= 05B1h).
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+ROM_SIZE: Final = 0x40000
+ERASED: Final = 0xFF
+
+CONFIG_WRITE: Final = 0x00000
+PIO_DIRECTION_WRITE: Final = 0x00009
+PIO_DATA_WRITE: Final = 0x00012
+AD_REFERENCE_COPY: Final = 0x0001B
+SERVO_BLOCK_COPIES: Final = 0x00026
+SERVO_BLOCK_COPY_COUNT: Final = 35
+ALLOC_COPY: Final = 0x001A7
+KRI3_ALLOC_COPY: Final = 0x001B2
+KRI3_BLOCK_COPY: Final = 0x001BD
+VECTOR_PACKAGE_COPIES: Final = 0x001C8
+VECTOR_PACKAGE_COUNT: Final = 32
+VECTOR_ADDRESS_COPY: Final = 0x00328
+SYSTEM_REGISTER_COPY: Final = 0x00333
+ALL_FREE: Final = 0x0033E
+TIMER_WAIT: Final = 0x0038D
+ALL_HOLD: Final = 0x003A6
+ALL_HOME: Final = 0x003F5
+STARTUP_CALL: Final = 0x00444
+MAIN_LOOP: Final = 0x0044B
+PIO_SWITCHES: Final = 0x00454
+PIO_SWITCHES_SIZE: Final = 24
+PRIORITY_CHECKS: Final = 0x0046C
+PRIORITY_COUNT: Final = 13
+PRIORITY_SIZE: Final = 25
+MAIN_LOOP_JUMP: Final = 0x005B1
+
+SYSTEM_REGISTER_IMAGE: Final = 0x005DC
+ALLOC_IMAGE: Final = 0x005DE
+SERVO_BLOCK_IMAGES: Final = 0x00626
+SERVO_BLOCK_IMAGE_COUNT: Final = 36
+AD_REFERENCE_IMAGE: Final = 0x008F6
+KRI3_ALLOC_IMAGE: Final = 0x0090C
+KRI3_BLOCK_IMAGE: Final = 0x0090E
+KRI3_BLOCK_SIZE: Final = 11
+VECTOR_ADDRESS_IMAGE: Final = 0x00919
+VECTOR_PACKAGE_IMAGES: Final = 0x0091B
+TITLE: Final = 0x00A1B
+TITLE_SIZE: Final = 32
+PRIORITY_IMAGES: Final = 0x00A3B
+MOTIONS: Final = 0x00B80
+MOTION_SIZE: Final = 2048
+MOTION_COUNT: Final = 120
+STARTUP_STUB: Final = 0x3CB80
+
+# RAM targets of the copies (spec 10.1)
+RAM_SERVO_BLOCKS: Final = 0x0090
+SERVO_BLOCK_SIZE: Final = 20
+RAM_ALLOC: Final = 0x0044
+RAM_KRI3_ALLOC: Final = 0x008A
+RAM_KRI3_BLOCK: Final = 0x034C
+RAM_VECTOR_PACKAGES: Final = 0x0357
+RAM_VECTOR_ADDRESS: Final = 0x008C
+RAM_BUTTONS: Final = 0x0350
+TIMER_WAIT_COUNT: Final = 0x0010
+
+assert MAIN_LOOP_JUMP == PRIORITY_CHECKS + PRIORITY_COUNT * PRIORITY_SIZE
+assert PRIORITY_CHECKS == PIO_SWITCHES + PIO_SWITCHES_SIZE
+
+
+def motion_address(n: int) -> int:
+    """ROM address of motion ``n`` (1-120) in the HeartToHeart4 2.2 layout."""
+    if not 1 <= n <= MOTION_COUNT:
+        raise ValueError(f"motion numbers are 1..{MOTION_COUNT}, not {n}")
+    return MOTIONS + MOTION_SIZE * (n - 1)
+
+
+def motion_number(address: int) -> int | None:
+    """The motion slot (1-120) whose region holds ``address``, or None."""
+    if MOTIONS <= address < MOTIONS + MOTION_SIZE * MOTION_COUNT:
+        return (address - MOTIONS) // MOTION_SIZE + 1
+    return None
