@@ -489,6 +489,9 @@ def run_demo(output: Path, port: str | None, speed: float, motion_number: int) -
             f"system register {sysreg.to_word():04X}h: output period "
             f"{sysreg.frame_period_ms} ms, ROM program {'running' if sysreg.rom_run else 'idle'}"
         )
+        t0 = time.monotonic()
+        robot.wait_ready(timeout=10.0)
+        click.echo(f"ROM start-up program finished after {time.monotonic() - t0:.2f} s")
         servos = robot.discover_servos()
         click.echo(f"\n{len(servos)} servos found through the ICS allocation table:")
         print_table(SERVO_HEADERS, _servo_rows(servos, robot))
@@ -503,7 +506,8 @@ def run_demo(output: Path, port: str | None, speed: float, motion_number: int) -
             robot.hold()
             time.sleep(0.2 / speed)
             recorder.mark("move")
-            targets = {k: (30.0 if i % 2 == 0 else -30.0) for i, k in enumerate(joints)}
+            angles = (30.0, -20.0, 45.0, -40.0)
+            targets = {k: angles[i % 4] for i, k in enumerate(joints)}
             click.echo(
                 "\nmoving " + ", ".join(f"ICS {k} to {a:+.0f} deg" for k, a in targets.items())
                 + " in 0.8 s"

@@ -282,9 +282,6 @@ class Rcb4Client:
                         need = max(pending[0] - len(pending), 1)
                         break
                     assert isinstance(got_frame, bytes)
-                    if got_frame == frame:
-                        log.debug("ignored an echo of the request")
-                        continue
                     try:
                         return decode_reply(got_frame, command)
                     except ProtocolError as exc:

@@ -346,6 +346,24 @@ class Robot:
             servos=servos,
         )
 
+    def wait_ready(self, timeout: float = 5.0, poll: float = 0.02) -> None:
+        """Wait until the ROM program has finished its start-up: its PC is in the main loop
+        (between the layout's main loop and motion area) with an empty call stack, or the
+        program is stopped. A HeartToHeart4 image copies the servo table into RAM during
+        start-up, so call this before :meth:`discover_servos` right after power-on."""
+        deadline = time.monotonic() + timeout
+        lay = self.layout
+        while True:
+            head = self.client.read_ram(ADDR.SYSTEM, 6)
+            word, pc, depth = head[0] | head[1] << 8, int.from_bytes(head[2:5], "little"), head[5]
+            if not word & ROM_F or (lay.main_loop <= pc < lay.motion_base and depth == 0):
+                return
+            if time.monotonic() >= deadline:
+                raise Rcb4TimeoutError(
+                    f"ROM program not in its main loop after {timeout:g} s (PC {pc:06X})"
+                )
+            time.sleep(poll)
+
     # ------------------------------------------------------------------ servo discovery
 
     def allocation_table(self) -> list[int | None]:

@@ -1,0 +1,59 @@
+"""Fixtures of the client suite: a connected client per transport (in process, pty, TCP)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import ExitStack
+from dataclasses import dataclass
+from typing import Any
+
+import pytest
+
+from rcb4hv.client import Rcb4Client, Robot
+from rcb4hv.transport import emulator_url
+
+TRANSPORTS = ("inproc", "pty", "tcp")
+SPEED = 4.0  # emulator clock speed for the suite: motions play 4x faster than real time
+
+
+@dataclass
+class Rig:
+    """A client connected to an emulated board over one transport."""
+
+    kind: str
+    board: Any
+    client: Rcb4Client
+    robot: Robot
+    url: str
+
+
+def _emulator() -> Any:
+    return pytest.importorskip("rcb4hv.emulator", reason="the emulator is not available")
+
+
+def make_board(speed: float = SPEED, **config: Any) -> Any:
+    emu = _emulator()
+    cfg = emu.EmulatorConfig(**config) if config else emu.EmulatorConfig()
+    return emu.Board(cfg, clock=emu.RealClock(speed=speed))
+
+
+@pytest.fixture(params=TRANSPORTS)
+def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
+    """One connected client per transport; everything is closed on exit."""
+    kind: str = request.param
+    emu = _emulator()
+    board = make_board()
+    with ExitStack() as stack:
+        stack.callback(board.close)
+        if kind == "inproc":
+            url = emulator_url(board)
+        elif kind == "pty":
+            srv = stack.enter_context(emu.PtyServer(board))
+            url = str(srv.path)
+        else:
+            srv = stack.enter_context(emu.TcpServer(board, "127.0.0.1", 0))
+            host, port = srv.address[:2]
+            url = f"socket://{host}:{port}"
+        client = Rcb4Client.open(url, timeout=0.5)
+        stack.callback(client.close)
+        yield Rig(kind, board, client, Robot(client), url)
