@@ -289,6 +289,12 @@ class Board:
             self._consume(bytes(data), out)
         return bytes(out)
 
+    def reset_input(self) -> None:
+        """Drop partial input silently (the link was closed)."""
+        self._decoder.reset()
+        self._discard = 0
+        self._discard_cmd = None
+
     def take_output(self) -> bytes:
         """Bytes produced outside :meth:`feed` (a NAK after a frame timeout)."""
         out = bytes(self._output)

@@ -1,0 +1,328 @@
+"""Serve a :class:`~rcb4hv.emulator.Board` on a pseudo-terminal or a TCP socket.
+
+Both servers run one background thread that waits in ``select`` (never spins): the timeout is
+the board's :meth:`~rcb4hv.emulator.Board.poll_timeout` (an output period while the program
+runs or servos move, the frame timeout of a partial frame, a pending ROM flush), the time of
+the next queued reply, or nothing at all. Replies leave no sooner than
+``config.min_reply_latency_s`` after the request arrived (some clients flush their input right
+after writing) and, with ``config.pace_replies``, not before their bytes would have crossed the
+wire at the configured COM baud (11 bits a byte).
+
+The pty server keeps its own slave fd open (raw mode), so a client can close and reopen the
+slave path any number of times, with any termios settings (even parity, any supported baud).
+A pty cannot store PARENB, and recent Linux kernels fail a ``tcsetattr`` that changes nothing
+it can apply with EINVAL - which is what a reopen with the same settings plus even parity
+is. The server therefore re-arms a sentinel speed (B50) on its slave fd whenever the client
+has been active (before answering it) and at least every :data:`PTY_REARM` seconds, so the next
+open always changes the speed and succeeds. Speed means nothing on a pty.
+The TCP server serves one connection at a time; a new connection replaces the old one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import logging
+import os
+import pty
+import select
+import socket
+import termios
+import threading
+import time
+import tty
+from collections import deque
+from typing import Final
+
+from rcb4hv.emulator.board import Board
+from rcb4hv.protocol import BAUD_RATES
+
+__all__ = ["PtyServer", "TcpServer"]
+
+log = logging.getLogger(__name__)
+
+MIN_WAIT: Final = 0.001
+MAX_WAIT: Final = 1.0
+MAX_UNSENT: Final = 1 << 16
+PTY_REARM: Final = 0.2
+SENTINEL_SPEED: Final = termios.B50
+
+
+class _Server:
+    """Common loop: the board, the reply queue and the stop pipe."""
+
+    name = "rcb4hv-emulator"
+    _max_wait = MAX_WAIT
+
+    def __init__(self, board: Board) -> None:
+        self.board = board
+        self._queue: deque[tuple[float, bytes]] = deque()
+        self._unsent = bytearray()
+        self._stop_r, self._stop_w = os.pipe()
+        self._thread: threading.Thread | None = None
+        self._lock = threading.Lock()
+        self._closed = False
+        self.error: BaseException | None = None
+
+    @property
+    def lock(self) -> threading.Lock:
+        """Held by the server thread while it touches the board; hold it to inspect the board."""
+        return self._lock
+
+    # --------------------------------------------------------------- lifecycle
+
+    def start(self) -> None:
+        if self._thread is not None:
+            raise RuntimeError("server already started")
+        self._thread = threading.Thread(target=self._main, name=self.name, daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        """Stop the thread, join it and close every fd this server opened."""
+        if self._closed:
+            return
+        self._closed = True
+        with contextlib.suppress(OSError):
+            os.write(self._stop_w, b"x")
+        if self._thread is not None:
+            self._thread.join(timeout=10)
+        self._close_fds()
+        for fd in (self._stop_r, self._stop_w):
+            with contextlib.suppress(OSError):
+                os.close(fd)
+
+    def __enter__(self) -> _Server:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    # --------------------------------------------------------------- to override
+
+    def _close_fds(self) -> None:
+        raise NotImplementedError
+
+    def _read_fds(self) -> list[int]:
+        raise NotImplementedError
+
+    def _on_readable(self, fd: int) -> None:
+        raise NotImplementedError
+
+    def _out_fd(self) -> int | None:
+        raise NotImplementedError
+
+    # --------------------------------------------------------------- loop
+
+    def _schedule(self, data: bytes, received: float) -> None:
+        if not data:
+            return
+        cfg = self.board.config
+        at = received + cfg.min_reply_latency_s
+        if cfg.pace_replies:
+            baud = BAUD_RATES[(self.board.ram[0] >> 6) & 3]
+            at += len(data) * 11 / baud
+        self._queue.append((at, data))
+
+    def _flush_due(self, now: float) -> None:
+        while self._queue and self._queue[0][0] <= now:
+            self._unsent += self._queue.popleft()[1]
+        fd = self._out_fd()
+        if fd is None:
+            self._unsent.clear()
+            return
+        while self._unsent:
+            try:
+                n = os.write(fd, self._unsent)
+            except BlockingIOError:
+                break
+            except OSError as exc:
+                log.debug("write failed: %s", exc)
+                self._unsent.clear()
+                self._on_write_error()
+                break
+            del self._unsent[:n]
+        if len(self._unsent) > MAX_UNSENT:
+            del self._unsent[: len(self._unsent) - MAX_UNSENT]
+
+    def _on_write_error(self) -> None:
+        pass
+
+    def _housekeeping(self) -> None:
+        pass
+
+    def _timeout(self, now: float) -> float | None:
+        waits: list[float] = []
+        t = self.board.poll_timeout()
+        if t is not None:
+            waits.append(t)
+        if self._queue:
+            waits.append(self._queue[0][0] - now)
+        if not waits:
+            return self._max_wait
+        return min(self._max_wait, max(MIN_WAIT, min(waits)))
+
+    def _main(self) -> None:
+        try:
+            self._loop()
+        except BaseException as exc:  # pragma: no cover - logged, the thread ends
+            self.error = exc
+            log.exception("emulator server crashed")
+
+    def _loop(self) -> None:
+        board = self.board
+        while True:
+            now = time.monotonic()
+            fds = [self._stop_r, *self._read_fds()]
+            wfd = self._out_fd() if self._unsent else None
+            try:
+                readable, _w, _x = select.select(
+                    fds, [wfd] if wfd is not None else [], [], self._timeout(now)
+                )
+            except (OSError, ValueError) as exc:
+                log.debug("select: %s", exc)
+                time.sleep(MIN_WAIT)
+                continue
+            if self._stop_r in readable:
+                return
+            with self._lock:
+                for fd in readable:
+                    self._on_readable(fd)
+                self._housekeeping()
+                board.tick()
+                now = time.monotonic()
+                self._schedule(board.take_output(), now)
+                self._flush_due(now)
+
+    def _feed(self, data: bytes) -> None:
+        received = time.monotonic()
+        reply = self.board.feed(data)
+        self._schedule(reply, received)
+
+
+class PtyServer(_Server):
+    """Serve the board on a new pseudo-terminal; clients open :attr:`path`."""
+
+    name = "rcb4hv-emulator-pty"
+    _max_wait = PTY_REARM
+
+    def __init__(self, board: Board) -> None:
+        super().__init__(board)
+        self._master, self._slave = pty.openpty()
+        tty.setraw(self._slave)
+        os.set_blocking(self._master, False)
+        self.path = os.ttyname(self._slave)
+        self._rearm()
+
+    def _rearm(self) -> None:
+        """Put the sentinel speed on the slave so the next client open changes something."""
+        try:
+            attrs = termios.tcgetattr(self._slave)
+            if attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED:
+                return
+            attrs[4] = attrs[5] = SENTINEL_SPEED
+            attrs[2] = (attrs[2] & ~termios.CBAUD) | SENTINEL_SPEED
+            termios.tcsetattr(self._slave, termios.TCSANOW, attrs)
+        except (termios.error, OSError) as exc:
+            log.debug("could not re-arm the pty speed: %s", exc)
+
+    def _housekeeping(self) -> None:
+        self._rearm()
+
+    def _close_fds(self) -> None:
+        for fd in (self._master, self._slave):
+            with contextlib.suppress(OSError):
+                os.close(fd)
+
+    def _read_fds(self) -> list[int]:
+        return [self._master]
+
+    def _out_fd(self) -> int | None:
+        return self._master
+
+    def _on_readable(self, fd: int) -> None:
+        try:
+            data = os.read(self._master, 4096)
+        except BlockingIOError:
+            return
+        except OSError as exc:
+            if exc.errno == errno.EIO:  # no one has the slave open (cannot happen: we hold it)
+                time.sleep(MIN_WAIT)
+                return
+            raise
+        if data:
+            self._rearm()
+            self._feed(data)
+
+    def __enter__(self) -> PtyServer:
+        self.start()
+        return self
+
+
+class TcpServer(_Server):
+    """Serve the board on a TCP socket (127.0.0.1 by default); see :attr:`address`."""
+
+    name = "rcb4hv-emulator-tcp"
+
+    def __init__(self, board: Board, host: str = "127.0.0.1", port: int = 0) -> None:
+        super().__init__(board)
+        self._listener = socket.create_server((host, port))
+        self._listener.setblocking(False)
+        self._conn: socket.socket | None = None
+        addr = self._listener.getsockname()
+        self.address: tuple[str, int] = (addr[0], addr[1])
+
+    def _close_fds(self) -> None:
+        self._drop_conn()
+        self._listener.close()
+
+    def _drop_conn(self) -> None:
+        if self._conn is not None:
+            with contextlib.suppress(OSError):
+                self._conn.close()
+            self._conn = None
+            self._queue.clear()
+            self._unsent.clear()
+            self.board.reset_input()
+
+    def _read_fds(self) -> list[int]:
+        fds = [self._listener.fileno()]
+        if self._conn is not None:
+            fds.append(self._conn.fileno())
+        return fds
+
+    def _out_fd(self) -> int | None:
+        return None if self._conn is None else self._conn.fileno()
+
+    def _on_write_error(self) -> None:
+        self._drop_conn()
+
+    def _on_readable(self, fd: int) -> None:
+        if fd == self._listener.fileno():
+            try:
+                conn, peer = self._listener.accept()
+            except BlockingIOError:
+                return
+            self._drop_conn()
+            conn.setblocking(False)
+            conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            self._conn = conn
+            log.info("TCP client %s connected", peer)
+            return
+        if self._conn is None or fd != self._conn.fileno():
+            return
+        try:
+            data = self._conn.recv(4096)
+        except BlockingIOError:
+            return
+        except OSError:
+            data = b""
+        if not data:
+            log.info("TCP client disconnected")
+            self._drop_conn()
+            return
+        self._feed(data)
+
+    def __enter__(self) -> TcpServer:
+        self.start()
+        return self
