@@ -205,6 +205,7 @@ class _Listing:
         self.symbols = symbols
         self.labels = labels
         self.pc: int | None = None
+        self.placed: set[int] = set()
 
     def comment(self, text: str) -> None:
         if self.comments:
@@ -226,8 +227,9 @@ class _Listing:
             self.lines.append(f"    .org {rom_text(address)}")
             self.pc = address
         label = self.labels.get(address)
-        if label is not None:
+        if label is not None and address not in self.placed:
             self.lines.append(f"{label}:")
+            self.placed.add(address)
 
     def instruction(self, item: _Item) -> None:
         assert item.command is not None
@@ -252,10 +254,12 @@ class _Listing:
         i = 0
         while i < len(data):
             j = i + 1
-            while j < len(data) and data[j] == data[i]:
+            while j < len(data) and data[j] == data[i] and address + j not in self.labels:
                 j += 1
             if j - i >= run_min:
                 run_at = address + i
+                if run_at in self.labels:
+                    self._at(run_at)
                 if skip_erased and data[i] == 0xFF:
                     self.comment(f"{run_at:06X}: {j - i} erased bytes (FF)")
                 else:

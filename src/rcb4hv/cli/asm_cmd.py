@@ -1,9 +1,166 @@
-"""Commands of this group are added by their module's owner."""
+"""``rcb4hv asm`` and ``rcb4hv disasm``: RCB-4 programs as readable text and back."""
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import click
+
+from rcb4hv.asm import AsmError, assemble, disassemble, disassemble_frames, disassemble_image
+from rcb4hv.cli.decode_cmd import parse_hex
+
+
+def _address(text: str) -> int:
+    t = text.strip()
+    try:
+        if t.startswith("$"):
+            return int(t[1:], 16)
+        return int(t, 0)
+    except ValueError:
+        raise click.BadParameter(f"not an address: {text!r} (use 0x0B80, $000B80 or 2944)")
+
+
+class _Address(click.ParamType):
+    name = "ADDR"
+
+    def convert(
+        self, value: object, param: click.Parameter | None, ctx: click.Context | None
+    ) -> int:
+        if isinstance(value, int):
+            return value
+        return _address(str(value))
+
+
+ADDRESS = _Address()
+
+
+def _fail(message: str) -> None:
+    click.echo(f"error: {message}", err=True)
+    sys.exit(1)
+
+
+@click.command("asm")
+@click.argument("source", type=click.Path(dir_okay=False, allow_dash=True))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the bytes here.")
+@click.option("--origin", type=ADDRESS, default=None, help="ROM address of the first byte.")
+@click.option("--hex", "as_hex", is_flag=True, help="Write hex text (one frame a line).")
+def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> None:
+    """Assemble SOURCE ('-' = stdin) into RCB-4 command frames.
+
+    Without -o the frames are printed in hex, one per line, after their ROM address.
+    """
+    try:
+        text = click.open_file(source, encoding="utf-8").read()
+    except OSError as exc:
+        _fail(f"{source}: {exc.strerror or exc}")
+    try:
+        program = assemble(text, origin)
+    except AsmError as exc:
+        _fail(f"{source}:{exc.line}:{exc.column}: {exc.message}")
+    except ValueError as exc:
+        _fail(str(exc))
+    if output is not None and not as_hex:
+        Path(output).write_bytes(program.data)
+        click.echo(f"{len(program.data)} bytes at ${program.origin:06X} -> {output}", err=True)
+        return
+    lines = [f"{item.address:06X}  {item.data.hex(' ').upper()}" for item in program.items]
+    text_out = "\n".join(lines) + ("\n" if lines else "")
+    if output is not None:
+        Path(output).write_text(text_out, encoding="utf-8")
+    else:
+        click.echo(text_out, nl=False)
+
+
+@click.command("disasm")
+@click.argument("hex_words", metavar="[HEX...]", nargs=-1)
+@click.option("--hex-file", type=click.Path(exists=True, dir_okay=False), help="Hex text file.")
+@click.option("--bin", "bin_file", type=click.Path(exists=True, dir_okay=False),
+              help="Binary file of ROM bytes (placed at --origin).")
+@click.option("--image", type=click.Path(exists=True, dir_okay=False),
+              help="A whole 256 KB ROM image (HeartToHeart4 2.2 layout).")
+@click.option("--project", type=click.Path(exists=True, dir_okay=False),
+              help="HeartToHeart4 project (.h4p); with --motion N.")
+@click.option("--motion", type=int, help="Motion slot (1-120) of --project.")
+@click.option("--origin", type=ADDRESS, default=None, help="ROM address of the first byte.")
+@click.option("--no-labels", is_flag=True, help="Write branch targets as addresses.")
+@click.option("--no-comments", is_flag=True, help="Leave out addresses and notes.")
+@click.option("--no-symbols", is_flag=True, help="Write RAM addresses as numbers.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the text here.")
+def disasm(
+    hex_words: tuple[str, ...],
+    hex_file: str | None,
+    bin_file: str | None,
+    image: str | None,
+    project: str | None,
+    motion: int | None,
+    origin: int | None,
+    no_labels: bool,
+    no_comments: bool,
+    no_symbols: bool,
+    output: str | None,
+) -> None:
+    """Disassemble RCB-4 frames into assembler text.
+
+    Give exactly one input: hex on the command line, --hex-file, --bin, --image or
+    --project with --motion. Example: rcb4hv disasm 07 0B 4B 04 00 05 66
+    """
+    given = [bool(hex_words), hex_file, bin_file, image, project]
+    if sum(1 for g in given if g) != 1:
+        _fail("give exactly one input: HEX..., --hex-file, --bin, --image or --project")
+    if (motion is None) != (project is None):
+        _fail("--project and --motion go together")
+    kw = {"comments": not no_comments, "symbols": not no_symbols}
+    try:
+        if image is not None:
+            if origin is not None:
+                _fail("--origin does not apply to --image")
+            text = disassemble_image(Path(image).read_bytes(), **kw)
+        elif project is not None:
+            assert motion is not None
+            text = _project_motion(project, motion, origin, labels=not no_labels, **kw)
+        else:
+            if hex_file is not None:
+                lines = Path(hex_file).read_text(encoding="utf-8").splitlines()
+                data = parse_hex(tuple(line.split("#", 1)[0] for line in lines))
+            elif bin_file is not None:
+                data = Path(bin_file).read_bytes()
+            else:
+                data = parse_hex(hex_words)
+            text = disassemble(data, origin or 0, labels=not no_labels, **kw)
+    except click.BadParameter as exc:
+        _fail(exc.format_message())
+    except (OSError, ValueError) as exc:
+        _fail(str(exc))
+    if output is not None:
+        Path(output).write_text(text, encoding="utf-8")
+    else:
+        click.echo(text, nl=False)
+
+
+def _project_motion(
+    path: str, slot: int, origin: int | None, *, labels: bool, comments: bool, symbols: bool
+) -> str:
+    from rcb4hv.hth4 import load_project
+
+    proj = load_project(path)
+    try:
+        m = proj.motion(slot)
+    except KeyError:
+        raise ValueError(f"{path}: no motion slot {slot}") from None
+    if m.is_empty:
+        raise ValueError(f"{path}: motion slot {slot} is empty")
+    header = f"; motion {m.slot}" + (f": {m.name}" if m.name else "") + "\n" if comments else ""
+    return header + disassemble_frames(
+        m.frames,
+        m.address if origin is None else origin,
+        labels=labels,
+        comments=comments,
+        symbols=symbols,
+    )
 
 
 def register(cli: click.Group) -> None:
-    """Add this module's commands to ``cli``."""
+    """Add ``asm`` and ``disasm`` to ``cli``."""
+    cli.add_command(asm)
+    cli.add_command(disasm)
