@@ -13,7 +13,7 @@ from rcb4hv.client import Rcb4Client, Robot
 from rcb4hv.transport import emulator_url
 
 TRANSPORTS = ("inproc", "pty", "tcp")
-SPEED = 4.0  # emulator clock speed for the suite: motions play 4x faster than real time
+SPEED = 10.0  # emulator clock speed for the suite: 10x real time keeps start-up short
 
 
 @dataclass
@@ -56,4 +56,6 @@ def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
             url = f"socket://{host}:{port}"
         client = Rcb4Client.open(url, timeout=0.5)
         stack.callback(client.close)
-        yield Rig(kind, board, client, Robot(client), url)
+        robot = Robot(client)
+        robot.wait_ready(timeout=5.0)
+        yield Rig(kind, board, client, robot, url)

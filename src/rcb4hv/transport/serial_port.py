@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import logging
 import os
+import select
 import time
 from typing import Final
 
@@ -32,9 +33,25 @@ BAUD_RATES: Final = (1250000, 625000, 115200)
 DEFAULT_BAUD: Final = 1250000
 PORT_ENV: Final = "RCB4HV_PORT"
 
-# A pending timeout that differs from the wanted one by less than this is left alone:
-# changing pyserial's timeout reconfigures the port (a tcsetattr on POSIX).
-_TIMEOUT_SLACK: Final = 0.002
+# Ports without a file descriptor to select() on are read in slices of this many seconds, so
+# a read overshoots its deadline by at most this much. (pyserial's timeout is never changed
+# after opening: on POSIX that reconfigures the port, and at custom baud rates such as
+# 1250000 the second tcsetattr is refused by some drivers, ptys included.)
+_SLICE: Final = 0.01
+
+
+def _port_errors() -> tuple[type[BaseException], ...]:
+    errors: tuple[type[BaseException], ...] = (serial.SerialException, OSError)
+    try:
+        import termios  # POSIX only; termios.error is not an OSError
+
+        errors += (termios.error,)
+    except ImportError:  # pragma: no cover - Windows
+        pass
+    return errors
+
+
+_PORT_ERRORS: Final = _port_errors()
 
 
 def _register_handlers() -> None:
@@ -78,6 +95,17 @@ class SerialTransport(Transport):
     def __init__(self, port: serial.Serial, url: str | None = None) -> None:
         self.port = port
         self.url = url if url is not None else str(port.port)
+        self._fd: int | None = None
+        try:
+            self._fd = int(port.fileno())
+        except (AttributeError, OSError, ValueError, serial.SerialException):
+            self._fd = None
+        wanted = 0 if self._fd is not None else _SLICE
+        try:
+            if port.timeout != wanted:
+                port.timeout = wanted
+        except _PORT_ERRORS as exc:
+            raise TransportError(f"{self.url}: cannot configure: {exc}") from exc
 
     @classmethod
     def open(cls, url: str, baudrate: int = DEFAULT_BAUD) -> SerialTransport:
@@ -94,10 +122,10 @@ class SerialTransport(Transport):
                 bytesize=serial.EIGHTBITS,
                 parity=serial.PARITY_EVEN,
                 stopbits=serial.STOPBITS_ONE,
-                timeout=0.5,
+                timeout=0,
                 write_timeout=2.0,
             )
-        except (serial.SerialException, OSError) as exc:
+        except _PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
         log.debug("opened %s at %d baud", url, baudrate)
         return cls(port, url)
@@ -113,46 +141,48 @@ class SerialTransport(Transport):
     def set_baudrate(self, baudrate: int) -> None:
         try:
             self.port.baudrate = baudrate
-        except (serial.SerialException, OSError) as exc:
+        except _PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
 
     def write(self, data: bytes) -> None:
         try:
             self.port.write(data)
-        except (serial.SerialException, OSError) as exc:
+        except _PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: write failed: {exc}") from exc
 
     def read(self, size: int, deadline: float) -> bytes:
-        port = self.port
-        remaining = deadline - time.monotonic()
-        if remaining < 0.0:
-            remaining = 0.0
+        port, fd = self.port, self._fd
+        buf = b""
         try:
-            current = port.timeout
-            if current is None or abs(current - remaining) > _TIMEOUT_SLACK:
-                port.timeout = remaining
-            data = port.read(size)
-        except (serial.SerialException, OSError) as exc:
+            while True:
+                buf += port.read(size - len(buf))  # non-blocking (fd) or one slice
+                if len(buf) >= size:
+                    return buf
+                remaining = deadline - time.monotonic()
+                if remaining <= 0.0:
+                    return buf
+                if fd is not None:
+                    select.select((fd,), (), (), remaining)
+        except (serial.SerialException, OSError, ValueError) as exc:
             raise TransportError(f"{self.url}: read failed: {exc}") from exc
         except TypeError as exc:  # pyserial on a port closed under it (fd None)
             raise TransportError(f"{self.url}: port closed: {exc}") from exc
-        return bytes(data)
 
     def reset_input(self) -> None:
         try:
             self.port.reset_input_buffer()
-        except (serial.SerialException, OSError) as exc:
+        except _PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
 
     def close(self) -> None:
         try:
             self.port.close()
-        except (serial.SerialException, OSError) as exc:
+        except _PORT_ERRORS as exc:
             log.debug("closing %s: %s", self.url, exc)
 
     def reopen(self) -> None:
         self.close()
         try:
             self.port.open()
-        except (serial.SerialException, OSError) as exc:
+        except _PORT_ERRORS as exc:
             raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
