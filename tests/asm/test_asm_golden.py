@@ -138,7 +138,13 @@ def test_conditions() -> None:
         return assemble(f"JUMP 0 IF {text}").data[5]
 
     assert [cond(c) for c in ("Z", "NZ", "C", "NC", "Z&C", "nz & nc", "ALWAYS")] == [
-        0x05, 0x04, 0x0A, 0x08, 0x0F, 0x0C, 0x00
+        0x05,
+        0x04,
+        0x0A,
+        0x08,
+        0x0F,
+        0x0C,
+        0x00,
     ]
     assert cond("COND=0x03") == 0x03  # flag values without compare bits round trip too
     assert format_command(p.decode_command(assemble("JUMP 0 IF COND=1").data)).endswith(

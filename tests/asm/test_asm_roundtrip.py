@@ -35,9 +35,7 @@ def test_every_fixture_motion_round_trips_at_its_address(
         assert program.origin == m.address, m.slot
         assert program.data == m.rom_bytes(), m.slot
         # every frame came back as a command, the FF markers as data
-        assert b"".join(program.frames) == b"".join(
-            f[: f[0]] for f in m.frames
-        ), m.slot
+        assert b"".join(program.frames) == b"".join(f[: f[0]] for f in m.frames), m.slot
         assert text.count(".byte FF") == sum(1 for f in m.frames if len(f) == f[0] + 1)
 
 

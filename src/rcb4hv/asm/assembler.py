@@ -396,8 +396,9 @@ def _source(t: _Text, labels: Labels) -> Source:
 def _destination(t: _Text, labels: Labels) -> Destination:
     op = _memory_operand(t, labels)
     if op is None:
-        raise t.error(f"bad destination operand {t.text!r}: expected RAM[..], ICS[n].., ROM[..]"
-                      " or COM")
+        raise t.error(
+            f"bad destination operand {t.text!r}: expected RAM[..], ICS[n].., ROM[..] or COM"
+        )
     return op
 
 
@@ -422,7 +423,7 @@ def _condition(t: _Text) -> Condition:
 def _pairs(parts: list[_Text], value: Callable[[_Text], int]) -> list[tuple[int, int]]:
     out: list[tuple[int, int]] = []
     for p in parts:
-        ics_text, eq, rest = p.text.partition("=")
+        ics_text, eq, _ = p.text.partition("=")
         if not eq:
             raise p.error(f"expected ICS=value, not {p.text!r}")
         ics = _check_range(p, "ICS number", _eval(_Text(ics_text, p.column, p.line)), 0, 35)
@@ -483,8 +484,13 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
             _want(parts, 2, 2, "NOT DEST, SIZE", where)
             dst = _destination(parts[0], labels)
             return Not(dst, _eval(parts[1]), "NW" in flags)
-        _want(parts, 3, 3, f"{mnemonic} DEST, {'COUNT' if mnemonic == 'SHIFT' else 'BITS'}, SIZE",
-              where)
+        _want(
+            parts,
+            3,
+            3,
+            f"{mnemonic} DEST, {'COUNT' if mnemonic == 'SHIFT' else 'BITS'}, SIZE",
+            where,
+        )
         dst = _destination(parts[0], labels)
         bits, size = _eval(parts[1]), _eval(parts[2])
         if mnemonic == "SHR":
@@ -521,9 +527,7 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
         allowed = {"KEEP"}
         if not parts:
             raise where.error("expected SERVOS SPEED[, ICS=POSITION ...]")
-        cmd = RunConstFrameServo(
-            _eval(parts[0]), _pairs(parts[1:], _position), "KEEP" not in flags
-        )
+        cmd = RunConstFrameServo(_eval(parts[0]), _pairs(parts[1:], _position), "KEEP" not in flags)
     elif mnemonic == "SERIES":
         allowed = {"KEEP"}
         moves = []
@@ -540,7 +544,7 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
 
 
 def _pack_series(t: _Text) -> int:
-    pos_t, at, speed_t = t.text.partition("@")
+    pos_t, at, _ = t.text.partition("@")
     if not at:
         raise t.error(f"expected POSITION@SPEED, not {t.text!r}")
     position = _position(_Text(pos_t, t.column, t.line).strip())
@@ -597,7 +601,7 @@ def _split_line(number: int, raw: str) -> _Line:
     if m2 is None:
         if text[rest_start:].strip():
             bad = len(text) - len(text[rest_start:].lstrip())
-            raise AsmError(f"expected a mnemonic, found {text[bad:bad + 12]!r}", number, bad + 1)
+            raise AsmError(f"expected a mnemonic, found {text[bad : bad + 12]!r}", number, bad + 1)
         return _Line(number, raw, label, label_col, None, _Text("", len(text) + 1, number))
     mnemonic = _Text(m2.group(1), m2.start(1) + 1, number)
     operands = _Text(text[m2.end() :], m2.end() + 1, number).strip()

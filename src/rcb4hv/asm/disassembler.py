@@ -20,18 +20,23 @@ from rcb4hv.protocol import (
     MIN_FRAME_SIZE,
     ROM_SIZE,
     AcknowledgeCheck,
+    Add,
+    And,
     Button,
     Call,
-    Com,
     Command,
     CommunicateDevice,
     Data,
     Destination,
+    Div,
     GetVersionInfo,
     Ics,
     Jump,
+    Mod,
     Move,
+    Mul,
     Not,
+    Or,
     Ram,
     Return,
     Rom,
@@ -42,7 +47,9 @@ from rcb4hv.protocol import (
     SetStretch,
     Shift,
     Source,
+    Sub,
     SystemRegister,
+    Xor,
     decode_command,
     encode_command,
 )
@@ -55,6 +62,7 @@ RUN_MIN: Final = 16
 """Runs of at least this many equal bytes become ``.fill`` (or are skipped if erased)."""
 
 _MNEMONIC_OF: Final = {cls: name for name, cls in BINARY_MNEMONICS.items()}
+_DATA_COMMANDS: Final = (Move, And, Or, Xor, Add, Sub, Mul, Div, Mod)
 
 
 def operand_text(op: Destination | Source, symbols: bool = True) -> str:
@@ -87,10 +95,9 @@ def format_command(
     def op(o: Destination | Source) -> str:
         return operand_text(o, symbols)
 
-    if isinstance(cmd, Move) or type(cmd) in _MNEMONIC_OF:
-        assert isinstance(cmd, Move) or hasattr(cmd, "no_write")
+    if isinstance(cmd, _DATA_COMMANDS):
         name = "MOVE" if isinstance(cmd, Move) else _MNEMONIC_OF[type(cmd)]
-        nw = getattr(cmd, "no_write", False)
+        nw = not isinstance(cmd, Move) and cmd.no_write
         size = "" if isinstance(cmd.src, Data) else f", {cmd.nbytes}"
         return f"{name}{_flags((nw, 'NW'))} {op(cmd.dst)}, {op(cmd.src)}{size}"
     if isinstance(cmd, Shift):
@@ -133,8 +140,8 @@ def format_command(
 
 def _hint(cmd: Command) -> str:
     """A short note for the comment: buttons compared, system-register bits written."""
-    if isinstance(cmd, (Move, *BINARY_MNEMONICS.values())):
-        dst, src = cmd.dst, cmd.src  # type: ignore[union-attr]
+    if isinstance(cmd, _DATA_COMMANDS):
+        dst, src = cmd.dst, cmd.src
         if isinstance(dst, Ram) and isinstance(src, Data) and len(src.data) == 2:
             if dst.address == ADDR.BUTTONS:
                 buttons = Button.from_ram(src.data)
@@ -188,9 +195,7 @@ def _sweep(data: bytes, origin: int) -> list[_Item]:
 
 
 def _targets(items: Iterable[_Item]) -> set[int]:
-    return {
-        it.command.address for it in items if isinstance(it.command, (Jump, Call))
-    }
+    return {it.command.address for it in items if isinstance(it.command, (Jump, Call))}
 
 
 # --------------------------------------------------------------------------- rendering

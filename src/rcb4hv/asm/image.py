@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import Final
 
 from rcb4hv.asm.disassembler import _Item, _Listing, _sweep, _targets
@@ -144,7 +145,7 @@ def _chunks(items: list[_Item], cuts: list[int]) -> list[tuple[int, int]]:
         {next((i for i, it in enumerate(items) if it.address >= c), len(items)) for c in cuts}
         | {0, len(items)}
     )
-    return list(zip(bounds, bounds[1:], strict=False))
+    return list(pairwise(bounds))
 
 
 def _data_note(title: str, start: int, at: int, per_line: int, chunk: bytes) -> str:

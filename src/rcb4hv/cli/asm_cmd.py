@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 import click
 
@@ -14,36 +15,31 @@ from rcb4hv.cli.decode_cmd import parse_hex
 def _address(text: str) -> int:
     t = text.strip()
     try:
-        if t.startswith("$"):
-            return int(t[1:], 16)
-        return int(t, 0)
+        return int(t[1:], 16) if t.startswith("$") else int(t, 0)
     except ValueError:
-        raise click.BadParameter(f"not an address: {text!r} (use 0x0B80, $000B80 or 2944)")
+        raise click.BadParameter(
+            f"not an address: {text!r} (use 0x0B80, $000B80 or 2944)"
+        ) from None
 
 
-class _Address(click.ParamType):
-    name = "ADDR"
-
-    def convert(
-        self, value: object, param: click.Parameter | None, ctx: click.Context | None
-    ) -> int:
-        if isinstance(value, int):
-            return value
-        return _address(str(value))
+def _address_option(ctx: click.Context, param: click.Parameter, value: str | None) -> int | None:
+    return None if value is None else _address(value)
 
 
-ADDRESS = _Address()
-
-
-def _fail(message: str) -> None:
+def _fail(message: str) -> NoReturn:
     click.echo(f"error: {message}", err=True)
     sys.exit(1)
+
+
+_ORIGIN = click.option(
+    "--origin", callback=_address_option, metavar="ADDR", help="ROM address of the first byte."
+)
 
 
 @click.command("asm")
 @click.argument("source", type=click.Path(dir_okay=False, allow_dash=True))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the bytes here.")
-@click.option("--origin", type=ADDRESS, default=None, help="ROM address of the first byte.")
+@_ORIGIN
 @click.option("--hex", "as_hex", is_flag=True, help="Write hex text (one frame a line).")
 def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> None:
     """Assemble SOURCE ('-' = stdin) into RCB-4 command frames.
@@ -51,7 +47,8 @@ def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> No
     Without -o the frames are printed in hex, one per line, after their ROM address.
     """
     try:
-        text = click.open_file(source, encoding="utf-8").read()
+        with click.open_file(source, encoding="utf-8") as f:
+            text = f.read()
     except OSError as exc:
         _fail(f"{source}: {exc.strerror or exc}")
     try:
@@ -75,14 +72,24 @@ def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> No
 @click.command("disasm")
 @click.argument("hex_words", metavar="[HEX...]", nargs=-1)
 @click.option("--hex-file", type=click.Path(exists=True, dir_okay=False), help="Hex text file.")
-@click.option("--bin", "bin_file", type=click.Path(exists=True, dir_okay=False),
-              help="Binary file of ROM bytes (placed at --origin).")
-@click.option("--image", type=click.Path(exists=True, dir_okay=False),
-              help="A whole 256 KB ROM image (HeartToHeart4 2.2 layout).")
-@click.option("--project", type=click.Path(exists=True, dir_okay=False),
-              help="HeartToHeart4 project (.h4p); with --motion N.")
+@click.option(
+    "--bin",
+    "bin_file",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Binary file of ROM bytes (placed at --origin).",
+)
+@click.option(
+    "--image",
+    type=click.Path(exists=True, dir_okay=False),
+    help="A whole 256 KB ROM image (HeartToHeart4 2.2 layout).",
+)
+@click.option(
+    "--project",
+    type=click.Path(exists=True, dir_okay=False),
+    help="HeartToHeart4 project (.h4p); with --motion N.",
+)
 @click.option("--motion", type=int, help="Motion slot (1-120) of --project.")
-@click.option("--origin", type=ADDRESS, default=None, help="ROM address of the first byte.")
+@_ORIGIN
 @click.option("--no-labels", is_flag=True, help="Write branch targets as addresses.")
 @click.option("--no-comments", is_flag=True, help="Leave out addresses and notes.")
 @click.option("--no-symbols", is_flag=True, help="Write RAM addresses as numbers.")

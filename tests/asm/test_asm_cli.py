@@ -1,0 +1,139 @@
+"""``rcb4hv asm`` and ``rcb4hv disasm``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from rcb4hv.asm import assemble
+from rcb4hv.cli.main import cli
+from rcb4hv.hth4 import load_project
+from rcb4hv.rom import default_image
+
+SOURCE = """\
+        .org $000B80
+loop:   SUB.NW RAM[BUTTONS], #00 01
+        JUMP loop IF NZ
+        RETURN
+"""
+
+
+def test_asm_prints_hex_frames(tmp_path: Path) -> None:
+    src = tmp_path / "m.s"
+    src.write_text(SOURCE)
+    result = CliRunner().invoke(cli, ["asm", str(src)])
+    assert result.exit_code == 0, result.stderr
+    assert result.stdout.splitlines() == [
+        "000B80  09 07 82 50 03 00 00 01 E6",
+        "000B89  07 0B 80 0B 00 04 A1",
+        "000B90  03 0D 10",
+    ]
+
+
+def test_asm_writes_binary_and_hex(tmp_path: Path) -> None:
+    src = tmp_path / "m.s"
+    src.write_text("RETURN\nCALL $FFFFFF\n")
+    out = tmp_path / "m.bin"
+    result = CliRunner().invoke(cli, ["asm", str(src), "-o", str(out), "--origin", "0x0B80"])
+    assert result.exit_code == 0, result.stderr
+    assert out.read_bytes() == bytes.fromhex("03 0D 10 07 0C FF FF FF 00 10")
+    assert "10 bytes at $000B80" in result.stderr
+    hex_out = tmp_path / "m.hex"
+    result = CliRunner().invoke(cli, ["asm", str(src), "-o", str(hex_out), "--hex"])
+    assert result.exit_code == 0
+    assert hex_out.read_text() == "000000  03 0D 10\n000003  07 0C FF FF FF 00 10\n"
+
+
+def test_asm_reads_stdin() -> None:
+    result = CliRunner().invoke(cli, ["asm", "-"], input="VERSION\n")
+    assert result.exit_code == 0
+    assert result.stdout == "000000  03 FD 00\n"
+
+
+def test_asm_error_is_one_line_with_position(tmp_path: Path) -> None:
+    src = tmp_path / "bad.s"
+    src.write_text("RETURN\n  JUMP nowhere\n")
+    result = CliRunner().invoke(cli, ["asm", str(src)])
+    assert result.exit_code == 1
+    assert result.stderr == f"error: {src}:2:8: undefined label 'nowhere'\n"
+    assert result.stdout == ""
+
+
+def test_asm_missing_file(tmp_path: Path) -> None:
+    result = CliRunner().invoke(cli, ["asm", str(tmp_path / "nope.s")])
+    assert result.exit_code == 1
+    assert result.stderr.startswith("error: ") and "nope.s" in result.stderr
+
+
+def test_disasm_hex_words() -> None:
+    result = CliRunner().invoke(
+        cli, ["disasm", "--no-comments", "--origin", "$00044B", "07 0B 4B 04 00 05 66"]
+    )
+    assert result.exit_code == 0, result.stderr
+    assert result.stdout == "    .org $00044B\nL_00044B:\n    JUMP L_00044B IF Z\n"
+    result = CliRunner().invoke(
+        cli, ["disasm", "--no-comments", "--no-labels", "--no-symbols", "09078250030000", "01E6"]
+    )
+    assert result.stdout == "    .org $000000\n    SUB.NW RAM[0x0350], #00 01\n"
+
+
+def test_disasm_hex_file_and_bin(tmp_path: Path) -> None:
+    hex_file = tmp_path / "f.hex"
+    hex_file.write_text("# a motion\n07 0C 80 0B 00 00 9E  # CALL\n03 0D 10\n")
+    result = CliRunner().invoke(cli, ["disasm", "--hex-file", str(hex_file)])
+    assert result.exit_code == 0, result.stderr
+    assert "CALL $000B80" in result.stdout and "RETURN" in result.stdout
+    bin_file = tmp_path / "f.bin"
+    bin_file.write_bytes(bytes.fromhex("07 0C 80 0B 00 00 9E 03 0D 10 FF"))
+    out = tmp_path / "f.s"
+    result = CliRunner().invoke(
+        cli, ["disasm", "--bin", str(bin_file), "--origin", "0x0B80", "-o", str(out)]
+    )
+    assert result.exit_code == 0
+    text = out.read_text()
+    assert "L_000B80:" in text and "CALL L_000B80" in text
+    assert assemble(text).data == bin_file.read_bytes()
+
+
+def test_disasm_project_motion(kxr_project_path: Path) -> None:
+    result = CliRunner().invoke(
+        cli, ["disasm", "--project", str(kxr_project_path), "--motion", "1"]
+    )
+    assert result.exit_code == 0, result.stderr
+    m = load_project(kxr_project_path).motion(1)
+    assert result.stdout.startswith("; motion 1")
+    program = assemble(result.stdout)
+    assert program.origin == m.address and program.data == m.rom_bytes()
+
+
+def test_disasm_project_errors(kxr_project_path: Path) -> None:
+    runner = CliRunner()
+    result = runner.invoke(cli, ["disasm", "--project", str(kxr_project_path), "--motion", "120"])
+    assert result.exit_code == 1 and "motion slot 120 is empty" in result.stderr
+    result = runner.invoke(cli, ["disasm", "--project", str(kxr_project_path)])
+    assert result.exit_code == 1 and "--project and --motion go together" in result.stderr
+
+
+def test_disasm_image(tmp_path: Path) -> None:
+    image = tmp_path / "rom.bin"
+    image.write_bytes(default_image())
+    result = CliRunner().invoke(cli, ["disasm", "--image", str(image)])
+    assert result.exit_code == 0, result.stderr
+    assert "main_loop:" in result.stdout
+    assert assemble(result.stdout).image() == image.read_bytes()
+    image.write_bytes(b"\xff" * 10)
+    result = CliRunner().invoke(cli, ["disasm", "--image", str(image)])
+    assert result.exit_code == 1 and "262144" in result.stderr
+
+
+def test_disasm_input_errors() -> None:
+    runner = CliRunner()
+    result = runner.invoke(cli, ["disasm"])
+    assert result.exit_code == 1 and "give exactly one input" in result.stderr
+    result = runner.invoke(cli, ["disasm", "0G"])
+    assert result.exit_code == 1 and result.stderr.startswith("error: ")
+    result = runner.invoke(cli, ["disasm", "--origin", "zz", "03 0D 10"])
+    assert result.exit_code != 0 and "not an address" in result.stderr
+    result = runner.invoke(cli, ["disasm", "--origin", "0x40000", "03 0D 10"])
+    assert result.exit_code == 1 and "origin" in result.stderr
