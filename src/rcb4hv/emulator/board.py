@@ -978,6 +978,12 @@ class Board:
 
     # ------------------------------------------------------------------ test / host hooks
 
+    def load_rom(self, address: int, data: bytes) -> None:
+        """Write ``data`` into ROM at ``address`` (as a MOVE to ROM would; persisted)."""
+        if not 0 <= address <= ROM_SIZE - len(data):
+            raise ValueError("ROM write out of range")
+        self._write(Rom(address), bytes(data)) if data else None
+
     def set_buttons(self, buttons: int) -> None:
         """Set the remote button word (RAM 0350h, high byte first)."""
         if not 0 <= int(buttons) <= 0xFFFF:
