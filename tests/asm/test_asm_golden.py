@@ -150,3 +150,25 @@ def test_conditions() -> None:
     assert format_command(p.decode_command(assemble("JUMP 0 IF COND=1").data)).endswith(
         "IF COND=0x01"
     )
+
+
+def test_labels_before_and_on_org_lines() -> None:
+    prog = assemble("first:\n  .org $0B80\nRETURN\nsecond: .org 0x0B90\nJUMP first\nJUMP second")
+    assert prog.labels == {"first": 0x0B80, "second": 0x0B90}
+    assert prog.origin == 0x0B80
+    assert prog.items[1].command == p.Jump(0x0B80)
+    assert prog.items[2].command == p.Jump(0x0B90)
+
+
+def test_case_insensitive_keywords_case_sensitive_labels() -> None:
+    prog = assemble(
+        "Top: sub.nw ram[buttons], #00 01\njump Top if nz\nmove com, ics[5].measured, 2"
+    )
+    assert (
+        prog.data
+        == assemble(
+            "Top: SUB.NW RAM[BUTTONS], #00 01\nJUMP Top IF NZ\nMOVE COM, ICS[5].MEASURED, 2"
+        ).data
+    )
+    with pytest.raises(ValueError, match="undefined label 'top'"):
+        assemble("Top: RETURN\nJUMP top")

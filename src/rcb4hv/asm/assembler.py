@@ -104,7 +104,7 @@ _TOKEN: Final = re.compile(
 )
 _HEX_BYTE: Final = re.compile(r"[0-9A-Fa-f]{2}")
 _NAME_INDEX: Final = re.compile(r"([A-Z_]*[A-Z])(\d+)")
-_LABEL: Final = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_.]*):")
+_LABEL: Final = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*):")
 _MNEMONIC: Final = re.compile(r"\s*([.A-Za-z][A-Za-z0-9_]*(?:\.[A-Za-z]+)*)")
 _IF: Final = re.compile(r"\s+IF\s+", re.IGNORECASE)
 
@@ -703,6 +703,8 @@ def _run(
                     f".org ${address:06X} is below the current address ${pc:06X}"
                 )
             pc = address
+            if line.label is not None and collect is not None:
+                collect[line.label] = address  # `name: .org X` names X
             continue
         if pc + len(data) > ROM_SIZE:
             raise line.mnemonic.error(f"code runs past the end of ROM (${ROM_SIZE:06X})")
