@@ -37,9 +37,7 @@ def _parse_hostport(value: str) -> tuple[str, int]:
     help="Minimum reply latency in seconds [default: 0.001].",
 )
 @click.option("--pace", is_flag=True, help="Pace replies at the configured COM baud.")
-@click.option(
-    "--frame-timeout", type=float, default=None, help="Partial-frame timeout in seconds."
-)
+@click.option("--frame-timeout", type=float, default=None, help="Partial-frame timeout in seconds.")
 def emulate(
     use_pty: bool,
     tcp: str | None,

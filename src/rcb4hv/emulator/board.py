@@ -537,9 +537,7 @@ class Board:
         self.ram[5] = d - 1
         return self._stack[d - 1]
 
-    def _data_op(
-        self, cmd: And | Or | Xor | Add | Sub | Mul | Div | Mod | Not | Shift
-    ) -> bytes:
+    def _data_op(self, cmd: And | Or | Xor | Add | Sub | Mul | Div | Mod | Not | Shift) -> bytes:
         size = cmd.nbytes
         dst = cmd.dst
         dv = int.from_bytes(self._read(dst, size), "little")
@@ -953,8 +951,10 @@ class Board:
             try:
                 dv = self._vec_operand(self._w(a + 1), size)
                 src = self._w(a + 3)
-                sv = (src & (0xFFFF if size == 2 else 0xFF)) if c & 0x10 else (
-                    self._vec_operand(src, size)
+                sv = (
+                    (src & (0xFFFF if size == 2 else 0xFF))
+                    if c & 0x10
+                    else (self._vec_operand(src, size))
                 )
             except _CommandError:
                 return

@@ -39,9 +39,7 @@ def default_description() -> ImageDescription:
     """The typed description of the default board."""
     raise_arms = {2: HOME + 2700, 3: HOME - 2700, 4: HOME + 300, 5: HOME - 300}
     motion1 = Motion(1, [_pose(20, raise_arms), _pose(20, {})])
-    motion2 = Motion(
-        2, [_pose(10, {0: HOME + 1500}), _pose(10, {0: HOME - 1500}), _pose(10, {})]
-    )
+    motion2 = Motion(2, [_pose(10, {0: HOME + 1500}), _pose(10, {0: HOME - 1500}), _pose(10, {})])
     return ImageDescription(
         system_register=DEFAULT_SYSTEM_REGISTER,
         servos=tuple(ServoConfig(ics, home=HOME) for ics in DEFAULT_ICS),
