@@ -3,9 +3,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import select
+import socket
 import time
 from typing import Final
 
@@ -175,8 +177,19 @@ class SerialTransport(Transport):
             raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
 
     def close(self) -> None:
+        port = self.port
+        sock = getattr(port, "_socket", None)
+        if isinstance(sock, socket.socket):
+            # pyserial's socket:// close() leaks the socket when shutdown() fails (peer gone)
+            # and then sleeps 0.3 s; close the socket here and mark the port closed instead.
+            setattr(port, "_socket", None)  # noqa: B010
+            with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)
+            sock.close()
+            port.is_open = False
+            return
         try:
-            self.port.close()
+            port.close()
         except _PORT_ERRORS as exc:
             log.debug("closing %s: %s", self.url, exc)
 

@@ -1,0 +1,131 @@
+"""Fault injection at the transport: every call ends within its timeout with the right
+exception, and the next call works."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from rcb4hv.client import Rcb4Client
+from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
+from rcb4hv.transport import Fault, FaultConfig, FaultyTransport, open_transport
+from tests.client.conftest import Rig, make_board
+
+TIMEOUT = 0.15
+
+EXPECTED: dict[Fault, type[BaseException] | None] = {
+    Fault.DROP_REQUEST: Rcb4TimeoutError,
+    Fault.CORRUPT_REQUEST: NakError,
+    Fault.DROP_REPLY: Rcb4TimeoutError,
+    Fault.DROP_BYTE: Rcb4TimeoutError,
+    Fault.TRUNCATE_REPLY: Rcb4TimeoutError,
+    Fault.CORRUPT_REPLY: ChecksumError,
+    Fault.DELAY_REPLY: Rcb4TimeoutError,
+    Fault.EXTRA_BEFORE: None,
+    Fault.EXTRA_AFTER: None,
+    Fault.DISCONNECT: TransportError,
+}
+
+
+def _faulty(rig: Rig, **config: object) -> tuple[FaultyTransport, Rcb4Client]:
+    ft = FaultyTransport(rig.client.transport, FaultConfig(**config))  # type: ignore[arg-type]
+    return ft, Rcb4Client(ft, timeout=TIMEOUT)
+
+
+@pytest.mark.parametrize("fault", list(Fault), ids=[f.value for f in Fault])
+def test_scripted_fault(rig: Rig, fault: Fault) -> None:
+    ft, client = _faulty(rig, delay_s=0.2)
+    client.write_ram(0x0462, b"\x11\x22\x33\x44")
+    ft.inject(fault)
+    t0 = time.monotonic()
+    expected = EXPECTED[fault]
+    if expected is None:
+        assert client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
+    else:
+        with pytest.raises(expected):
+            client.read_ram(0x0462, 4)
+    assert time.monotonic() - t0 < TIMEOUT + 0.1
+    assert ft.history[-1][1] is fault
+    # the next calls work (a late reply of the same shape may stand in for one read's reply:
+    # the protocol has no sequence numbers, so compare the data, which is the same)
+    client.acknowledge_check()
+    assert client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
+    assert client.get_version_info().text.startswith("CB-4")
+    time.sleep(0.2)  # let a delayed reply land, then check it is discarded
+    client.acknowledge_check()
+    assert client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
+
+
+def test_corrupt_reply_fails_fast(rig: Rig) -> None:
+    ft, client = _faulty(rig)
+    ft.inject(Fault.CORRUPT_REPLY)
+    client.timeout = 2.0
+    t0 = time.monotonic()
+    with pytest.raises(ChecksumError):
+        client.read_ram(0x0090, 100)
+    assert time.monotonic() - t0 < 0.5  # not the whole timeout: the grace period
+
+
+def test_random_faults_are_seeded_and_bounded(rig: Rig) -> None:
+    rates = {f: 0.06 for f in Fault}
+    histories = []
+    for _ in range(2):
+        ft, client = _faulty(rig, rates=rates, seed=42, delay_s=0.2)
+        outcomes = []
+        for i in range(30):
+            value = bytes((i, 255 - i))
+            t0 = time.monotonic()
+            try:
+                client.write_ram(0x0464, value)
+                outcomes.append("ok")
+            except (Rcb4TimeoutError, ChecksumError, NakError, TransportError) as exc:
+                outcomes.append(type(exc).__name__)
+            assert time.monotonic() - t0 < TIMEOUT + 0.1
+        histories.append([f for _, f in ft.history])
+    assert histories[0] == histories[1]  # same seed, same faults
+    assert len(histories[0]) > 5
+    rig.client.acknowledge_check()
+
+
+def test_fault_url_and_config_parsing(rig: Rig) -> None:
+    cfg = FaultConfig.parse("drop_reply=0.5,corrupt_reply=0.25,seed=3,delay_s=0.1")
+    assert cfg.rates == {Fault.DROP_REPLY: 0.5, Fault.CORRUPT_REPLY: 0.25}
+    assert (cfg.seed, cfg.delay_s) == (3, 0.1)
+    with pytest.raises(ValueError, match="faults:"):
+        FaultConfig.parse("nonsense=1")
+    with pytest.raises(ValueError):
+        FaultConfig.parse("drop_reply=0.8,drop_request=0.8")
+    if rig.kind == "inproc":
+        t = open_transport("fault://drop_reply=1.0@" + rig.url)
+        assert isinstance(t, FaultyTransport)
+        with Rcb4Client(t, timeout=0.05) as c, pytest.raises(Rcb4TimeoutError):
+            c.acknowledge_check()
+
+
+@pytest.mark.parametrize("kind", ["tcp", "pty"])
+def test_real_disconnect_raises_transport_error_in_time(kind: str) -> None:
+    emu = pytest.importorskip("rcb4hv.emulator")
+    board = make_board()
+    try:
+        if kind == "tcp":
+            srv = emu.TcpServer(board, "127.0.0.1", 0)
+            srv.__enter__()
+            url = "socket://{}:{}".format(*srv.address[:2])
+        else:
+            srv = emu.PtyServer(board)
+            srv.__enter__()
+            url = str(srv.path)
+        client = Rcb4Client.open(url, timeout=0.3)
+        try:
+            client.acknowledge_check()
+            srv.__exit__(None, None, None)
+            t0 = time.monotonic()
+            with pytest.raises((TransportError, Rcb4TimeoutError)):
+                for _ in range(3):
+                    client.acknowledge_check()
+            assert time.monotonic() - t0 < 1.0
+        finally:
+            client.close()
+    finally:
+        board.close()
