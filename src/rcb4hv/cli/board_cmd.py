@@ -445,7 +445,8 @@ def register(cli: click.Group) -> None:
             pressed |= _parse_button(n)
         with open_robot(port, baud, timeout) as robot:
             robot.press_button(pressed, duration)
-        click.echo(f"pressed {pressed!s} for {duration:g} s")
+        label = "+".join(b.name or "" for b in Button if b and b in pressed)
+        click.echo(f"pressed {label} for {duration:g} s")
 
     # ------------------------------------------------------------------ demo
 

@@ -9,7 +9,14 @@ from collections.abc import Callable, Iterable, Mapping
 from types import TracebackType
 from typing import Final
 
-from rcb4hv.errors import ChecksumError, FrameError, NakError, ProtocolError, Rcb4TimeoutError
+from rcb4hv.errors import (
+    ChecksumError,
+    FrameError,
+    NakError,
+    ProtocolError,
+    Rcb4TimeoutError,
+    TransportError,
+)
 from rcb4hv.protocol import (
     ALWAYS,
     MAX_REPLY_SIZE,
@@ -170,7 +177,12 @@ class Rcb4Client:
         if not isinstance(inner, SerialTransport):
             raise ValueError("baud detection needs a serial port")
         for rate in rates:
-            inner.set_baudrate(rate)
+            if inner.baudrate != rate:
+                try:
+                    inner.set_baudrate(rate)
+                except TransportError as exc:
+                    log.debug("%s: cannot use %d baud: %s", inner.url, rate, exc)
+                    continue
             try:
                 self.acknowledge_check(timeout=probe_timeout)
             except (Rcb4TimeoutError, ProtocolError, NakError):
@@ -178,8 +190,6 @@ class Rcb4Client:
                 continue
             log.info("%s: board answers at %d baud", inner.url, rate)
             return rate
-        from rcb4hv.errors import TransportError
-
         raise TransportError(f"{inner.url}: no answer to an ACK check at any baud rate")
 
     def close(self) -> None:

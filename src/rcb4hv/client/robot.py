@@ -193,30 +193,33 @@ class BoardInfo:
 
 
 def plan_reads(spans: Iterable[tuple[int, int]], limit: int = MAX_READ) -> list[tuple[int, int]]:
-    """Cover the RAM ``(address, size)`` spans with the fewest reads of at most ``limit`` bytes.
+    """Cover the ``(address, size)`` spans with the fewest reads of at most ``limit`` bytes.
 
-    Greedy from the lowest address: a read starts at the first byte not yet covered and is
-    as long as the last needed byte it can reach. (Greedy is optimal for fixed-length cover.)
+    Greedy sweep over the union of the spans: each read starts at the first needed byte not
+    yet covered and ends at the last needed byte within ``limit`` (optimal for covering
+    points with fixed-length windows).
     """
-    todo = sorted((a, a + n) for a, n in spans if n > 0)
+    if limit < 1:
+        raise ValueError("limit must be >= 1")
+    merged: list[list[int]] = []
+    for a, b in sorted((a, a + n) for a, n in spans if n > 0):
+        if merged and a <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], b)
+        else:
+            merged.append([a, b])
     reads: list[tuple[int, int]] = []
-    i = 0
-    while i < len(todo):
-        start, end = todo[i]
-        if end - start > limit:  # a span longer than one read: split it
-            reads.append((start, limit))
-            todo[i] = (start + limit, end)
-            continue
-        last = end
-        i += 1
-        while i < len(todo) and todo[i][1] - start <= limit:
-            last = max(last, todo[i][1])
+    i, pos = 0, 0
+    while i < len(merged):
+        start = max(merged[i][0], pos)
+        window_end = start + limit
+        last = start
+        while i < len(merged) and merged[i][0] < window_end:
+            last = min(merged[i][1], window_end)
+            if merged[i][1] > window_end:
+                break
             i += 1
-        if i < len(todo) and todo[i][0] < last:  # overlapping but too long: clip
-            todo[i] = (last, todo[i][1])
-            if todo[i][0] >= todo[i][1]:
-                i += 1
         reads.append((start, last - start))
+        pos = last
     return reads
 
 
@@ -418,16 +421,13 @@ class Robot:
     def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
         """Read several RAM spans (keyed by anything) in the fewest frames."""
         reads = plan_reads(spans.values())
-        chunks = [(a, self.client.read_ram(a, n)) for a, n in reads]
-        out: dict[int, bytes] = {}
-        for key, (addr, size) in spans.items():
-            for a, buf in chunks:
-                if a <= addr and addr + size <= a + len(buf):
-                    out[key] = buf[addr - a : addr - a + size]
-                    break
-            else:  # pragma: no cover - plan_reads covers every span
-                raise AssertionError(f"span {addr:#x}+{size} not covered")
-        return out
+        if not reads:
+            return dict.fromkeys(spans, b"")
+        lo = reads[0][0]
+        window = bytearray(reads[-1][0] + reads[-1][1] - lo)
+        for a, n in reads:
+            window[a - lo : a - lo + n] = self.client.read_ram(a, n)
+        return {key: bytes(window[a - lo : a - lo + n]) for key, (a, n) in spans.items()}
 
     def _read_field(self, ics: list[int], offset: int, size: int) -> dict[int, bytes]:
         known = self._known()
