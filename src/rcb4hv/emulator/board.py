@@ -264,13 +264,18 @@ class Board:
                 break
             self._run_program(nxt)
             do_timer = nt <= np
-            if np <= nt:
-                np = self._skip_periods(np, min(t, nt))
+            if np <= nt:  # (a skip past nt is fine: the timers are all stopped then)
+                r = self.ram
+                timers_idle = r[0x3D] & r[0x3F] & r[0x41] & r[0x43] & 0x80
+                np = self._skip_periods(np, t if timers_idle else min(t, nt))
                 self._run_program(np)
                 self._now = np
                 self._period()
                 self._next_period = np + self._period_us()
                 do_timer = np == nt
+                if np > nt:  # skipped past stopped timers: keep their 100 ms grid
+                    self._next_timer = nt + (np - nt) // TIMER_PERIOD_US * TIMER_PERIOD_US
+                    do_timer = False
             if do_timer:
                 self._now = nt
                 self._timers()

@@ -106,7 +106,8 @@ class _Server:
     def _read_fds(self) -> list[int]:
         raise NotImplementedError
 
-    def _on_readable(self, fd: int) -> None:
+    def _on_readable(self, fd: int) -> bool:
+        """Handle a readable fd; True if bytes were fed to the board."""
         raise NotImplementedError
 
     def _out_fd(self) -> int | None:
@@ -186,10 +187,12 @@ class _Server:
             if self._stop_r in readable:
                 return
             with self._lock:
+                fed = False
                 for fd in readable:
-                    self._on_readable(fd)
+                    fed = self._on_readable(fd) or fed
                 self._housekeeping()
-                board.tick()
+                if not fed:
+                    board.tick()  # feed() has just ticked otherwise
                 now = time.monotonic()
                 self._schedule(board.take_output(), now)
                 self._flush_due(now)
@@ -212,10 +215,12 @@ class PtyServer(_Server):
         tty.setraw(self._slave)
         os.set_blocking(self._master, False)
         self.path = os.ttyname(self._slave)
+        self._last_rearm = 0.0
         self._rearm()
 
     def _rearm(self) -> None:
         """Put the sentinel speed on the slave so the next client open changes something."""
+        self._last_rearm = time.monotonic()
         try:
             attrs = termios.tcgetattr(self._slave)
             if attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED:
@@ -227,7 +232,9 @@ class PtyServer(_Server):
             log.debug("could not re-arm the pty speed: %s", exc)
 
     def _housekeeping(self) -> None:
-        self._rearm()
+        now = time.monotonic()
+        if now - self._last_rearm >= PTY_REARM:
+            self._rearm()
 
     def _close_fds(self) -> None:
         for fd in (self._master, self._slave):
@@ -240,19 +247,21 @@ class PtyServer(_Server):
     def _out_fd(self) -> int | None:
         return self._master
 
-    def _on_readable(self, fd: int) -> None:
+    def _on_readable(self, fd: int) -> bool:
         try:
             data = os.read(self._master, 4096)
         except BlockingIOError:
-            return
+            return False
         except OSError as exc:
             if exc.errno == errno.EIO:  # no one has the slave open (cannot happen: we hold it)
                 time.sleep(MIN_WAIT)
-                return
+                return False
             raise
-        if data:
-            self._rearm()
-            self._feed(data)
+        if not data:
+            return False
+        self._rearm()
+        self._feed(data)
+        return True
 
     def __enter__(self) -> PtyServer:
         self.start()
@@ -297,31 +306,32 @@ class TcpServer(_Server):
     def _on_write_error(self) -> None:
         self._drop_conn()
 
-    def _on_readable(self, fd: int) -> None:
+    def _on_readable(self, fd: int) -> bool:
         if fd == self._listener.fileno():
             try:
                 conn, peer = self._listener.accept()
             except BlockingIOError:
-                return
+                return False
             self._drop_conn()
             conn.setblocking(False)
             conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             self._conn = conn
             log.info("TCP client %s connected", peer)
-            return
+            return False
         if self._conn is None or fd != self._conn.fileno():
-            return
+            return False
         try:
             data = self._conn.recv(4096)
         except BlockingIOError:
-            return
+            return False
         except OSError:
             data = b""
         if not data:
             log.info("TCP client disconnected")
             self._drop_conn()
-            return
+            return False
         self._feed(data)
+        return True
 
     def __enter__(self) -> TcpServer:
         self.start()

@@ -1,0 +1,142 @@
+"""Emulator benchmarks: service time per frame vs wire time; virtual-time motion speed."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import serial
+
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock, VirtualClock
+from rcb4hv.emulator.server import PtyServer
+from rcb4hv.protocol import ALWAYS, Call, Jump, RunConstFrameServo, encode_command
+from rcb4hv.rom import ImageDescription, Motion, ServoConfig, build_image, layout
+
+BAUD = 1_250_000
+FRAMES = {
+    "ack check": bytes.fromhex("03 FE 01"),
+    "read 126 bytes (rcb4 angle_vector)": bytes.fromhex("0A 00 20 00 00 00 92 00 7E 3A"),
+    "servo move, 17 servos": encode_command(
+        RunConstFrameServo(10, {k: 7600 for k in (0, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13)})
+    ),
+}
+
+
+def wire_us(request: bytes, reply: bytes) -> float:
+    return (len(request) + len(reply)) * 11 / BAUD * 1e6
+
+
+def in_process() -> list[dict[str, Any]]:
+    out = []
+    clock = VirtualClock()
+    board = Board(clock=clock)
+    board.run_for(3.0)  # booted, main loop running
+    for name, frame in FRAMES.items():
+        reply = board.feed(frame)
+        n = 3000
+        t0 = time.perf_counter()
+        for _ in range(n):
+            clock.advance(0.0005)
+            board.feed(frame)
+        ours = (time.perf_counter() - t0) / n * 1e6
+        w = wire_us(frame, reply)
+        out.append(
+            {
+                "name": f"emulator in-process: {name}",
+                "ours_us": ours,
+                "wire_us": w,
+                "ratio": ours / w,
+                "target": 0.5,
+                "lower_is_better": True,
+            }
+        )
+    return out
+
+
+def pty_round_trip() -> list[dict[str, Any]]:
+    board = Board(EmulatorConfig(min_reply_latency_s=0.0), clock=RealClock())
+    out = []
+    with PtyServer(board) as srv:
+        port = serial.Serial(srv.path, BAUD, parity="E", timeout=2)
+        try:
+            for name in ("ack check", "read 126 bytes (rcb4 angle_vector)"):
+                frame = FRAMES[name]
+                n = 300
+                port.write(frame)
+                reply = port.read(port.read(1)[0] - 1)
+                t0 = time.perf_counter()
+                size = len(reply) + 1
+                for _ in range(n):
+                    port.write(frame)
+                    port.read(size)
+                ours = (time.perf_counter() - t0) / n * 1e6
+                w = wire_us(frame, b"x" + reply)
+                out.append(
+                    {
+                        "name": f"emulator pty round trip (latency 0): {name}",
+                        "ours_us": ours,
+                        "wire_us": w,
+                        "ratio": ours / w,
+                        "target": 0.5,
+                        "lower_is_better": True,
+                    }
+                )
+        finally:
+            port.close()
+    board.close()
+    return out
+
+
+def motion_speed() -> list[dict[str, Any]]:
+    ics = list(range(22))
+    poses = [
+        RunConstFrameServo(20, {k: 7500 + (300 if (i + k) % 2 else -300) for k in ics})
+        for i in range(100)
+    ]
+    # 53-byte poses: 38 fit a 2048-byte slot; chain three slots with JUMPs
+    motions = (
+        Motion(1, [*poses[:38], Jump(layout.motion_address(2), ALWAYS)]),
+        Motion(2, [*poses[38:76], Jump(layout.motion_address(3), ALWAYS)]),
+        Motion(3, poses[76:]),
+    )
+    desc = ImageDescription(
+        servos=tuple(ServoConfig(k) for k in ics),
+        startup_motion=None,
+        motions=motions,
+    )
+    clock = VirtualClock()
+    board = Board(
+        EmulatorConfig(virtual_servos=tuple(ics)), clock=clock, rom_image=build_image(desc)
+    )
+    board.run_for(3.0)
+    a1 = layout.motion_address(1)
+    t0 = time.perf_counter()
+    v0 = clock.now()
+    board.feed(bytes.fromhex("11 00 02 02 00 00 4B 04 00 00 00 00 00 00 00 00 64"))
+    board.feed(encode_command(Call(a1, ALWAYS)))
+    periods0 = board.periods
+    while board.pc >= a1 or board.ram[5]:
+        board.run_for(1.0)
+    assert board.periods - periods0 >= 100 * 21
+    wall = time.perf_counter() - t0
+    virtual = clock.now() - v0
+    return [
+        {
+            "name": "emulator virtual time: 100 poses x 22 servos (wall s / board s)",
+            "ours_us": wall,
+            "wire_us": virtual,
+            "ratio": wall / virtual,
+            "target": 0.001,
+            "lower_is_better": True,
+            "note": "ours_us = wall seconds, wire_us = virtual seconds of the motion",
+        }
+    ]
+
+
+def run() -> list[dict[str, Any]]:
+    return in_process() + pty_round_trip() + motion_speed()
+
+
+if __name__ == "__main__":
+    for r in run():
+        print(f"{r['name']:<62} {r['ours_us']:>10.2f} {r['wire_us']:>10.2f} {r['ratio']:>8.4f}")
