@@ -104,5 +104,7 @@ def run() -> list[dict[str, Any]]:
 
 if __name__ == "__main__":
     for r in run():
-        print(f"{r['name']:<58} {r['ours_us']:9.1f} µs  wire {r['wire_us']:8.1f} µs  "
-              f"ratio {r['ratio']:.2f}  ({r['note']})")
+        print(
+            f"{r['name']:<58} {r['ours_us']:9.1f} µs  wire {r['wire_us']:8.1f} µs  "
+            f"ratio {r['ratio']:.2f}  ({r['note']})"
+        )
