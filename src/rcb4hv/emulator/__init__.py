@@ -56,9 +56,14 @@ Modelling choices where the spec is silent
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from rcb4hv.emulator.board import Board, ServoState
 from rcb4hv.emulator.clock import Clock, RealClock, VirtualClock
 from rcb4hv.emulator.config import DEFAULT_VERSION, EmulatorConfig
+
+if TYPE_CHECKING:  # the servers need pty/termios: imported on first use
+    from rcb4hv.emulator.server import PtyServer, TcpServer
 
 __all__ = [
     "DEFAULT_VERSION",
