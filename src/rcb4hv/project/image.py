@@ -1,0 +1,451 @@
+"""HeartToHeart4 project <-> HeartToHeart4 2.2 ROM image.
+
+:func:`project_description` maps a :class:`rcb4hv.hth4.Project` onto a
+:class:`rcb4hv.rom.ImageDescription`, :func:`build_project_image` lays it out with
+:func:`rcb4hv.rom.build_image` (256 KB, spec 11.2), and :func:`read_image` reads an image back
+into :class:`ImageContents`: the settings and, per motion slot, the frames it holds.
+
+The mapping, field by field:
+
+* ``Config`` -> system register (ROM 05DCh; the boot code writes it with ICS_F clear first).
+* ``AdcReference`` (22 bytes) -> the 11 AD reference words.
+* ``ServoConfigParams``: every slot whose ``Mode`` is not ``None`` becomes a servo block for
+  ICS ``DeviceNumber`` (0-34): ``ID``, ``Trim`` (block +2, the base value), ``Position`` (the
+  home position of the boot frame at 03F5h), ``MixingNAddress`` (block +14 / +17, 65535 = none)
+  and ``MixingNRate`` (block +16 / +19: bit 7 = sign, bits 6-0 = multiplier; the unit of the
+  editor's rate is not documented, so the rate is stored as the multiplier, a negative rate
+  with the sign bit). Unused slots stay unallocated (``alloc[n]`` = FFFFh).
+* ``Kri3`` -> the KRI-3 block copied to RAM 034Ch (``ICS 35``): bytes ``Code, ID, 0, 0``, the
+  button word (high byte first), PA1-PA4, checksum. Bytes +2/+3 are not documented anywhere;
+  they are written as 0.
+* ``ButtonData`` / ``CompareType`` of each used motion -> a vector package (spec 11.3) that
+  CALLs the motion when the button word (RAM 0350h) compares to the value (:data:`COMPARE`);
+  in slot order, at most 32.
+* ``StartupMotionAddress`` (``-1`` = none) -> the CALL at 00444h.
+* ``PriorityMotionCollection`` keys ``0``-``12`` -> the 13 main-loop checks; ``Port``
+  ``Battery`` compares AD0 (RAM 0022h), ``AD<n>`` compares AD n, ``PA<n>`` the remote's
+  analogue value n (one byte). ``LowPowerMotionAddress`` (older projects), when set, becomes a
+  battery check ``AD0 <= LowPowerValue`` in the first free slot.
+* ``ProjectTitle`` -> the 32-byte title (cp932; a longer title is cut at a character boundary).
+* ``MotionData`` -> the motion's bytes at 0B80h + 2048 (n - 1), copied exactly as stored,
+  including HeartToHeart4's ``FF`` end-of-motion byte after the final RETURN.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Final
+
+from rcb4hv.hth4 import Project
+from rcb4hv.hth4 import ServoConfig as Hth4Servo
+from rcb4hv.protocol import Button, check_frame
+from rcb4hv.rom import (
+    Compare,
+    ImageDescription,
+    Kri3Config,
+    Motion,
+    PriorityMotion,
+    ServoConfig,
+    VectorPackage,
+    build_image,
+    layout,
+    parse_image,
+)
+
+__all__ = [
+    "COMPARE",
+    "ButtonBinding",
+    "ImageContents",
+    "MotionSlot",
+    "build_project_image",
+    "motion_image_frames",
+    "project_description",
+    "read_image",
+    "split_frames",
+]
+
+log = logging.getLogger(__name__)
+
+COMPARE: Final[dict[str, Compare]] = {
+    "Equals": "eq",
+    "NotEquals": "ne",
+    "LessThan": "lt",
+    "LessThanOrEqualTo": "le",
+    "GreaterThan": "gt",
+    "GreaterThanOrEqualTo": "ge",
+}
+"""HeartToHeart4's ``CompareType`` names -> comparisons."""
+
+_COMPARE_NAME: Final = {v: k for k, v in COMPARE.items()}
+
+AD0: Final = 0x0022
+PA1: Final = 0x0352
+
+
+# ----------------------------------------------------------------------------- helpers
+
+
+def split_frames(data: bytes) -> tuple[list[bytes], bytes]:
+    """Cut ``data`` into frames by their SIZE bytes; return (frames, trailing bytes).
+
+    Stops at an erased byte (FF), a SIZE below 3 or a frame that runs past the end; what is
+    left (HeartToHeart4's FF end marker, erased space) is returned as the tail. Checksums are
+    checked (:class:`~rcb4hv.errors.ChecksumError` for a damaged frame).
+    """
+    frames: list[bytes] = []
+    i = 0
+    while i < len(data):
+        size = data[i]
+        if size == layout.ERASED or size < 3 or i + size > len(data):
+            break
+        frame = bytes(data[i : i + size])
+        check_frame(frame)
+        frames.append(frame)
+        i += size
+    return frames, bytes(data[i:])
+
+
+def motion_image_frames(entry_frames: Sequence[bytes]) -> list[bytes]:
+    """The executable frames of a project motion (each entry cut at its SIZE byte).
+
+    An entry may be a frame followed by FF bytes (HeartToHeart4's end marker); anything else
+    after a frame is an error (ValueError).
+    """
+    out: list[bytes] = []
+    for n, entry in enumerate(entry_frames):
+        frames, tail = split_frames(bytes(entry))
+        if not frames or tail.strip(b"\xff"):
+            raise ValueError(f"frame {n + 1} ({bytes(entry)[:8].hex(' ')}...) is not a command frame")
+        out.extend(frames)
+    return out
+
+
+def _rate_to_method(rate: int, what: str) -> int:
+    if not -127 <= rate <= 127:
+        raise ValueError(f"{what} {rate} is outside -127..127")
+    return 0x80 | -rate if rate < 0 else rate
+
+
+def _method_to_rate(method: int) -> int:
+    return -(method & 0x7F) if method & 0x80 else method
+
+
+def _servo(s: Hth4Servo) -> ServoConfig:
+    where = f"servo {s.key!r} (ICS {s.device_number})"
+    if not 0 <= s.device_number <= 34:
+        raise ValueError(f"{where}: ICS number outside 0..34")
+    return ServoConfig(
+        ics=s.device_number,
+        servo_id=s.id,
+        trim=s.trim,
+        home=s.position,
+        mix1_source=s.mixing1_address & 0xFFFF,
+        mix1_method=_rate_to_method(s.mixing1_rate, f"{where}: mixing 1 rate"),
+        mix2_source=s.mixing2_address & 0xFFFF,
+        mix2_method=_rate_to_method(s.mixing2_rate, f"{where}: mixing 2 rate"),
+    )
+
+
+def _button_raw(buttons: int) -> int:
+    """The button word as the little-endian RAM word the board compares (high byte first)."""
+    return int.from_bytes(int(buttons).to_bytes(2, "big"), "little")
+
+
+def _vector_package(buttons: int, compare: str, target: int) -> VectorPackage:
+    try:
+        cmp = COMPARE[compare]
+    except KeyError:
+        raise ValueError(f"unknown CompareType {compare!r}") from None
+    if not 0 < buttons <= 0xFFFF:
+        raise ValueError(f"button word {buttons:#x} out of range")
+    raw = _button_raw(buttons)
+    dst = layout.RAM_BUTTONS
+    if cmp == "le":  # dst <= v  <=>  dst < v + 1
+        if raw == 0xFFFF:
+            cmp = "ge"
+            raw = 0
+        else:
+            cmp, raw = "lt", raw + 1
+    if cmp == "eq":
+        return VectorPackage(dst, raw, target)
+    if cmp == "ne":
+        return VectorPackage(dst, raw, target, z=False)
+    if cmp == "ge":  # C = 1 when dst - src >= 0
+        return VectorPackage(dst, raw, target, compare_z=False, z=False, compare_c=True, c=True)
+    if cmp == "lt":
+        return VectorPackage(dst, raw, target, compare_z=False, z=False, compare_c=True, c=False)
+    # gt: not zero and no borrow
+    return VectorPackage(dst, raw, target, z=False, compare_c=True, c=True)
+
+
+def _package_compare(p: VectorPackage) -> tuple[str, int] | None:
+    """(CompareType, button word) of a package made by :func:`_vector_package`, else None."""
+    if p.destination != layout.RAM_BUTTONS or not p.literal or not p.word:
+        return None
+    value = int.from_bytes(p.source.to_bytes(2, "little"), "big")
+    key = (p.compare_z, p.z, p.compare_c, p.c)
+    names = {
+        (True, True, False, False): "Equals",
+        (True, False, False, False): "NotEquals",
+        (False, False, True, True): "GreaterThanOrEqualTo",
+        (False, False, True, False): "LessThan",
+        (True, False, True, True): "GreaterThan",
+    }
+    name = names.get(key)
+    return None if name is None else (name, value)
+
+
+def _port_source(port: str) -> tuple[int, int]:
+    """(RAM address, size) compared by a priority check of input ``port``."""
+    p = port.strip()
+    if p.lower() == "battery":
+        return AD0, 2
+    up = p.upper()
+    if up.startswith("AD") and up[2:].isdigit() and 0 <= int(up[2:]) <= 10:
+        return AD0 + 2 * int(up[2:]), 2
+    if up.startswith("PA") and up[2:].isdigit() and 1 <= int(up[2:]) <= 4:
+        return PA1 + int(up[2:]) - 1, 1
+    raise ValueError(f"unknown priority-motion port {port!r} (known: Battery, AD0-AD10, PA1-PA4)")
+
+
+def _port_name(source: int, size: int) -> str:
+    if size == 2 and source == AD0:
+        return "Battery"
+    if size == 2 and AD0 < source <= AD0 + 20 and (source - AD0) % 2 == 0:
+        return f"AD{(source - AD0) // 2}"
+    if size == 1 and PA1 <= source < PA1 + 4:
+        return f"PA{source - PA1 + 1}"
+    return f"RAM {source:04X}h"
+
+
+def _kri3_block(project: Project) -> bytes:
+    k = project.kri3
+    values = (k.code, k.id, 0, 0, *k.button_value.to_bytes(2, "big"), k.pa1, k.pa2, k.pa3, k.pa4,
+              k.checksum)  # fmt: skip
+    for v in values:
+        if not 0 <= v <= 0xFF:
+            raise ValueError(f"KRI-3 settings hold a value outside 0..255: {values}")
+    return bytes(values)
+
+
+def _title(text: str | None) -> str:
+    t = (text or "").replace("\x00", "")
+    while len(t.encode("cp932", errors="replace")) > layout.TITLE_SIZE:
+        t = t[:-1]
+    if t != (text or "").replace("\x00", ""):
+        log.warning("project title %r cut to %r (32 bytes in ROM)", text, t)
+    return t.encode("cp932", errors="replace").decode("cp932")
+
+
+# ----------------------------------------------------------------------------- project -> image
+
+
+def project_description(project: Project) -> ImageDescription:
+    """The :class:`~rcb4hv.rom.ImageDescription` of ``project`` (see the module docstring).
+
+    ValueError when the project cannot be laid out in the 2.2 image: a motion stored for
+    another ROM address (another HeartToHeart4 version), a motion larger than its slot,
+    an unknown CompareType or priority port, more than 32 button bindings.
+    """
+    servos = tuple(_servo(s) for s in project.servos if s.in_use)
+    if len(project.adc_reference) != 22:
+        raise ValueError(f"AdcReference holds {len(project.adc_reference)} bytes, expected 22")
+    motions: list[Motion] = []
+    packages: list[VectorPackage] = []
+    for m in sorted(project.used_motions, key=lambda m: m.slot):
+        if not 1 <= m.slot <= layout.MOTION_COUNT:
+            raise ValueError(f"motion {m.key}: slot {m.slot} outside 1..{layout.MOTION_COUNT}")
+        address = layout.motion_address(m.slot)
+        if m.address != address:
+            raise ValueError(
+                f"motion {m.key} ({m.name}) is stored for ROM {m.address:05X}h, but the "
+                f"HeartToHeart4 2.2 layout puts slot {m.slot} at {address:05X}h"
+            )
+        try:
+            motions.append(Motion(m.slot, motion_image_frames(m.frames)))
+        except ValueError as exc:
+            raise ValueError(f"motion {m.key} ({m.name}): {exc}") from None
+        if len(m.rom_bytes()) > layout.MOTION_SIZE:
+            raise ValueError(f"motion {m.key} ({m.name}) does not fit its 2048-byte slot")
+        if m.button_data:
+            packages.append(_vector_package(m.button_data, m.compare_type, address))
+    if len(packages) > layout.VECTOR_PACKAGE_COUNT:
+        raise ValueError(f"{len(packages)} button bindings; the board holds at most 32")
+    priority: list[PriorityMotion | None] = [None] * layout.PRIORITY_COUNT
+    for index, pm in project.active_priority_motions:
+        if index >= layout.PRIORITY_COUNT:
+            raise ValueError(f"priority check {index} outside 0..12")
+        source, size = _port_source(pm.port)
+        try:
+            compare = COMPARE[pm.compare_type]
+        except KeyError:
+            raise ValueError(f"priority check {index}: unknown CompareType {pm.compare_type!r}")
+        priority[index] = PriorityMotion(source, compare, pm.value, pm.address, size)
+    if project.low_power_motion_address >= 0:
+        free = [i for i, p in enumerate(priority) if p is None]
+        if not free:
+            raise ValueError("no free priority check for the low-power motion")
+        priority[free[0]] = PriorityMotion(
+            AD0, "le", project.low_power_value, project.low_power_motion_address
+        )
+    startup = project.startup_motion_address
+    return ImageDescription(
+        system_register=project.system_register,
+        ad_references=project.adc_reference_words,
+        servos=servos,
+        kri3=Kri3Config(_kri3_block(project)),
+        vector_packages=tuple(packages),
+        title=_title(project.project_title),
+        startup_motion=startup if startup >= 0 else None,
+        priority_motions=tuple(priority),
+        motions=tuple(motions),
+    )
+
+
+def build_project_image(project: Project) -> bytes:
+    """The 256 KB HeartToHeart4 2.2 ROM image of ``project``.
+
+    Each motion's bytes are copied exactly as the project stores them (FF end marker
+    included) over the builder's output, which holds the same frames.
+    """
+    image = bytearray(build_image(project_description(project)))
+    for m in project.used_motions:
+        data = m.rom_bytes()
+        a = m.address
+        image[a : a + len(data)] = data
+    return bytes(image)
+
+
+# ----------------------------------------------------------------------------- image -> data
+
+
+@dataclass(frozen=True)
+class ButtonBinding:
+    """A vector package: CALL/JUMP ``target`` when the button word compares to ``buttons``."""
+
+    buttons: int
+    compare_type: str
+    target: int
+    jump: bool = False
+
+    @property
+    def button_names(self) -> str:
+        """``UP|S1`` style names of the button word (``?`` for unknown bits)."""
+        b = Button(self.buttons & 0x1F7F)
+        names = [x.name for x in Button if x and x in b and x.name]
+        if self.buttons & ~0x1F7F:
+            names.append(f"?{self.buttons & ~0x1F7F:#x}")
+        return "|".join(names) or "NONE"
+
+
+@dataclass(frozen=True)
+class MotionSlot:
+    """One motion slot of an image: its frames (cut by SIZE byte) and what starts it."""
+
+    slot: int
+    address: int
+    frames: tuple[bytes, ...]
+    bindings: tuple[ButtonBinding, ...] = ()
+    startup: bool = False
+    priority: tuple[int, ...] = ()
+
+    @property
+    def size(self) -> int:
+        return sum(map(len, self.frames))
+
+    def rom_bytes(self) -> bytes:
+        return b"".join(self.frames)
+
+
+@dataclass(frozen=True)
+class ImageContents:
+    """What a HeartToHeart4 2.2 image holds, in the project's terms."""
+
+    description: ImageDescription
+    motions: tuple[MotionSlot, ...]
+    bindings: tuple[ButtonBinding, ...]
+    other_packages: tuple[VectorPackage, ...] = ()
+    servos: dict[int, dict[str, int]] = field(default_factory=dict)
+    priority: dict[int, dict[str, object]] = field(default_factory=dict)
+
+    @property
+    def system_register(self) -> int:
+        return self.description.system_register
+
+    @property
+    def config(self) -> bytes:
+        """The system register as the project's ``Config`` bytes."""
+        return self.system_register.to_bytes(2, "little")
+
+    @property
+    def adc_reference(self) -> bytes:
+        return b"".join(v.to_bytes(2, "little") for v in self.description.ad_references)
+
+    @property
+    def title(self) -> str:
+        return self.description.title
+
+    @property
+    def startup_motion_address(self) -> int:
+        s = self.description.startup_motion
+        return -1 if s is None else s
+
+    def motion(self, slot: int) -> MotionSlot:
+        for m in self.motions:
+            if m.slot == slot:
+                return m
+        raise KeyError(f"no motion in slot {slot}")
+
+
+def read_image(rom: bytes | bytearray) -> ImageContents:
+    """The motions and settings of a HeartToHeart4 2.2 image (via :func:`rom.parse_image`).
+
+    :class:`~rcb4hv.errors.ProtocolError` if it is not such an image; ValueError for a wrong
+    size.
+    """
+    desc = parse_image(rom)
+    bindings: list[ButtonBinding] = []
+    others: list[VectorPackage] = []
+    for p in desc.vector_packages:
+        cmp = _package_compare(p)
+        if cmp is None:
+            others.append(p)
+        else:
+            bindings.append(ButtonBinding(cmp[1], cmp[0], p.target, p.jump))
+    priority: dict[int, dict[str, object]] = {}
+    for i, pm in enumerate(desc.priority_motions):
+        if pm is not None:
+            priority[i] = {
+                "port": _port_name(pm.source, pm.size),
+                "compare_type": _COMPARE_NAME[pm.compare],
+                "value": pm.value,
+                "address": pm.target,
+            }
+    slots: list[MotionSlot] = []
+    for m in desc.motions:
+        a = m.address
+        slots.append(
+            MotionSlot(
+                slot=m.slot,
+                address=a,
+                frames=m.frames,
+                bindings=tuple(b for b in bindings if b.target == a),
+                startup=desc.startup_motion == a,
+                priority=tuple(i for i, p in priority.items() if p["address"] == a),
+            )
+        )
+    servos = {
+        s.ics: {
+            "id": s.servo_id or 0,
+            "trim": s.trim,
+            "home": s.home,
+            "mixing1_address": s.mix1_source,
+            "mixing1_rate": _method_to_rate(s.mix1_method),
+            "mixing2_address": s.mix2_source,
+            "mixing2_rate": _method_to_rate(s.mix2_method),
+        }
+        for s in desc.servos
+    }
+    return ImageContents(desc, tuple(slots), tuple(bindings), tuple(others), servos, priority)

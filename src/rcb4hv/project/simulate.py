@@ -1,0 +1,569 @@
+"""Play the motions of a ROM image in the emulator, in virtual time, the way a host does.
+
+:class:`Simulator` boots an image in an emulated :class:`~rcb4hv.emulator.Board` on a
+:class:`~rcb4hv.emulator.VirtualClock` and plays motions through :meth:`Board.feed` with real
+command frames (spec 11.4): suspend (system register without ICS_F/ROM_F/VEC_F), reset the
+program (PC = 044Bh, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F, VEC_F).
+While a button is held for the motion (``hold``) VEC_F is left clear at the resume, so the
+held button does not also fire the package bound to it at once; the main loop re-arms VEC_F
+when it runs.
+
+Each play ends in one of these states (:class:`MotionResult.status`):
+
+``completed``
+    The motion returned into the main loop (call depth 0, PC below 0B80h). ``duration`` is the
+    virtual time from the resume to the return (resolution 1 ms when the motion ends with its
+    own RETURN after a pose, else one output period).
+``waiting``
+    The program repeats itself exactly - the whole RAM, the call stack and the PC recur at
+    the same point of the output-period cycle - and the repeating loop reads an input
+    (remote buttons, PA1-PA4, AD channels, PIO, a servo's measured value): it waits for that
+    input, as its own program defines. ``loop`` gives the loop's ROM address range, ``inputs``
+    what it reads. A recurring state means the loop can never end while the inputs stay as
+    they are.
+``stalled``
+    The program repeats itself exactly without reading any input (an endless loop, or update
+    flags that never clear): it can never end.
+``timeout``
+    Still running after ``limit`` virtual seconds without repeating itself.
+``error``
+    The ROM program stopped (ROM_F cleared): ROMERR (a checksum error in a fetched
+    instruction), a command error (unallocated ICS, RAM out of range, ...), a call-stack
+    overflow (17th nested CALL) or underflow (RETURN on an empty stack). ``pc`` is the failing
+    instruction's address and ``instruction`` its disassembly (the board leaves the PC on it).
+
+The emulator exposes no "last program error" record, so the kind of error is derived from public
+state: the ROMERR bit, the instruction at the PC, the call depth and the allocation table.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Final, Literal
+
+from rcb4hv.asm import format_command
+from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
+from rcb4hv.errors import ProtocolError
+from rcb4hv.protocol import (
+    ALWAYS,
+    Ack,
+    Add,
+    And,
+    Call,
+    Com,
+    Command,
+    Data,
+    DataReply,
+    Div,
+    Ics,
+    Jump,
+    Mod,
+    Move,
+    Mul,
+    Not,
+    Or,
+    Ram,
+    Return,
+    RunConstFrameServo,
+    RunSeriesServo,
+    RunSingleServo,
+    Shift,
+    Sub,
+    Xor,
+    check_frame,
+    decode_command,
+    decode_reply,
+    encode_command,
+)
+from rcb4hv.rom import layout
+
+__all__ = [
+    "DEFAULT_LIMIT",
+    "MotionResult",
+    "SampleListener",
+    "SimulationError",
+    "Simulator",
+    "Status",
+]
+
+log = logging.getLogger(__name__)
+
+Status = Literal["completed", "waiting", "stalled", "timeout", "error"]
+SampleListener = Callable[[float, dict[int, int]], None]
+
+DEFAULT_LIMIT: Final = 60.0
+"""Virtual seconds a motion may run before it is reported as ``timeout``."""
+
+ICS_F: Final = 0x0001
+ROM_F: Final = 0x0002
+VEC_F: Final = 0x0008
+ROMERR: Final = 0x0400
+STEP_US: Final = 1000
+"""Virtual microseconds per step while the program executes instructions."""
+BOOT_LIMIT: Final = 30.0
+TIMER_US: Final = 100_000
+STACK_DEPTH: Final = 16
+
+# RAM that changes from outside the program: (first, last, name)
+_INPUTS: Final = (
+    (0x0022, 0x0037, "AD"),
+    (0x003A, 0x003B, "PIO"),
+    (0x003C, 0x0043, "timer"),
+    (0x0350, 0x0351, "buttons"),
+    (0x0352, 0x0355, "PA"),
+)
+
+
+class SimulationError(Exception):
+    """The board did not accept a host frame, or the image does not boot."""
+
+
+@dataclass(frozen=True)
+class MotionResult:
+    """How one motion played (see the module docstring for ``status``)."""
+
+    slot: int | None
+    address: int
+    name: str
+    status: Status
+    duration: float
+    instructions: int
+    error: str | None = None
+    pc: int | None = None
+    instruction: str | None = None
+    loop: tuple[int, int] | None = None
+    inputs: tuple[str, ...] = ()
+    held: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.status in ("completed", "waiting")
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "slot": self.slot,
+            "address": f"{self.address:05X}",
+            "name": self.name,
+            "status": self.status,
+            "duration_s": round(self.duration, 6),
+            "instructions": self.instructions,
+            "error": self.error,
+            "pc": None if self.pc is None else f"{self.pc:05X}",
+            "instruction": self.instruction,
+            "loop": None if self.loop is None else [f"{a:05X}" for a in self.loop],
+            "inputs": list(self.inputs),
+            "held": self.held,
+        }
+
+    @property
+    def detail(self) -> str:
+        """One line: the error, the waiting loop, or nothing."""
+        if self.status == "error":
+            where = "" if self.pc is None else f" at {self.pc:05X}h"
+            ins = f": {self.instruction}" if self.instruction else ""
+            return f"{self.error}{where}{ins}"
+        if self.loop is not None:
+            what = ", ".join(self.inputs) if self.inputs else "nothing"
+            return f"loop {self.loop[0]:05X}-{self.loop[1]:05X}h reads {what}"
+        if self.status == "timeout":
+            return f"PC {self.pc:05X}h after the limit" if self.pc is not None else ""
+        return ""
+
+
+@dataclass
+class _Watch:
+    """Exact-state recurrence detector.
+
+    Looks only on a grid of ``grid_us`` (a common multiple of the output period and the 100 ms
+    timer period) from its start, so two equal looks are also at the same point of both
+    cycles; reset when an input or the output period changes.
+    """
+
+    start_us: int
+    grid_us: int
+    seen: dict[int, int] = field(default_factory=dict)
+
+    def next_look(self, t_us: int) -> int:
+        """Microseconds from ``t_us`` to the next look (0 if ``t_us`` is one)."""
+        return -(t_us - self.start_us) % self.grid_us
+
+    def check(self, board: Board, t_us: int) -> int | None:
+        """The time of an earlier look at the same state, or None."""
+        if (t_us - self.start_us) % self.grid_us:
+            return None
+        key = hash((bytes(board.ram), tuple(board.call_stack)))
+        first = self.seen.get(key)
+        if first is None:
+            self.seen[key] = t_us
+        return first
+
+
+class Simulator:
+    """An emulated board on a virtual clock, booted from ``image``.
+
+    ``ics`` lists the ICS numbers that get a virtual servo (default: every allocated slot of
+    the image's allocation table). ``listener`` is called with ``(virtual time, {ics: sent
+    value})`` after every output period (this slows the emulator down: it then steps every
+    period instead of skipping the ones nobody observes).
+    """
+
+    def __init__(
+        self,
+        image: bytes,
+        *,
+        ics: Iterable[int] | None = None,
+        config: EmulatorConfig | None = None,
+        listener: SampleListener | None = None,
+    ) -> None:
+        if len(image) != layout.ROM_SIZE:
+            raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
+        if ics is None:
+            ics = [
+                n
+                for n in range(35)
+                if image[layout.ALLOC_IMAGE + 2 * n : layout.ALLOC_IMAGE + 2 * n + 2] != b"\xff\xff"
+            ]
+        if config is None:
+            config = EmulatorConfig(virtual_servos=tuple(ics))
+        self.clock = VirtualClock()
+        self._t_us = 0
+        self.board = Board(config, clock=self.clock, rom_image=image)
+        if listener is not None:
+            self.board.add_output_listener(listener)
+        self.boot_result: MotionResult | None = None
+
+    # ------------------------------------------------------------------ host side
+
+    def _send(self, cmd: Command) -> bytes:
+        reply = self.board.feed(encode_command(cmd))
+        if not reply:
+            raise SimulationError(f"no reply to {format_command(cmd)}")
+        try:
+            r = decode_reply(reply, cmd)
+        except ProtocolError as exc:
+            raise SimulationError(f"bad reply to {format_command(cmd)}: {exc}") from exc
+        if isinstance(r, Ack):
+            return b""
+        if isinstance(r, DataReply):
+            return r.data
+        raise SimulationError(f"board refused {format_command(cmd)}: {r!r}")
+
+    def _system_word(self) -> int:
+        return int.from_bytes(self._send(Move(Com(), Ram(0x0000), 2)), "little")
+
+    def _write_ram(self, address: int, data: bytes) -> None:
+        self._send(Move(Ram(address), Data(data)))
+
+    def start_motion(self, address: int, *, vector: bool = True) -> None:
+        """Play the motion at ``address`` as a host does (spec 11.4), through real frames."""
+        word = self._system_word() & ~ROMERR
+        self._write_ram(0x0000, (word & ~(ICS_F | ROM_F | VEC_F)).to_bytes(2, "little"))
+        self._write_ram(0x0002, layout.MAIN_LOOP.to_bytes(3, "little") + bytes(7))
+        self._send(Call(address, ALWAYS))
+        flags = ICS_F | ROM_F | (VEC_F if vector else 0)
+        self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
+
+    # ------------------------------------------------------------------ board state
+
+    @property
+    def now(self) -> float:
+        """Virtual seconds since power-on."""
+        return self._t_us / 1e6
+
+    def _run_us(self, dt_us: int) -> None:
+        """Advance the virtual clock by whole microseconds (no float drift) and tick."""
+        self._t_us += max(1, dt_us)
+        # a quarter microsecond above the target: the board truncates to whole microseconds
+        self.clock.set((self._t_us + 0.25) / 1e6)
+        self.board.tick()
+
+    def _period_us(self) -> int:
+        return round(self.board.output_period * 1e6)
+
+    def _flags(self) -> int:
+        return int.from_bytes(self.board.ram[7:12], "little")
+
+    def _wait_periods(self) -> int | None:
+        """Output periods the program will wait at least (None: flags that never clear)."""
+        b = self.board
+        flags = self._flags()
+        longest = 0
+        for ics in range(36):
+            if not flags >> ics & 1:
+                continue
+            blk = b.alloc(ics)
+            if blk == 0xFFFF or blk + 20 > len(b.ram) or b.ram[blk] != 0 or not b.ram[blk + 8]:
+                return None
+            longest = max(longest, b.ram[blk + 11])
+        return longest
+
+    def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
+        rom = self.board.rom
+        size = rom[pc]
+        frame = bytes(rom[pc : pc + size])
+        try:
+            check_frame(frame)
+            cmd = decode_command(frame)
+        except (ProtocolError, ValueError, IndexError):
+            return None, f".byte {frame[:16].hex(' ')}"
+        return cmd, format_command(cmd)
+
+    def _error(self) -> tuple[str, int, str]:
+        """(kind, PC, disassembly) of the instruction that stopped the program."""
+        b = self.board
+        pc = b.pc
+        cmd, text = self._instruction_at(pc)
+        depth = b.ram[5]
+        if b.system_register & ROMERR:
+            return "ROMERR (checksum error in ROM)", pc, text
+        if cmd is None:
+            return "invalid instruction", pc, text
+        if isinstance(cmd, Return) and depth == 0:
+            return "call-stack underflow (RETURN on an empty stack)", pc, text
+        if isinstance(cmd, Call) and depth >= STACK_DEPTH:
+            return "call-stack overflow (17th nested CALL)", pc, text
+        for ics in _ics_operands(cmd):
+            if b.alloc(ics) == 0xFFFF:
+                return f"command error: ICS {ics} is not allocated", pc, text
+        return "command error (program stopped)", pc, text
+
+    # ------------------------------------------------------------------ running
+
+    def boot(self, limit: float = BOOT_LIMIT) -> MotionResult:
+        """Run from power-on until the program idles in the main loop (startup motion done)."""
+        b = self.board
+        t0, i0 = self._t_us, b.instructions_executed
+        seen_main = False
+        limit_us = round(limit * 1e6)
+        while True:
+            dur = (self._t_us - t0) / 1e6
+            n = b.instructions_executed - i0
+            if not b.system_register & ROM_F:
+                kind, pc, text = self._error()
+                res = MotionResult(None, 0, "boot", "error", dur, n, kind, pc, text)
+                break
+            pc = b.pc
+            in_main = layout.MAIN_LOOP <= pc < layout.MAIN_LOOP_JUMP + 7 and b.ram[5] == 0
+            if in_main and seen_main:
+                res = MotionResult(None, 0, "boot", "completed", dur, n)
+                break
+            seen_main = seen_main or in_main
+            if self._t_us - t0 >= limit_us:
+                res = MotionResult(None, 0, "boot", "timeout", dur, n, pc=pc)
+                break
+            self._advance(precise=False, cap_us=limit_us - (self._t_us - t0))
+        self.boot_result = res
+        log.info("boot: %s after %.3f s", res.status, res.duration)
+        return res
+
+    def _advance(self, precise: bool, cap_us: int) -> None:
+        """One step: a bulk wait while update flags hold the program, else :data:`STEP_US`.
+
+        A bulk wait is ``n + 1`` output periods (the program may run up to one period past the
+        end of the wait), or ``n`` periods and then single steps when ``precise``.
+        """
+        b = self.board
+        dt = STEP_US
+        sysw = b.system_register
+        if not sysw & ROM_F:
+            dt = 1_000_000
+        elif self._flags():
+            n = self._wait_periods()
+            period = self._period_us()
+            if n is None:
+                dt = 1_000_000
+            elif precise:
+                dt = max(STEP_US, n * period)
+            else:
+                dt = (n + 1) * period
+        self._run_us(min(dt, max(1, cap_us)))
+
+    def _ends_after_wait(self) -> bool:
+        """True if the instruction the program waits to fetch returns into the main loop."""
+        b = self.board
+        if b.ram[5] != 1:
+            return False
+        cmd, _ = self._instruction_at(b.pc)
+        return isinstance(cmd, Return) and b.call_stack[0] < layout.MOTIONS
+
+    def play(
+        self,
+        address: int,
+        *,
+        slot: int | None = None,
+        name: str = "",
+        hold: int = 0,
+        hold_for: float = 0.0,
+        limit: float = DEFAULT_LIMIT,
+    ) -> MotionResult:
+        """Play the motion at ``address``; hold button word ``hold`` for ``hold_for`` seconds."""
+        if not limit > 0:
+            raise ValueError("limit must be > 0")
+        if not 0 <= hold <= 0xFFFF:
+            raise ValueError("the button word is 16 bits")
+        if hold and hold_for < 0:
+            raise ValueError("hold_for must be >= 0")
+        if not 0 <= address < layout.ROM_SIZE:
+            raise ValueError(f"ROM address {address:#x} out of range")
+        b = self.board
+        if slot is None:
+            slot = layout.motion_number(address)
+        self.start_motion(address, vector=not hold)
+        t0, i0 = self._t_us, b.instructions_executed
+        held = None
+        if hold:
+            b.set_buttons(hold)
+            held = f"{hold:#06x} for {hold_for:g} s"
+
+        def result(status: Status, at_us: int | None = None, **kw: Any) -> MotionResult:
+            t = (self._t_us if at_us is None else at_us) - t0
+            n = b.instructions_executed - i0
+            return MotionResult(slot, address, name, status, t / 1e6, n, held=held, **kw)
+
+        try:
+            return self._run(result, t0, round(hold_for * 1e6) if hold else None,
+                             round(limit * 1e6))  # fmt: skip
+        finally:
+            if b.ram[0x0350] or b.ram[0x0351]:
+                b.set_buttons(0)
+
+    def _run(
+        self, result: Callable[..., MotionResult], t0: int, hold_us: int | None, limit_us: int
+    ) -> MotionResult:
+        b = self.board
+        watch: _Watch | None = None
+        while True:
+            elapsed = self._t_us - t0
+            if hold_us is not None and elapsed >= hold_us:
+                b.set_buttons(0)
+                hold_us = None
+            sysw = b.system_register
+            if not sysw & ROM_F:
+                kind, pc, text = self._error()
+                return result("error", error=kind, pc=pc, instruction=text)
+            pc = b.pc
+            if b.ram[5] == 0 and pc < layout.MOTIONS:
+                return result("completed")
+            if elapsed >= limit_us:
+                return result("timeout", pc=pc)
+            cap = limit_us - elapsed
+            if hold_us is not None:
+                cap = min(cap, hold_us - elapsed)
+            else:
+                grid = math.lcm(self._period_us(), TIMER_US)
+                if watch is None or watch.grid_us != grid:
+                    watch = _Watch(self._t_us, grid)
+                first = watch.check(b, self._t_us)
+                if first is not None:
+                    return self._classify(result, first, self._t_us - first)
+                cap = min(cap, watch.next_look(self._t_us) or grid)
+            precise = bool(self._flags()) and self._ends_after_wait()
+            self._advance(precise, cap)
+
+    def _classify(
+        self, result: Callable[..., MotionResult], entered_us: int, cycle_us: int
+    ) -> MotionResult:
+        """Replay one cycle of a recurring state instruction by instruction; say what it reads."""
+        b = self.board
+        end = self._t_us + cycle_us
+        pcs: dict[int, int] = {}
+        # half an instruction per step: never two instructions between two looks at the PC
+        half = max(1, round(500 / b.config.instructions_per_ms))
+        while self._t_us < end:
+            if not b.system_register & ROM_F:
+                break
+            if self._flags():
+                n = self._wait_periods()
+                if n is None:
+                    self._run_us(end - self._t_us)
+                    break
+                self._run_us(min(end - self._t_us, max(half, n * self._period_us())))
+                while self._flags() and self._t_us < end:
+                    self._run_us(min(end - self._t_us, half))
+                continue
+            pc = b.pc
+            pcs[pc] = b.rom[pc]
+            self._run_us(min(end - self._t_us, half))
+        inputs: list[str] = []
+        for pc in sorted(pcs):
+            cmd, _ = self._instruction_at(pc)
+            if cmd is not None:
+                for name in _input_names(cmd):
+                    if name not in inputs:
+                        inputs.append(name)
+        loop = (min(pcs), max(a + n - 1 for a, n in pcs.items())) if pcs else None
+        if inputs:
+            return result("waiting", entered_us, loop=loop, inputs=tuple(inputs), pc=b.pc)
+        why = "endless loop" if pcs else "update flags that never clear"
+        return result("stalled", entered_us, loop=loop, error=why, pc=b.pc)
+
+    def play_all(
+        self,
+        motions: Sequence[tuple[int, str]],
+        *,
+        limit: float = DEFAULT_LIMIT,
+        hold: int = 0,
+        hold_for: float = 0.0,
+        progress: Callable[[MotionResult], None] | None = None,
+    ) -> list[MotionResult]:
+        """Play motion slots ``(slot, name)`` one after the other (boots first if needed)."""
+        if self.boot_result is None:
+            self.boot()
+        out = []
+        for slot, name in motions:
+            r = self.play(layout.motion_address(slot), slot=slot, name=name, hold=hold,
+                          hold_for=hold_for, limit=limit)  # fmt: skip
+            out.append(r)
+            if progress is not None:
+                progress(r)
+        return out
+
+
+def _operands(cmd: Command) -> list[object]:
+    ops: list[object] = []
+    for attr in ("dst", "src"):
+        v = getattr(cmd, attr, None)
+        if v is not None:
+            ops.append(v)
+    return ops
+
+
+def _ics_operands(cmd: Command) -> list[int]:
+    if isinstance(cmd, RunSingleServo):
+        return []
+    if isinstance(cmd, (RunConstFrameServo, RunSeriesServo)):
+        return []
+    return [o.ics for o in _operands(cmd) if isinstance(o, Ics)]
+
+
+def _input_names(cmd: Command) -> list[str]:
+    """Inputs (RAM the program does not own) a data command reads."""
+    if not isinstance(cmd, (Move, And, Or, Xor, Add, Sub, Mul, Div, Mod, Not, Shift)):
+        return []
+    if isinstance(cmd, (Jump, Call)):  # pragma: no cover - not data commands
+        return []
+    size = cmd.nbytes
+    names: list[str] = []
+    for op in _operands(cmd):
+        if isinstance(op, Ics):
+            if op.offset in (4, 5):
+                names.append(f"ICS {op.ics} measured value")
+            continue
+        if not isinstance(op, Ram):
+            continue
+        a0, a1 = op.address, op.address + size - 1
+        for lo, hi, kind in _INPUTS:
+            if a0 > hi or a1 < lo:
+                continue
+            if kind == "AD":
+                first = max(0, (a0 - lo) // 2)
+                last = min(10, (a1 - lo) // 2)
+                names += [f"AD{n}" for n in range(first, last + 1)]
+            elif kind == "PA":
+                names += [f"PA{n - lo + 1}" for n in range(max(a0, lo), min(a1, hi) + 1)]
+            else:
+                names.append(kind)
+    return names
