@@ -90,9 +90,7 @@ def register(cli: click.Group) -> None:
 
     @project.command("build")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option(
-        "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True
-    )
+    @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
     @handle_errors
     def build(file: Path, output: Path) -> None:
         """Build the 256 KB HeartToHeart4 2.2 ROM image of FILE."""
@@ -156,34 +154,64 @@ def register(cli: click.Group) -> None:
             "system_register": f"{p.system_register:04X}",
             "startup_motion": None if startup < 0 else f"{startup:05X}",
             "priority_motions": [
-                {"check": i, "name": pm.name, "port": pm.port, "compare_type": pm.compare_type,
-                 "value": pm.value, "address": f"{pm.address:05X}"}
+                {
+                    "check": i,
+                    "name": pm.name,
+                    "port": pm.port,
+                    "compare_type": pm.compare_type,
+                    "value": pm.value,
+                    "address": f"{pm.address:05X}",
+                }
                 for i, pm in p.active_priority_motions
-            ],  # fmt: skip
+            ],
         }
         if as_json:
             print_json({"settings": settings, "motions": motions, "servos": servos})
             return
-        click.echo(f"{file.name}: {settings['title'] or '(no title)'}, system register "
-                   f"{settings['system_register']}h, {len(motions)} motions, "
-                   f"{len(servos)} servos")  # fmt: skip
+        click.echo(
+            f"{file.name}: {settings['title'] or '(no title)'}, system register "
+            f"{settings['system_register']}h, {len(motions)} motions, "
+            f"{len(servos)} servos"
+        )
         rows = []
-        for m in motions:
+        for mi in motions:
             notes = []
-            if m["startup"]:
+            if mi["startup"]:
                 notes.append("startup")
-            if m["priority"] is not None:
-                notes.append(f"priority {m['priority']}")
-            rows.append([m["slot"], m["address"], m["name"], m["frames"], m["bytes"],
-                         m["button_names"], ", ".join(notes)])  # fmt: skip
+            if mi["priority"] is not None:
+                notes.append(f"priority {mi['priority']}")
+            rows.append(
+                [
+                    mi["slot"],
+                    mi["address"],
+                    mi["name"],
+                    mi["frames"],
+                    mi["bytes"],
+                    mi["button_names"],
+                    ", ".join(notes),
+                ]
+            )
         print_table(("slot", "address", "name", "frames", "bytes", "button", "note"), rows)
         click.echo("")
         print_table(
             ("ICS", "ID", "name", "port", "trim", "home", "mixing1", "mixing2"),
-            [[s["ics"], s["id"], s["name"], s["port"], s["trim"], s["home"],
-              "-" if s["mixing1"][0] == 0xFFFF else f"{s['mixing1'][0]:04X} x{s['mixing1'][1]}",
-              "-" if s["mixing2"][0] == 0xFFFF else f"{s['mixing2'][0]:04X} x{s['mixing2'][1]}"]
-             for s in servos],  # fmt: skip
+            [
+                [
+                    s["ics"],
+                    s["id"],
+                    s["name"],
+                    s["port"],
+                    s["trim"],
+                    s["home"],
+                    "-"
+                    if s["mixing1"][0] == 0xFFFF
+                    else f"{s['mixing1'][0]:04X} x{s['mixing1'][1]}",
+                    "-"
+                    if s["mixing2"][0] == 0xFFFF
+                    else f"{s['mixing2'][0]:04X} x{s['mixing2'][1]}",
+                ]
+                for s in servos
+            ],
         )
 
     # ------------------------------------------------------------------ image -> data
@@ -197,7 +225,7 @@ def register(cli: click.Group) -> None:
         from rcb4hv.project.image import read_image
 
         c = read_image(image.read_bytes())
-        motions = [
+        motions: list[dict[str, Any]] = [
             {
                 "slot": m.slot,
                 "address": f"{m.address:05X}",
@@ -210,43 +238,81 @@ def register(cli: click.Group) -> None:
             for m in c.motions
         ]
         if as_json:
-            print_json({
-                "title": c.title,
-                "system_register": f"{c.system_register:04X}",
-                "startup_motion": None if c.startup_motion_address < 0
-                else f"{c.startup_motion_address:05X}",
-                "ad_references": list(c.description.ad_references),
-                "servos": {str(k): v for k, v in c.servos.items()},
-                "priority_motions": {str(k): v for k, v in c.priority.items()},
-                "motions": motions,
-            })  # fmt: skip
+            print_json(
+                {
+                    "title": c.title,
+                    "system_register": f"{c.system_register:04X}",
+                    "startup_motion": None
+                    if c.startup_motion_address < 0
+                    else f"{c.startup_motion_address:05X}",
+                    "ad_references": list(c.description.ad_references),
+                    "servos": {str(k): v for k, v in c.servos.items()},
+                    "priority_motions": {str(k): v for k, v in c.priority.items()},
+                    "motions": motions,
+                }
+            )
             return
-        click.echo(f"{image.name}: {c.title or '(no title)'}, system register "
-                   f"{c.system_register:04X}h, {len(motions)} motions, "
-                   f"{len(c.servos)} servos")  # fmt: skip
+        click.echo(
+            f"{image.name}: {c.title or '(no title)'}, system register "
+            f"{c.system_register:04X}h, {len(motions)} motions, "
+            f"{len(c.servos)} servos"
+        )
         print_table(
             ("slot", "address", "frames", "bytes", "button", "note"),
-            [[m["slot"], m["address"], m["frames"], m["bytes"], ", ".join(m["buttons"]),
-              ", ".join((["startup"] if m["startup"] else [])
-                        + [f"priority {i}" for i in m["priority"]])]
-             for m in motions],  # fmt: skip
+            [
+                [
+                    m["slot"],
+                    m["address"],
+                    m["frames"],
+                    m["bytes"],
+                    ", ".join(m["buttons"]),
+                    ", ".join(
+                        (["startup"] if m["startup"] else [])
+                        + [f"priority {i}" for i in m["priority"]]
+                    ),
+                ]
+                for m in motions
+            ],
         )
 
     # ------------------------------------------------------------------ simulate
 
     @project.command("simulate")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option("--motion", "motion", type=click.IntRange(1, 120), multiple=True,
-                  help="Motion slot to play (repeatable; default: every used slot).")
+    @click.option(
+        "--motion",
+        "motion",
+        type=click.IntRange(1, 120),
+        multiple=True,
+        help="Motion slot to play (repeatable; default: every used slot).",
+    )
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @click.option("--plot", type=click.Path(dir_okay=False, path_type=Path),
-                  help="Draw servo angles over virtual time into this PNG.")
-    @click.option("--hold-button", "hold_button", metavar="NAME",
-                  help="Hold remote button(s) while each motion plays (UP, CIRCLE, UP+S1...).")
-    @click.option("--for", "hold_for", type=click.FloatRange(min=0), default=1.0,
-                  show_default=True, help="Seconds to hold --hold-button, then release it.")
-    @click.option("--limit", type=click.FloatRange(min=0.001), default=60.0, show_default=True,
-                  help="Virtual seconds per motion before it counts as a timeout.")
+    @click.option(
+        "--plot",
+        type=click.Path(dir_okay=False, path_type=Path),
+        help="Draw servo angles over virtual time into this PNG.",
+    )
+    @click.option(
+        "--hold-button",
+        "hold_button",
+        metavar="NAME",
+        help="Hold remote button(s) while each motion plays (UP, CIRCLE, UP+S1...).",
+    )
+    @click.option(
+        "--for",
+        "hold_for",
+        type=click.FloatRange(min=0),
+        default=1.0,
+        show_default=True,
+        help="Seconds to hold --hold-button, then release it.",
+    )
+    @click.option(
+        "--limit",
+        type=click.FloatRange(min=0.001),
+        default=60.0,
+        show_default=True,
+        help="Virtual seconds per motion before it counts as a timeout.",
+    )
     @handle_errors
     def simulate(
         file: Path,
@@ -256,7 +322,7 @@ def register(cli: click.Group) -> None:
         hold_button: str | None,
         hold_for: float,
         limit: float,
-    ) -> None:  # fmt: skip
+    ) -> None:
         """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
 
         Each motion is played as a host does (suspend, PC to 044Bh, CALL, resume). Status:
@@ -279,9 +345,17 @@ def register(cli: click.Group) -> None:
 
         def record(t: float, outs: dict[int, int]) -> None:
             # free / hold outputs have no angle
-            samples.append((t, {k: None if (st := sim.board.servo_state(k)) is None
-                                or st.output >= 0x7FFF else v
-                                for k, v in outs.items()}))  # fmt: skip
+            samples.append(
+                (
+                    t,
+                    {
+                        k: None
+                        if (st := sim.board.servo_state(k)) is None or st.output >= 0x7FFF
+                        else v
+                        for k, v in outs.items()
+                    },
+                )
+            )
 
         sim = Simulator(image, listener=record if plot else None)
         boot = sim.boot()
@@ -290,27 +364,48 @@ def register(cli: click.Group) -> None:
         if boot.status == "completed":
             for slot in slots:
                 starts.append((sim.now, slot))
-                results.append(sim.play(layout.motion_address(slot), slot=slot,
-                                        name=names.get(slot, ""), hold=hold, hold_for=hold_for,
-                                        limit=limit))  # fmt: skip
+                results.append(
+                    sim.play(
+                        layout.motion_address(slot),
+                        slot=slot,
+                        name=names.get(slot, ""),
+                        hold=hold,
+                        hold_for=hold_for,
+                        limit=limit,
+                    )
+                )
         summary: dict[str, int] = {}
         for r in results:
             summary[r.status] = summary.get(r.status, 0) + 1
         virtual = sum(r.duration for r in results)
         if as_json:
-            print_json({
-                "boot": boot.to_dict(),
-                "motions": [r.to_dict() for r in results],
-                "summary": summary,
-                "virtual_seconds": round(virtual, 6),
-            })  # fmt: skip
+            print_json(
+                {
+                    "boot": boot.to_dict(),
+                    "motions": [r.to_dict() for r in results],
+                    "summary": summary,
+                    "virtual_seconds": round(virtual, 6),
+                }
+            )
         else:
-            click.echo(f"boot: {boot.status} after {boot.duration:.3f} s virtual"
-                       + (f" ({boot.detail})" if boot.detail else ""))  # fmt: skip
+            click.echo(
+                f"boot: {boot.status} after {boot.duration:.3f} s virtual"
+                + (f" ({boot.detail})" if boot.detail else "")
+            )
             print_table(
                 ("slot", "address", "name", "status", "virtual s", "instr", "detail"),
-                [[r.slot or "-", f"{r.address:05X}", r.name, r.status, f"{r.duration:.3f}",
-                  r.instructions, r.detail] for r in results],  # fmt: skip
+                [
+                    [
+                        r.slot or "-",
+                        f"{r.address:05X}",
+                        r.name,
+                        r.status,
+                        f"{r.duration:.3f}",
+                        r.instructions,
+                        r.detail,
+                    ]
+                    for r in results
+                ],
             )
             parts = ", ".join(f"{n} {s}" for s, n in sorted(summary.items()))
             click.echo(f"{len(results)} motions: {parts or 'none'}; {virtual:.3f} s virtual")
@@ -326,12 +421,23 @@ def register(cli: click.Group) -> None:
     @project.command("upload")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
     @connection_options
-    @click.option("--only-changed", is_flag=True,
-                  help="Read the board's ROM first; write only the 128-byte pages that differ.")
-    @click.option("--verify/--no-verify", default=True, show_default=True,
-                  help="Read every written chunk back and compare.")
-    @click.option("--restart/--no-restart", default=True, show_default=True,
-                  help="Restart the ROM program from 000000h afterwards.")
+    @click.option(
+        "--only-changed",
+        is_flag=True,
+        help="Read the board's ROM first; write only the 128-byte pages that differ.",
+    )
+    @click.option(
+        "--verify/--no-verify",
+        default=True,
+        show_default=True,
+        help="Read every written chunk back and compare.",
+    )
+    @click.option(
+        "--restart/--no-restart",
+        default=True,
+        show_default=True,
+        help="Restart the ROM program from 000000h afterwards.",
+    )
     @click.option("--progress/--no-progress", default=True, show_default=True)
     @handle_errors
     def upload(
@@ -356,15 +462,23 @@ def register(cli: click.Group) -> None:
 
                 n = len(changed_pages(current, image))
                 with _progress(n * 128, "write", progress) as bar:
-                    res = upload_image(robot, image, only_changed=True, verify=verify,
-                                       restart=restart, progress=bar, known=current)  # fmt: skip
+                    res = upload_image(
+                        robot,
+                        image,
+                        only_changed=True,
+                        verify=verify,
+                        restart=restart,
+                        progress=bar,
+                        known=current,
+                    )
             else:
                 with _progress(len(image), "write", progress) as bar:
-                    res = upload_image(robot, image, verify=verify, restart=restart,
-                                       progress=bar)  # fmt: skip
+                    res = upload_image(robot, image, verify=verify, restart=restart, progress=bar)
         checked = " and verified" if verify else ""
-        click.echo(f"wrote{checked} {res.pages_written} of {res.pages_total} pages "
-                   f"({res.bytes_written} bytes)")  # fmt: skip
+        click.echo(
+            f"wrote{checked} {res.pages_written} of {res.pages_total} pages "
+            f"({res.bytes_written} bytes)"
+        )
 
 
 def _image_slots(image: bytes) -> list[int]:
@@ -373,8 +487,9 @@ def _image_slots(image: bytes) -> list[int]:
     return [m.slot for m in read_image(image).motions]
 
 
-def _plot(path: Path, samples: list[tuple[float, dict[int, int | None]]],
-          starts: list[tuple[float, int]]) -> None:  # fmt: skip
+def _plot(
+    path: Path, samples: list[tuple[float, dict[int, int | None]]], starts: list[tuple[float, int]]
+) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -393,8 +508,9 @@ def _plot(path: Path, samples: list[tuple[float, dict[int, int | None]]],
         ax.plot(times, ys, linewidth=0.8, label=f"ICS {ics}")
     for t, slot in starts:
         ax.axvline(t, color="grey", linewidth=0.5, linestyle=":")
-        ax.annotate(str(slot), (t, 1.0), xycoords=("data", "axes fraction"), fontsize=6,
-                    va="bottom")  # fmt: skip
+        ax.annotate(
+            str(slot), (t, 1.0), xycoords=("data", "axes fraction"), fontsize=6, va="bottom"
+        )
     ax.set_xlabel("virtual time (s)")
     ax.set_ylabel("servo angle (degrees, trim included)")
     if channels:

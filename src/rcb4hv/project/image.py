@@ -117,7 +117,9 @@ def motion_image_frames(entry_frames: Sequence[bytes]) -> list[bytes]:
     for n, entry in enumerate(entry_frames):
         frames, tail = split_frames(bytes(entry))
         if not frames or tail.strip(b"\xff"):
-            raise ValueError(f"frame {n + 1} ({bytes(entry)[:8].hex(' ')}...) is not a command frame")
+            raise ValueError(
+                f"frame {n + 1} ({bytes(entry)[:8].hex(' ')}...) is not a command frame"
+            )
         out.extend(frames)
     return out
 
@@ -222,8 +224,18 @@ def _port_name(source: int, size: int) -> str:
 
 def _kri3_block(project: Project) -> bytes:
     k = project.kri3
-    values = (k.code, k.id, 0, 0, *k.button_value.to_bytes(2, "big"), k.pa1, k.pa2, k.pa3, k.pa4,
-              k.checksum)  # fmt: skip
+    values = (
+        k.code,
+        k.id,
+        0,
+        0,
+        *k.button_value.to_bytes(2, "big"),
+        k.pa1,
+        k.pa2,
+        k.pa3,
+        k.pa4,
+        k.checksum,
+    )
     for v in values:
         if not 0 <= v <= 0xFF:
             raise ValueError(f"KRI-3 settings hold a value outside 0..255: {values}")
@@ -281,7 +293,9 @@ def project_description(project: Project) -> ImageDescription:
         try:
             compare = COMPARE[pm.compare_type]
         except KeyError:
-            raise ValueError(f"priority check {index}: unknown CompareType {pm.compare_type!r}")
+            raise ValueError(
+                f"priority check {index}: unknown CompareType {pm.compare_type!r}"
+            ) from None
         priority[index] = PriorityMotion(source, compare, pm.value, pm.address, size)
     if project.low_power_motion_address >= 0:
         free = [i for i, p in enumerate(priority) if p is None]

@@ -259,8 +259,8 @@ class Simulator:
 
     def start_motion(self, address: int, *, vector: bool = True) -> None:
         """Play the motion at ``address`` as a host does (spec 11.4), through real frames."""
-        word = self._system_word() & ~ROMERR
-        self._write_ram(0x0000, (word & ~(ICS_F | ROM_F | VEC_F)).to_bytes(2, "little"))
+        word = self._system_word() & ~(ROMERR | ICS_F | ROM_F | VEC_F)
+        self._write_ram(0x0000, word.to_bytes(2, "little"))
         self._write_ram(0x0002, layout.MAIN_LOOP.to_bytes(3, "little") + bytes(7))
         self._send(Call(address, ALWAYS))
         flags = ICS_F | ROM_F | (VEC_F if vector else 0)
@@ -424,8 +424,9 @@ class Simulator:
             return MotionResult(slot, address, name, status, t / 1e6, n, held=held, **kw)
 
         try:
-            return self._run(result, t0, round(hold_for * 1e6) if hold else None,
-                             round(limit * 1e6))  # fmt: skip
+            return self._run(
+                result, t0, round(hold_for * 1e6) if hold else None, round(limit * 1e6)
+            )
         finally:
             if b.ram[0x0350] or b.ram[0x0351]:
                 b.set_buttons(0)
@@ -514,8 +515,14 @@ class Simulator:
             self.boot()
         out = []
         for slot, name in motions:
-            r = self.play(layout.motion_address(slot), slot=slot, name=name, hold=hold,
-                          hold_for=hold_for, limit=limit)  # fmt: skip
+            r = self.play(
+                layout.motion_address(slot),
+                slot=slot,
+                name=name,
+                hold=hold,
+                hold_for=hold_for,
+                limit=limit,
+            )
             out.append(r)
             if progress is not None:
                 progress(r)
