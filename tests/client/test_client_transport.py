@@ -238,3 +238,14 @@ def test_hardware_ram_round_trip(hardware_port: str) -> None:
             assert robot.read_ram(0x048A, 4) == b"\x12\x34\x56\x78"
         finally:
             robot.write_ram(0x048A, old)
+
+
+def test_cli_rom_dump_with_default_range_reads_the_whole_image(
+    cli_url: str, tmp_path: Path
+) -> None:
+    out_file = tmp_path / "full.bin"
+    code, out, err = _run("rom", "dump", "--port", cli_url, "-o", str(out_file), "--no-progress")
+    assert code == 0, err
+    image = out_file.read_bytes()
+    assert len(image) == 0x40000
+    assert image[0x044B:0x044D] == b"\x09\x00"  # the main loop's system-register write

@@ -85,8 +85,10 @@ def open_robot(port: str | None, baud: str, timeout: float) -> Robot:
     return Robot.open(port, baudrate=_baud(baud), timeout=timeout)
 
 
-def parse_int(text: str) -> int:
-    """An integer in decimal, ``0x..`` or ``..h`` hex."""
+def parse_int(text: str | int) -> int:
+    """An integer in decimal, ``0x..`` or ``..h`` hex (click passes int defaults as they are)."""
+    if isinstance(text, int):
+        return text
     t = text.strip().lower().replace("_", "")
     try:
         if t.endswith("h"):
