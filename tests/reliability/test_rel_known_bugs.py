@@ -1,0 +1,75 @@
+"""Minimal reproducers of bugs found by the reliability suite (xfail until fixed; strict, so a
+fix turns them into failures that ask for the marker to be removed)."""
+
+from __future__ import annotations
+
+import socket
+import time
+
+import pytest
+
+from rcb4hv import protocol as p
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock, VirtualClock
+from rcb4hv.emulator.server import TcpServer
+from rcb4hv.transport import SerialTransport
+
+# MOVE literal 10h -> RAM 0004 (the PC's top byte): PC becomes 10xxxxh, past the 256 KB ROM.
+PC_PAST_ROM = p.encode_command(p.Move(p.Ram(0x0004), p.Data(b"\x10")))
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="bug: a host write putting the PC past 3FFFFh makes Board.tick raise IndexError "
+    "(Board._fetch indexes self.rom[pc] unchecked)",
+)
+def test_pc_written_past_rom_does_not_escape_from_feed() -> None:
+    board = Board(clock=VirtualClock())
+    board.run_for(1.0)
+    assert board.feed(PC_PAST_ROM) == bytes.fromhex("04 00 06 0A")
+    board.run_for(0.1)  # IndexError here
+    assert board.feed(bytes.fromhex("03 FE 01")) == bytes.fromhex("04 FE 06 08")
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="bug: the same command from a TCP client kills the server thread; the emulator "
+    "stops answering everyone",
+)
+def test_pc_written_past_rom_does_not_kill_the_server() -> None:
+    board = Board(EmulatorConfig(), clock=RealClock(speed=10.0))
+    try:
+        with TcpServer(board, "127.0.0.1", 0) as srv:
+            with socket.create_connection(srv.address, timeout=2.0) as s:
+                s.sendall(PC_PAST_ROM)
+                assert s.recv(4) == bytes.fromhex("04 00 06 0A")
+                time.sleep(0.1)
+                s.sendall(bytes.fromhex("03 FE 01"))
+                s.settimeout(1.0)
+                try:
+                    reply = s.recv(4)
+                except TimeoutError:
+                    reply = b""
+            assert srv.error is None, f"server thread died: {srv.error!r}"
+            assert reply == bytes.fromhex("04 FE 06 08")
+    finally:
+        board.close()
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="bug: SerialTransport leaves Nagle on for socket:// (pyserial does not set "
+    "TCP_NODELAY): a frame written in two parts can arrive >20 ms apart and be NAKed",
+)
+def test_socket_transport_sets_tcp_nodelay() -> None:
+    board = Board(EmulatorConfig(), clock=RealClock(speed=10.0))
+    try:
+        with TcpServer(board, "127.0.0.1", 0) as srv:
+            host, port = srv.address
+            transport = SerialTransport.open(f"socket://{host}:{port}")
+            try:
+                sock = transport.port._socket  # type: ignore[attr-defined]
+                assert sock.getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY) != 0
+            finally:
+                transport.close()
+    finally:
+        board.close()
