@@ -117,6 +117,10 @@ past 40000h makes the next tick raise IndexError out of Board.feed/tick (and kil
 thread). While it stands, fuzz examples that hit it are skipped (``assume``), nothing else."""
 
 
+KNOWN_BUG_HITS: list[int] = [0]
+"""How many fuzz examples hit a known bug (and were skipped)."""
+
+
 @contextlib.contextmanager
 def known_bugs_skipped(board: Board) -> Iterator[None]:
     try:
@@ -125,6 +129,7 @@ def known_bugs_skipped(board: Board) -> Iterator[None]:
         if KNOWN_BUG_PC_OUT_OF_ROM and board.pc >= p.ROM_SIZE:
             from hypothesis import assume
 
+            KNOWN_BUG_HITS[0] += 1
             assume(False)
         raise
 
@@ -269,6 +274,87 @@ def feed_memory_growth(iterations: int, seed: int = 1) -> tuple[int, int, int]:
     finally:
         tracemalloc.stop()
     return fed, growth, peak_out
+
+
+@dataclass
+class FuzzStats:
+    inputs: int = 0
+    bytes_fed: int = 0
+    crashes: list[str] = field(default_factory=list)
+    known_bug_hits: int = 0
+    memory_growth: int = 0
+
+
+def run_fuzz_budget(examples: int, memory_iterations: int) -> FuzzStats:
+    """The fuzz properties outside pytest (for ``make reliability``): ``examples`` hypothesis
+    examples per property plus a tracemalloc loop. A property failure counts as a crash."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    from tests.reliability.mutations import hostile_input, mutated_frames
+    from tests.strategies import command_frames
+
+    stats = FuzzStats()
+    hits0 = KNOWN_BUG_HITS[0]
+    cfg = settings(
+        max_examples=examples,
+        database=None,
+        deadline=None,
+        suppress_health_check=list(HealthCheck),
+    )
+
+    @cfg
+    @given(hostile_input, st.integers(1, 40), st.sampled_from([0.0, 0.1, 0.45]), st.booleans())
+    def hostile(data: bytes, chunk: int, gap: float, idle: bool) -> None:
+        stats.inputs += 1
+        stats.bytes_fed += len(data)
+        check_hostile_feed(data, chunk, gap, "idle" if idle else "booted")
+
+    @cfg
+    @given(st.lists(st.one_of(mutated_frames, st.binary(max_size=64)), min_size=1, max_size=8))
+    def stream(parts: list[bytes]) -> None:
+        data = b"".join(parts)
+        stats.inputs += 1
+        stats.bytes_fed += len(data)
+        check_hostile_feed(data, 64, 0.0)
+
+    @cfg
+    @given(st.lists(command_frames, min_size=1, max_size=6), st.integers(1, 40))
+    def valid(frames: list[bytes], chunk: int) -> None:
+        stats.inputs += 1
+        stats.bytes_fed += sum(map(len, frames))
+        check_valid_feed(frames, chunk, 0.1)
+
+    @cfg
+    @given(hostile_input)
+    def decoder(data: bytes) -> None:
+        stats.inputs += 1
+        stats.bytes_fed += len(data)
+        dec = p.FrameDecoder()
+        dec.receive_data(data)
+        while True:
+            try:
+                if dec.next_frame() is p.NEED_DATA:
+                    break
+            except ProtocolError:
+                continue
+        assert len(dec.pending) < p.MAX_FRAME_SIZE
+        try:
+            p.decode_command(data)
+        except ProtocolError:
+            pass
+
+    for prop in (hostile, stream, valid, decoder):
+        try:
+            prop()
+        except Exception as exc:
+            stats.crashes.append(f"{prop.__name__}: {exc!r}"[:300])
+    fed, growth, _ = feed_memory_growth(memory_iterations)
+    stats.inputs += memory_iterations
+    stats.bytes_fed += fed
+    stats.memory_growth = growth
+    stats.known_bug_hits = KNOWN_BUG_HITS[0] - hits0
+    return stats
 
 
 # ============================================================================================
@@ -619,7 +705,8 @@ def check_image(old: bytes, new: bytes, generation: int) -> tuple[int, int, int,
             torn += 1
     s = "".join(states)
     n_new = s.count("n")
-    if s.rstrip("o") != "n" * len(s.rstrip("o")):
+    ordered = s.replace("x", "").rstrip("o")
+    if ordered != "n" * len(ordered):
         torn += 1
         problem = "new pages are not a prefix: " + s
     else:
@@ -650,7 +737,14 @@ def run_kill_cycles(
             done = [0]
             writer = threading.Thread(target=_upload, args=(emu.url, generation, stop, done))
             writer.start()
-            time.sleep(rng.uniform(0.0, max_delay))
+            if rng.random() < 0.5:  # at a random moment
+                time.sleep(rng.uniform(0.0, max_delay))
+            else:  # just after a random page (often during a flush)
+                target = rng.randrange(UPLOAD_SIZE // PAGE)
+                deadline = time.monotonic() + 10.0
+                while done[0] < target and writer.is_alive() and time.monotonic() < deadline:
+                    time.sleep(0.001)
+                time.sleep(rng.uniform(0.0, 0.01))
             emu.kill()
             stop.set()
             writer.join(timeout=10)
@@ -858,7 +952,7 @@ def tcp_flooding_client(emu: EmulatorProcess, flood_s: float = 1.0, seed: int = 
 SOAK_CALLS: Final[tuple[Callable[[Rcb4Client, random.Random], None], ...]] = (
     lambda c, r: c.acknowledge_check(),
     lambda c, r: c.write_ram(0x0462, r.randbytes(r.randint(1, 40))),
-    lambda c, r: c.read_ram(0x0462, r.randint(1, 128)),
+    lambda c, r: c.read_ram(0x0090, r.randint(1, 128)),
     lambda c, r: c.read_rom(0x0B80, r.randint(1, 128)),
     lambda c, r: c.get_version_info(),
     lambda c, r: c.run_single_servo(r.choice((0, 2, 3, 4)), 10, r.randint(5000, 10000)),
