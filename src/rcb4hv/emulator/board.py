@@ -150,6 +150,8 @@ class Board:
         self._output = bytearray()
         self._listeners: list[OutputListener] = []
         self._cache: dict[int, tuple[Command | None, int, int]] = {}
+        self._vector_memo: tuple[int, tuple[tuple[int, int], ...], bytes] | None = None
+        self._loop_memo: dict[tuple[int, int], int] = {}
         self.stretch: dict[int, int] = {}
         self.speed_parameter: dict[int, int] = {}
         self.frames_handled = 0
@@ -456,6 +458,7 @@ class Board:
                 raise _CommandError("ROM write past the end")
             self.rom[op.address : op.address + n] = data
             self._cache.clear()
+            self._loop_memo.clear()
             if self._store is not None:
                 self._store.mark_dirty()
             return
@@ -879,6 +882,7 @@ class Board:
         credit = self._credit + (until - self._prog_t) * self.config.instructions_per_ms / 1000
         self._prog_t = until
         r = self.ram
+        seen_loop: tuple[int, int] | None = None
         while credit >= 1:
             if not r[0] & SYS_ROM:
                 credit = 0.0
@@ -888,9 +892,53 @@ class Board:
             if r[7] or r[8] or r[9] or r[10] or r[11]:
                 credit = 0.0
                 break
+            pc = self.pc
             self._step()
             credit -= 1
+            target = self.pc
+            if target < pc and credit >= 1:
+                # A backward branch closed an iteration. Nothing but the program changes RAM
+                # within this call, so once a whole iteration of a flags-only polling loop has
+                # run here, every further iteration until `until` is identical: count them.
+                loop = (target, pc)
+                if seen_loop == loop:
+                    length = self._polling_loop_length(target, pc)
+                    if length:
+                        n = int(credit // length)
+                        credit -= n * length
+                        self.instructions_executed += n * length
+                seen_loop = loop
         self._credit = credit
+
+    def _polling_loop_length(self, start: int, jump_pc: int) -> int:
+        """Instructions in the loop ``start``..``jump_pc`` if it only reads memory and sets
+        flags (no-write-back data ops, Not/Shift without write-back, conditional JUMPs),
+        else 0. Memoised; the instruction cache is invalidated with ROM writes, and so is this."""
+        key = (start, jump_pc)
+        known = self._loop_memo.get(key)
+        if known is not None:
+            return known
+        count, pc = 0, start
+        while pc <= jump_pc and count < 64:
+            entry = self._cache.get(pc)
+            if entry is None or entry[0] is None:
+                count = 0
+                break
+            cmd = entry[0]
+            pure = isinstance(cmd, Jump) or (
+                getattr(cmd, "no_write", False) and not isinstance(getattr(cmd, "dst", None), Com)
+            )
+            if not pure:
+                count = 0
+                break
+            count += 1
+            if pc == jump_pc:
+                break
+            pc += entry[1]
+        if pc != jump_pc:
+            count = 0
+        self._loop_memo[key] = count
+        return count
 
     def _fetch(self, pc: int) -> tuple[Command | None, int, int]:
         size = self.rom[pc]
@@ -943,9 +991,60 @@ class Board:
                 raise _CommandError("vector operand out of range")
         return int.from_bytes(self.ram[a : a + size], "little")
 
+    def _vector_snapshot(self, table: int) -> tuple[int, tuple[tuple[int, int], ...], bytes] | None:
+        """The RAM bytes a no-match evaluation of ``table`` depended on, or None when an
+        operand is indirect (ICS) and so depends on more than its own bytes."""
+        r = self.ram
+        spans = []
+        for i in range(32):
+            a = table + 8 * i
+            if a + 8 > RAM_SIZE:
+                break
+            c = r[a]
+            size = 2 if c & 0x20 else 1
+            spans.append((a, a + 8))
+            for word, literal in ((self._w(a + 1), False), (self._w(a + 3), bool(c & 0x10))):
+                if literal:
+                    continue
+                if word & 0x8000 or word + size > RAM_SIZE:
+                    return None
+                spans.append((word, word + size))
+            if c & 0x80:
+                break
+        merged: list[tuple[int, int]] = []
+        for x, y in sorted(spans):
+            # bytes between two spans may join the snapshot: a change there only costs a
+            # re-evaluation, and one slice compares faster than several
+            if merged and x <= merged[-1][1] + 32:
+                merged[-1] = (merged[-1][0], max(merged[-1][1], y))
+            else:
+                merged.append((x, y))
+        key = tuple(merged)
+        return table, key, b"".join(bytes(r[x:y]) for x, y in key)
+
+    def _vector_unchanged(self, table: int) -> bool:
+        """True when the last evaluation found no match and nothing it read has changed."""
+        memo = self._vector_memo
+        if memo is None or memo[0] != table:
+            return False
+        r = self.ram
+        spans = memo[1]
+        if len(spans) == 1:
+            x, y = spans[0]
+            return r[x:y] == memo[2]
+        return b"".join(bytes(r[x:y]) for x, y in spans) == memo[2]
+
     def _vector_jump(self) -> None:
-        """Evaluate the vector-jump table (spec 11.3); the first matching package wins."""
+        """Evaluate the vector-jump table (spec 11.3); the first matching package wins.
+
+        A no-match result is memoised on the exact RAM bytes it read (the packages and their
+        direct operands), so an idle main loop does not re-evaluate an unchanged table before
+        every instruction; any change to those bytes re-evaluates. Results are identical.
+        """
         table = self._w(0x008C)
+        if self._vector_unchanged(table):
+            return
+        self._vector_memo = None
         r = self.ram
         for i in range(32):
             a = table + 8 * i
@@ -979,7 +1078,8 @@ class Board:
                 log.debug("vector package %d fired: PC <- %05X", i, target)
                 return
             if c & 0x80:
-                return
+                break
+        self._vector_memo = self._vector_snapshot(table)
 
     # ------------------------------------------------------------------ test / host hooks
 

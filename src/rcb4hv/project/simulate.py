@@ -91,6 +91,9 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+# Decoded instructions by their exact frame bytes (pure: the same bytes always decode alike).
+_DECODED: dict[bytes, tuple[Command | None, str]] = {}
+
 Status = Literal["completed", "waiting", "stalled", "timeout", "error"]
 SampleListener = Callable[[float, dict[int, int]], None]
 
@@ -304,12 +307,19 @@ class Simulator:
         rom = self.board.rom
         size = rom[pc]
         frame = bytes(rom[pc : pc + size])
+        known = _DECODED.get(frame)
+        if known is not None:
+            return known
         try:
             check_frame(frame)
             cmd = decode_command(frame)
         except (ProtocolError, ValueError, IndexError):
-            return None, f".byte {frame[:16].hex(' ')}"
-        return cmd, format_command(cmd)
+            result: tuple[Command | None, str] = (None, f".byte {frame[:16].hex(' ')}")
+        else:
+            result = (cmd, format_command(cmd))
+        if len(_DECODED) < 4096:
+            _DECODED[frame] = result
+        return result
 
     def _error(self) -> tuple[str, int, str]:
         """(kind, PC, disassembly) of the instruction that stopped the program."""
