@@ -49,8 +49,12 @@ def main() -> int:
     _row(rows, "inputs fuzzed (bytes)", f"{fz.inputs} ({fz.bytes_fed})")
     _row(rows, "crashes / property failures", len(fz.crashes), _ok(not fz.crashes))
     _row(rows, "examples hitting known bug (PC past ROM)", fz.known_bug_hits, "skipped")
-    _row(rows, "memory growth over 20000 inputs", f"{fz.memory_growth} B",
-         _ok(fz.memory_growth < 64 * 1024))
+    _row(
+        rows,
+        "memory growth over 20000 inputs",
+        f"{fz.memory_growth} B",
+        _ok(fz.memory_growth < 64 * 1024),
+    )
     for crash in fz.crashes:
         print("    ", crash)
     failed |= bool(fz.crashes) or fz.memory_growth >= 64 * 1024
@@ -59,10 +63,18 @@ def main() -> int:
     outcomes = sc.run_fault_matrix(rounds=fault_rounds, seed=11)
     passed = sum(o.ok for o in outcomes)
     worst = max(o.elapsed for o in outcomes)
-    _row(rows, "fault scenarios run / passed", f"{len(outcomes)} / {passed}",
-         _ok(passed == len(outcomes)))
-    _row(rows, "slowest failing call (timeout 0.25 s)", f"{worst:.3f} s",
-         _ok(worst <= 0.25 + sc.SLACK))
+    _row(
+        rows,
+        "fault scenarios run / passed",
+        f"{len(outcomes)} / {passed}",
+        _ok(passed == len(outcomes)),
+    )
+    _row(
+        rows,
+        "slowest failing call (timeout 0.25 s)",
+        f"{worst:.3f} s",
+        _ok(worst <= 0.25 + sc.SLACK),
+    )
     for o in outcomes:
         if not o.ok:
             print("    ", o.scenario, o.why)
@@ -73,8 +85,12 @@ def main() -> int:
         ks = sc.run_kill_cycles(Path(tmp) / "board.rom", kills, seed=3, max_delay=1.0)
     _row(rows, "kill/restart cycles", ks.cycles)
     _row(rows, "64-byte pages checked / persisted", f"{ks.pages_checked} / {ks.pages_persisted}")
-    _row(rows, "torn pages / bytes changed outside", f"{ks.torn_pages} / {ks.outside_changed}",
-         _ok(ks.torn_pages == 0 and ks.outside_changed == 0))
+    _row(
+        rows,
+        "torn pages / bytes changed outside",
+        f"{ks.torn_pages} / {ks.outside_changed}",
+        _ok(ks.torn_pages == 0 and ks.outside_changed == 0),
+    )
     _row(rows, "boot failures after restart", ks.boot_failures, _ok(ks.boot_failures == 0))
     _row(rows, "stale temp files left by kills", ks.stale_temp_files)
     for problem in ks.problems:
@@ -101,14 +117,24 @@ def main() -> int:
     seq = runs[0][1]
     _row(rows, "connections served (TCP + pty)", connections, _ok(not load_problems))
     _row(rows, "sequential TCP connect+ACK p99", f"{seq.p99() * 1000:.2f} ms")
-    _row(rows, "soak calls (frames) / failures", f"{len(soak.latencies)} / {soak.failures}",
-         _ok(soak.failures == 0))
-    _row(rows, "soak p99 / max latency",
-         f"{soak.p99() * 1000:.2f} / {max(soak.latencies) * 1000:.1f} ms",
-         _ok(soak.p99() < 0.05))
+    _row(
+        rows,
+        "soak calls (frames) / failures",
+        f"{len(soak.latencies)} / {soak.failures}",
+        _ok(soak.failures == 0),
+    )
+    _row(
+        rows,
+        "soak p99 / max latency",
+        f"{soak.p99() * 1000:.2f} / {max(soak.latencies) * 1000:.1f} ms",
+        _ok(soak.p99() < 0.05),
+    )
     _row(rows, "server fd growth (TCP run)", fd_growth, _ok(fd_growth <= 0))
-    _row(rows, "server RSS soak start / end / peak",
-         f"{soak.rss_before_kb} / {soak.rss_after_kb} / {peak_rss} kB")
+    _row(
+        rows,
+        "server RSS soak start / end / peak",
+        f"{soak.rss_before_kb} / {soak.rss_after_kb} / {peak_rss} kB",
+    )
     for problem in load_problems:
         print("    ", problem)
     failed |= bool(load_problems) or fd_growth > 0

@@ -67,7 +67,7 @@ def test_fuzz_board_recovers_for_valid_commands(garbage: bytes, frames: list[byt
 def test_fuzz_board_memory_stays_bounded() -> None:
     """Thousands of hostile inputs to one board: traced memory does not grow, the queued
     output stays small."""
-    fed, growth, peak_out = feed_memory_growth(max(FUZZ_EXAMPLES * 20, 1500), seed=3)
+    fed, growth, peak_out = feed_memory_growth(min(max(FUZZ_EXAMPLES * 20, 1500), 50_000), seed=3)
     assert fed > 50_000
     assert growth < 64 * 1024, f"memory grew by {growth} bytes over {fed} bytes of input"
     assert peak_out <= 8, f"{peak_out} bytes queued outside feed()"
