@@ -244,7 +244,7 @@ def test_cli_rom_dump_with_default_range_reads_the_whole_image(
     cli_url: str, tmp_path: Path
 ) -> None:
     out_file = tmp_path / "full.bin"
-    code, out, err = _run("rom", "dump", "--port", cli_url, "-o", str(out_file), "--no-progress")
+    code, _out, err = _run("rom", "dump", "--port", cli_url, "-o", str(out_file), "--no-progress")
     assert code == 0, err
     image = out_file.read_bytes()
     assert len(image) == 0x40000

@@ -55,12 +55,9 @@ def test_pc_written_past_rom_does_not_kill_the_server() -> None:
         board.close()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug: SerialTransport leaves Nagle on for socket:// (pyserial does not set "
-    "TCP_NODELAY): a frame written in two parts can arrive >20 ms apart and be NAKed",
-)
 def test_socket_transport_sets_tcp_nodelay() -> None:
+    """Fixed: pyserial's socket:// left Nagle on, so a frame written in two parts could arrive
+    >20 ms apart and be NAKed by the frame timeout."""
     board = Board(EmulatorConfig(), clock=RealClock(speed=10.0))
     try:
         with TcpServer(board, "127.0.0.1", 0) as srv:

@@ -31,8 +31,18 @@ class RomStore:
         self._dirty_since: float | None = None
         self.flushes = 0
 
+    def _stale_temp_files(self) -> list[Path]:
+        return list(self.path.parent.glob(f".{self.path.name}.*.tmp"))
+
     def load(self) -> bytes | None:
-        """The stored image, or None if the file does not exist."""
+        """The stored image, or None if the file does not exist.
+
+        Temporary files left by a crash in the middle of a flush are removed: the image itself
+        is always complete (the temp file only replaces it once fully written and synced)."""
+        for stale in self._stale_temp_files():
+            with contextlib.suppress(OSError):
+                stale.unlink()
+                log.info("removed %s left by an interrupted flush", stale)
         try:
             data = self.path.read_bytes()
         except FileNotFoundError:
@@ -68,6 +78,12 @@ class RomStore:
         directory.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp", dir=directory)
         try:
+            # mkstemp creates 0600; keep the image's own mode (0644 for a new image)
+            try:
+                mode = self.path.stat().st_mode & 0o777
+            except FileNotFoundError:
+                mode = 0o644
+            os.fchmod(fd, mode)
             with os.fdopen(fd, "wb") as f:
                 f.write(image)
                 f.flush()

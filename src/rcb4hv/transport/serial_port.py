@@ -91,6 +91,15 @@ def resolve_port(port: str | None) -> str:
     return found[0]
 
 
+def _disable_nagle(port: object) -> None:
+    """pyserial's socket:// leaves Nagle's algorithm on: a frame written in two parts would then
+    reach the board ~40 ms apart, past its frame timeout. Send every write at once instead."""
+    sock = getattr(port, "_socket", None)
+    if isinstance(sock, socket.socket) and sock.family in (socket.AF_INET, socket.AF_INET6):
+        with contextlib.suppress(OSError):
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+
+
 class SerialTransport(Transport):
     """A :class:`Transport` over any pyserial port object, at 8E1."""
 
@@ -129,6 +138,7 @@ class SerialTransport(Transport):
             )
         except _PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
+        _disable_nagle(port)
         log.debug("opened %s at %d baud", url, baudrate)
         return cls(port, url)
 
