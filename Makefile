@@ -29,7 +29,7 @@ bench: $(VENV)/.installed-dev
 	$(BIN)/python -m bench.run
 
 fuzz: $(VENV)/.installed-dev
-	RCB4HV_FUZZ_EXAMPLES=20000 $(BIN)/pytest -q tests/reliability -k fuzz -p no:timeout
+	HYPOTHESIS_PROFILE=fuzz RCB4HV_FUZZ_EXAMPLES=20000 $(BIN)/pytest -q tests/reliability -k fuzz --timeout=0
 
 reliability: $(VENV)/.installed-dev
 	$(BIN)/python -m bench.reliability
