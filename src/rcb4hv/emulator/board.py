@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass
+from itertools import pairwise
 from pathlib import Path
 from typing import Final
 
@@ -87,6 +88,12 @@ _ROMERR: Final = 1
 _CMDERR: Final = 2
 
 OutputListener = Callable[[float, dict[int, int]], None]
+Executor = Callable[[int], object]
+Entry = tuple[Command | None, int, int, Executor | None]
+
+
+# the binary operations ROM instructions run through a specialised closure (see _compile)
+_FAST_BINARY: Final[dict[type, int]] = {And: 0, Or: 1, Xor: 2, Add: 3, Sub: 4, Mul: 5}
 
 
 class _CommandError(Exception):
@@ -149,8 +156,9 @@ class Board:
         self._last_rx = 0.0
         self._output = bytearray()
         self._listeners: list[OutputListener] = []
-        self._cache: dict[int, tuple[Command | None, int, int]] = {}
+        self._cache: dict[int, Entry] = {}
         self._vector_memo: tuple[int, tuple[tuple[int, int], ...], bytes] | None = None
+        self._static_memo: tuple[int, bytearray, bool] | None = None
         self._loop_memo: dict[tuple[int, int], int] = {}
         self.stretch: dict[int, int] = {}
         self.speed_parameter: dict[int, int] = {}
@@ -185,6 +193,13 @@ class Board:
         self._next_timer = t + TIMER_PERIOD_US
         self._active: set[int] = set()
         self._dirty = True
+        # Block-address cache (see _rescan): valid while the layout is "safe" and not dirty.
+        self._safe = False
+        self._blocks: list[int | None] = [None] * 36
+        self._vs_blocks: list[tuple[int, int]] = []
+        self._vs_mixing = False
+        self._dirty_lo = ALLOC
+        self._dirty_hi = RAM_SIZE + 1
         self._physical = dict.fromkeys(cfg.virtual_servos, cfg.servo_initial_position)
         self._torque = dict.fromkeys(range(36), False)
         self._decoder.reset()
@@ -230,8 +245,9 @@ class Board:
     def tick(self) -> None:
         """Bring the model up to ``clock.now()``; may queue a NAK for a timed-out frame."""
         now = self.clock.now()
-        self._advance(self._us(now))
-        self._check_frame_timeout(now)
+        self._advance(int(now * 1_000_000))
+        if self._discard or self._decoder.pending:
+            self._check_frame_timeout(now)
         if self._store is not None:
             self._store.maybe_flush(self.rom)
 
@@ -414,7 +430,8 @@ class Board:
 
     @property
     def system_register(self) -> int:
-        return self._w(0)
+        r = self.ram
+        return r[0] | r[1] << 8
 
     @property
     def call_stack(self) -> list[int]:
@@ -423,7 +440,14 @@ class Board:
 
     def alloc(self, ics: int) -> int:
         """``alloc[ics]``: RAM address of the device block of ICS ``ics`` (FFFF = none)."""
-        return self._w(ALLOC + 2 * ics)
+        r = self.ram
+        a = ALLOC + 2 * ics
+        return r[a] | r[a + 1] << 8
+
+    def _touch(self, a: int, n: int) -> None:
+        """A host hook wrote RAM ``a``..``a+n-1`` directly: keep the block cache honest."""
+        if self._safe and a + n > self._dirty_lo and a < self._dirty_hi:
+            self._dirty = True
 
     def _ram_address(self, op: Ram | Ics, size: int) -> int:
         if isinstance(op, Ram):
@@ -464,7 +488,7 @@ class Board:
             return
         a = self._ram_address(op, n)
         self.ram[a : a + n] = data
-        if a + n > ALLOC:
+        if a + n > self._dirty_lo and a < self._dirty_hi:
             self._dirty = True
 
     def _set_flags(self, z: bool | None, c: bool | None) -> None:
@@ -477,7 +501,9 @@ class Board:
 
     def _holds(self, cond: Condition) -> bool:
         hi = self.ram[1]
-        z, c = bool(hi & Z_BIT), bool(hi & C_BIT)
+        return self._holds_zc(cond, bool(hi & Z_BIT), bool(hi & C_BIT))
+
+    def _holds_zc(self, cond: Condition, z: bool, c: bool) -> bool:
         if self.config.branch_condition == "and":
             return cond.holds(z, c)
         checks = []
@@ -605,6 +631,8 @@ class Board:
     # ------------------------------------------------------------------ servos
 
     def _block(self, ics: int) -> int | None:
+        if self._safe and not self._dirty:
+            return self._blocks[ics]
         a = self._w(ALLOC + 2 * ics)
         if a == 0xFFFF or a + 20 > RAM_SIZE or self.ram[a] != 0:
             return None
@@ -618,24 +646,32 @@ class Board:
         r = self.ram
         if speed == 0 and self.config.speed_zero == "one":
             speed = 1
+        lo, hi = pos & 0xFF, (pos >> 8) & 0xFF
         if pos in (FREE, HOLD) or speed == 0:
-            self._set_w(blk + 6, pos)
-            self._set_w(blk + 9, pos)
+            r[blk + 6] = lo
+            r[blk + 7] = hi
+            r[blk + 9] = lo
+            r[blk + 10] = hi
             r[blk + 8] = 0
             r[blk + 11] = 0
-            self._set_w(blk + 12, 0)
+            r[blk + 12] = 0
+            r[blk + 13] = 0
             self._active.discard(ics)
             return False
-        cur = self._w(blk + 6)
+        cur = r[blk + 6] | r[blk + 7] << 8
         if cur in (FREE, HOLD):
             phys = self._physical.get(ics)
             cur = pos if phys is None else (phys - _s16(self._w(blk + 2)) - self._mix(blk))
             cur &= 0xFFFF
-            self._set_w(blk + 6, cur)
-        self._set_w(blk + 9, pos)
+            r[blk + 6] = cur & 0xFF
+            r[blk + 7] = cur >> 8
+        r[blk + 9] = lo
+        r[blk + 10] = hi
         r[blk + 8] = speed
         r[blk + 11] = speed
-        self._set_w(blk + 12, pos - cur)
+        d = pos - cur
+        r[blk + 12] = d & 0xFF
+        r[blk + 13] = (d >> 8) & 0xFF
         self._active.add(ics)
         return True
 
@@ -688,13 +724,46 @@ class Board:
         return total
 
     def _rescan(self) -> None:
+        """Rebuild the set of moving servos and the block-address cache.
+
+        The layout is *safe* when every allocated block (20 bytes) lies past the allocation
+        table and no two blocks overlap. Then only writes through :meth:`_write` (and the host
+        hooks) into the table or a block can change what :meth:`_block` answers or which
+        servos move, so the cache holds until such a write marks the board dirty, and writes
+        elsewhere need no rescan. Other layouts keep the original, uncached behaviour.
+        """
         r = self.ram
+        self._dirty = True  # _block resolves from RAM while rebuilding
+        self._safe = False
+        blocks: list[int | None] = []
+        spans: list[int] = []
+        for ics in range(36):
+            a = r[ALLOC + 2 * ics] | r[ALLOC + 2 * ics + 1] << 8
+            if a == 0xFFFF or a + 20 > RAM_SIZE:
+                blocks.append(None)
+                continue
+            spans.append(a)
+            blocks.append(None if r[a] != 0 else a)
         active = set()
         for ics in range(36):
-            blk = self._block(ics)
+            blk = blocks[ics]
             if blk is not None and r[blk + 8]:
                 active.add(ics)
         self._active = active
+        spans.sort()
+        safe = all(a >= 0x008C for a in spans) and all(y - x >= 20 for x, y in pairwise(spans))
+        self._blocks = blocks
+        self._vs_blocks = [
+            (ics, blk) for ics in self.config.virtual_servos if (blk := blocks[ics]) is not None
+        ]
+        self._vs_mixing = any(r[b + 14] != 0xFF or r[b + 17] != 0xFF for _, b in self._vs_blocks)
+        if safe:
+            self._dirty_lo = ALLOC
+            self._dirty_hi = spans[-1] + 20 if spans else 0x008C
+        else:
+            self._dirty_lo = ALLOC
+            self._dirty_hi = RAM_SIZE + 1
+        self._safe = safe
         self._dirty = False
 
     def _period(self) -> None:
@@ -702,6 +771,77 @@ class Board:
         self.periods += 1
         if self._dirty:
             self._rescan()
+        if not self._safe:
+            self._period_any()
+            return
+        r = self.ram
+        blocks = self._blocks
+        active = self._active
+        flags_cleared = 0
+        for ics in list(active):
+            blk = blocks[ics]
+            if blk is None or not r[blk + 8]:  # pragma: no cover - the cache keeps this out
+                active.discard(ics)
+                continue
+            rem = r[blk + 11]
+            if rem == 0:
+                r[blk + 8] = 0
+                r[blk + 6] = r[blk + 9]
+                r[blk + 7] = r[blk + 10]
+                flags_cleared |= 1 << ics
+                active.discard(ics)
+                continue
+            rem -= 1
+            r[blk + 11] = rem
+            w = r[blk + 12] | r[blk + 13] << 8
+            end = r[blk + 9] | r[blk + 10] << 8
+            if w & 0x8000:
+                out = (end + (0x10000 - w) * rem // r[blk + 8]) & 0xFFFF
+            else:
+                out = (end - w * rem // r[blk + 8]) & 0xFFFF
+            r[blk + 6] = out & 0xFF
+            r[blk + 7] = out >> 8
+        if flags_cleared:
+            flags = int.from_bytes(r[7:12], "little") & ~flags_cleared
+            r[7:12] = flags.to_bytes(5, "little")
+        if r[0] & SYS_ICS:
+            self._report_fast()
+        if self._listeners:
+            t = self._now / 1e6
+            outs = self.servo_outputs()
+            for cb in self._listeners:
+                cb(t, outs)
+
+    def _report_fast(self) -> None:
+        """:meth:`_report` with the cached blocks of a safe layout (same results)."""
+        r = self.ram
+        hold_is_free = self.config.position_7fff == "free"
+        physical = self._physical
+        torque = self._torque
+        for ics, blk in self._vs_blocks:
+            out = r[blk + 6] | r[blk + 7] << 8
+            base = r[blk + 2] | r[blk + 3] << 8
+            if base & 0x8000:
+                base -= 0x10000
+            if out == FREE or (out == HOLD and hold_is_free):
+                torque[ics] = False
+                p = physical[ics]
+            elif out == HOLD:
+                torque[ics] = True
+                p = physical[ics]
+            else:
+                v = out + base
+                if r[blk + 14] != 0xFF or r[blk + 17] != 0xFF:
+                    v += self._mix(blk)
+                p = 0 if v < 0 else (v if v <= 0xFFFF else 0xFFFF)
+                physical[ics] = p
+                torque[ics] = True
+            m = (p - base) & 0xFFFF
+            r[blk + 4] = m & 0xFF
+            r[blk + 5] = m >> 8
+
+    def _period_any(self) -> None:
+        """The uncached period of any (also overlapping) block layout."""
         r = self.ram
         flags_cleared = 0
         for ics in list(self._active):
@@ -796,6 +936,8 @@ class Board:
             flags = 0
         if self._dirty:
             self._rescan()
+        if self._safe:
+            return self._skip_safe(np, horizon, flags)
         T = self._period_us()
         n = (horizon - np) // T + 1
         info: list[tuple[int, int]] = []
@@ -847,12 +989,80 @@ class Board:
         self.periods += skip
         return np + skip * T
 
+    def _skip_safe(self, np: int, horizon: int, flags: int) -> int:
+        """The rest of :meth:`_skip_periods` with the cached blocks of a safe layout."""
+        if self._vs_mixing:
+            return np
+        r = self.ram
+        blocks = self._blocks
+        T = FRAME_US[(r[0] >> 4) & 3]
+        n = (horizon - np) // T + 1
+        info: list[tuple[int, int]] = []
+        unblock = 0
+        for ics in self._active:
+            blk = blocks[ics]
+            if blk is None:  # pragma: no cover - the cache keeps this out
+                return np
+            info.append((ics, blk))
+            if flags >> ics & 1:
+                rem = r[blk + 11] + 1
+                if rem > unblock:
+                    unblock = rem
+        if flags:
+            pending = flags
+            for ics, _ in info:
+                pending &= ~(1 << ics)
+            k = n if pending else min(n, unblock)
+        else:
+            k = n
+        skip = k - 1
+        if skip <= 0:
+            return np
+        cleared = 0
+        for ics, blk in info:
+            spd = r[blk + 8]
+            rem = r[blk + 11]
+            if skip > rem:
+                r[blk + 8] = 0
+                r[blk + 6] = r[blk + 9]
+                r[blk + 7] = r[blk + 10]
+                r[blk + 11] = 0
+                cleared |= 1 << ics
+                self._active.discard(ics)
+            else:
+                rem -= skip
+                r[blk + 11] = rem
+                w = r[blk + 12] | r[blk + 13] << 8
+                end = r[blk + 9] | r[blk + 10] << 8
+                if w & 0x8000:
+                    out = (end + (0x10000 - w) * rem // spd) & 0xFFFF
+                else:
+                    out = (end - w * rem // spd) & 0xFFFF
+                r[blk + 6] = out & 0xFF
+                r[blk + 7] = out >> 8
+        if cleared:
+            f = int.from_bytes(r[7:12], "little") & ~cleared
+            r[7:12] = f.to_bytes(5, "little")
+        self.periods += skip
+        return np + skip * T
+
     def _vector_static(self) -> bool:
+        """True when no vector package reads RAM that changes by itself (memoised on the
+        table's bytes: the answer depends on nothing else)."""
         table = self._w(0x008C)
         if table == 0xFFFF:
             return True
         if table < STATIC_VECTOR_RAM:
             return False
+        snap = self.ram[table : table + 256]
+        memo = self._static_memo
+        if memo is not None and memo[0] == table and memo[1] == snap:
+            return memo[2]
+        result = self._vector_static_scan(table)
+        self._static_memo = (table, snap, result)
+        return result
+
+    def _vector_static_scan(self, table: int) -> bool:
         for i in range(32):
             a = table + 8 * i
             if a + 8 > RAM_SIZE:
@@ -882,20 +1092,50 @@ class Board:
         credit = self._credit + (until - self._prog_t) * self.config.instructions_per_ms / 1000
         self._prog_t = until
         r = self.ram
+        cache = self._cache
         seen_loop: tuple[int, int] | None = None
         while credit >= 1:
-            if not r[0] & SYS_ROM:
+            sysw = r[0]
+            if not sysw & SYS_ROM:
                 credit = 0.0
                 break
-            if r[0] & SYS_VEC and (r[0x8C] != 0xFF or r[0x8D] != 0xFF):
-                self._vector_jump()
+            if sysw & SYS_VEC and (r[0x8C] != 0xFF or r[0x8D] != 0xFF):
+                memo = self._vector_memo
+                if (
+                    memo is None
+                    or memo[0] != r[0x8C] | r[0x8D] << 8
+                    or len(memo[1]) != 1
+                    or r[memo[1][0][0] : memo[1][0][1]] != memo[2]
+                ):
+                    self._vector_jump()
             if r[7] or r[8] or r[9] or r[10] or r[11]:
                 credit = 0.0
                 break
-            pc = self.pc
-            self._step()
+            # one instruction (_step, inlined)
+            pc = r[2] | r[3] << 8 | r[4] << 16
+            entry = cache.get(pc)
+            if entry is None:
+                entry = self._fetch(pc)
+                cache[pc] = entry
+            fn = entry[3]
+            if fn is None:
+                romerr = entry[2] == _ROMERR
+                self._stop(romerr, "checksum error" if romerr else "bad instruction")
+            else:
+                self.instructions_executed += 1
+                nxt = (pc + entry[1]) % ROM_SIZE
+                r[2] = nxt & 0xFF
+                r[3] = (nxt >> 8) & 0xFF
+                r[4] = nxt >> 16
+                try:
+                    fn(nxt)
+                except _CommandError as exc:
+                    self._set_pc(pc)
+                    self._stop(False, str(exc))
+                except _Reset:
+                    self.power_on()
             credit -= 1
-            target = self.pc
+            target = r[2] | r[3] << 8 | r[4] << 16
             if target < pc and credit >= 1:
                 # A backward branch closed an iteration. Nothing but the program changes RAM
                 # within this call, so once a whole iteration of a flags-only polling loop has
@@ -940,47 +1180,154 @@ class Board:
         self._loop_memo[key] = count
         return count
 
-    def _fetch(self, pc: int) -> tuple[Command | None, int, int]:
+    def _fetch(self, pc: int) -> Entry:
         size = self.rom[pc]
         if size < 3 or size > 128 or pc + size > ROM_SIZE:
-            return (None, 0, _ROMERR)
+            return (None, 0, _ROMERR, None)
         frame = bytes(self.rom[pc : pc + size])
         try:
             check_frame(frame)
         except ProtocolError:
-            return (None, size, _ROMERR)
+            return (None, size, _ROMERR, None)
         try:
-            return (decode_command(frame), size, _OK)
+            cmd = decode_command(frame)
         except ProtocolError:
-            return (None, size, _CMDERR)
+            return (None, size, _CMDERR, None)
+        return (cmd, size, _OK, self._compile(cmd))
+
+    def _compile(self, cmd: Command) -> Executor:
+        """An executor of ``cmd`` from ROM (its reply is not needed): a closure specialised
+        on the operands for the common pure-RAM forms, else :meth:`_execute` itself. Only
+        forms that cannot fail are specialised, so results and errors are identical."""
+        t = type(cmd)
+        if t is Jump:
+            assert isinstance(cmd, Jump)
+            return self._compile_jump(cmd)
+        if t is Move:
+            assert isinstance(cmd, Move)
+            fast = self._compile_move(cmd)
+            if fast is not None:
+                return fast
+        elif t in _FAST_BINARY:
+            assert isinstance(cmd, (And, Or, Xor, Add, Sub, Mul))
+            fast = self._compile_binary(cmd)
+            if fast is not None:
+                return fast
+
+        def generic(nxt: int) -> object:
+            return self._execute(cmd, nxt)
+
+        return generic
+
+    def _compile_jump(self, cmd: Jump) -> Executor:
+        cond = cmd.condition
+        taken = tuple(self._holds_zc(cond, bool(hi & Z_BIT), bool(hi & C_BIT)) for hi in range(4))
+        target = cmd.address % ROM_SIZE
+        lo, mid, top = target & 0xFF, (target >> 8) & 0xFF, (target >> 16) & 0xFF
+        ram = self.ram
+
+        def jump(nxt: int) -> object:
+            if taken[ram[1] & 3]:
+                ram[2] = lo
+                ram[3] = mid
+                ram[4] = top
+            return None
+
+        return jump
+
+    def _compile_move(self, cmd: Move) -> Executor | None:
+        dst, src = cmd.dst, cmd.src
+        if type(dst) is not Ram:
+            return None
+        a = dst.address
+        ram = self.ram
+        if type(src) is Data:
+            data = src.data
+            n = len(data)
+            if a + n > RAM_SIZE:
+                return None
+
+            def move_data(nxt: int) -> object:
+                ram[a : a + n] = data
+                if a + n > self._dirty_lo and a < self._dirty_hi:
+                    self._dirty = True
+                return None
+
+            return move_data
+        if type(src) is Ram:
+            b = src.address
+            n = cmd.nbytes
+            if a + n > RAM_SIZE or b + n > RAM_SIZE:
+                return None
+
+            def move_ram(nxt: int) -> object:
+                ram[a : a + n] = ram[b : b + n]
+                if a + n > self._dirty_lo and a < self._dirty_hi:
+                    self._dirty = True
+                return None
+
+            return move_ram
+        return None
+
+    def _compile_binary(self, cmd: And | Or | Xor | Add | Sub | Mul) -> Executor | None:
+        dst, src = cmd.dst, cmd.src
+        size = cmd.nbytes
+        if type(dst) is not Ram or dst.address + size > RAM_SIZE:
+            return None
+        a = dst.address
+        const: int | None = None
+        b = 0
+        if type(src) is Data:
+            const = int.from_bytes(src.data, "little")
+        elif type(src) is Ram and src.address + size <= RAM_SIZE:
+            b = src.address
+        else:
+            return None
+        mask = (1 << (8 * size)) - 1
+        op = _FAST_BINARY[type(cmd)]
+        write = not cmd.no_write
+        logic_clear = self.config.logic_carry == "clear"
+        ram = self.ram
+
+        def binary(nxt: int) -> object:
+            dv = int.from_bytes(ram[a : a + size], "little")
+            sv = const if const is not None else int.from_bytes(ram[b : b + size], "little")
+            c: bool | None
+            if op == 0:
+                res, c = dv & sv, None
+            elif op == 1:
+                res, c = dv | sv, None
+            elif op == 2:
+                res, c = dv ^ sv, None
+            elif op == 3:
+                full = dv + sv
+                res, c = full & mask, full > mask
+            elif op == 4:
+                res, c = (dv - sv) & mask, dv >= sv
+            else:
+                full = dv * sv
+                res, c = full & mask, full > mask
+            if write:
+                ram[a : a + size] = res.to_bytes(size, "little")
+                if a + size > self._dirty_lo and a < self._dirty_hi:
+                    self._dirty = True
+            hi = ram[1]
+            hi = (hi & ~Z_BIT) if res else (hi | Z_BIT)
+            if c is None:
+                if logic_clear:
+                    hi &= ~C_BIT
+            else:
+                hi = (hi | C_BIT) if c else (hi & ~C_BIT)
+            ram[1] = hi
+            return None
+
+        return binary
 
     def _stop(self, rom_error: bool, why: str) -> None:
         self.ram[0] &= ~SYS_ROM
         if rom_error:
             self.ram[1] |= ROMERR_BIT
         log.debug("ROM program stopped at %05X: %s", self.pc, why)
-
-    def _step(self) -> None:
-        """Fetch, check and execute the instruction at PC."""
-        pc = self.pc
-        entry = self._cache.get(pc)
-        if entry is None:
-            entry = self._fetch(pc)
-            self._cache[pc] = entry
-        cmd, size, kind = entry
-        if cmd is None:
-            self._stop(kind == _ROMERR, "checksum error" if kind == _ROMERR else "bad instruction")
-            return
-        self.instructions_executed += 1
-        nxt = (pc + size) % ROM_SIZE
-        self._set_pc(nxt)
-        try:
-            self._execute(cmd, nxt)
-        except _CommandError as exc:
-            self._set_pc(pc)
-            self._stop(False, str(exc))
-        except _Reset:
-            self.power_on()
 
     def _vec_operand(self, word: int, size: int) -> int:
         if word & 0x8000:
@@ -1095,6 +1442,7 @@ class Board:
             raise ValueError("the button word is 16 bits")
         self.tick()
         self.ram[0x0350:0x0352] = int(buttons).to_bytes(2, "big")
+        self._touch(0x0350, 2)
 
     def set_pa(self, n: int, value: int) -> None:
         """Set analog pad value PA1-PA4 (one byte each at 0352h-0355h)."""
@@ -1102,6 +1450,7 @@ class Board:
             raise ValueError("PA1-PA4 take 0..255")
         self.tick()
         self.ram[0x0351 + n] = value
+        self._touch(0x0351 + n, 1)
 
     def set_ad(self, channel: int, value: int) -> None:
         """Set the measured value of AD0-AD10."""
@@ -1109,6 +1458,7 @@ class Board:
             raise ValueError("AD channels 0-10 take 0..1023")
         self.tick()
         self._set_w(0x0022 + 2 * channel, value)
+        self._touch(0x0022 + 2 * channel, 2)
 
     def set_servo_position(self, ics: int, position: int) -> None:
         """Move a virtual servo by hand (as if pushed while free)."""
