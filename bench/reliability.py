@@ -48,7 +48,6 @@ def main() -> int:
     fz = sc.run_fuzz_budget(fuzz_examples, memory_iterations=20000)
     _row(rows, "inputs fuzzed (bytes)", f"{fz.inputs} ({fz.bytes_fed})")
     _row(rows, "crashes / property failures", len(fz.crashes), _ok(not fz.crashes))
-    _row(rows, "examples hitting known bug (PC past ROM)", fz.known_bug_hits, "skipped")
     _row(
         rows,
         "memory growth over 20000 inputs",

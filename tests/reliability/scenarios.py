@@ -111,29 +111,6 @@ def no_internal_errors() -> Iterator[InternalErrors]:
         raise AssertionError(f"emulator logged an internal error: {first.getMessage()}")
 
 
-KNOWN_BUG_PC_OUT_OF_ROM: Final = True
-"""Bug (reported; reproducer in test_rel_known_bugs.py): a host write that puts the PC at or
-past 40000h makes the next tick raise IndexError out of Board.feed/tick (and kills the server
-thread). While it stands, fuzz examples that hit it are skipped (``assume``), nothing else."""
-
-
-KNOWN_BUG_HITS: list[int] = [0]
-"""How many fuzz examples hit a known bug (and were skipped)."""
-
-
-@contextlib.contextmanager
-def known_bugs_skipped(board: Board) -> Iterator[None]:
-    try:
-        yield
-    except IndexError:
-        if KNOWN_BUG_PC_OUT_OF_ROM and board.pc >= p.ROM_SIZE:
-            from hypothesis import assume
-
-            KNOWN_BUG_HITS[0] += 1
-            assume(False)
-        raise
-
-
 def split_replies(out: bytes) -> list[bytes]:
     """Cut the board's output into frames with the protocol core; every byte must belong to a
     whole, valid frame."""
@@ -214,7 +191,7 @@ def check_hostile_feed(data: bytes, chunk: int, dt_fraction: float, kind: str = 
     assert isinstance(board.clock, VirtualClock)
     clock = board.clock
     dt = board.config.frame_timeout_s * dt_fraction
-    with known_bugs_skipped(board), no_internal_errors():
+    with no_internal_errors():
         inline, queued = _feed_chunks(board, clock, data, chunk, dt)
         assert not queued, "a NAK for a timed-out frame without any gap"
         replies = split_replies(inline)
@@ -233,7 +210,7 @@ def check_valid_feed(frames: Sequence[bytes], chunk: int, dt_fraction: float) ->
     assert isinstance(board.clock, VirtualClock)
     clock = board.clock
     dt = board.config.frame_timeout_s * dt_fraction
-    with known_bugs_skipped(board), no_internal_errors():
+    with no_internal_errors():
         inline, queued = _feed_chunks(board, clock, b"".join(frames), chunk, dt)
         assert not queued
         replies = split_replies(inline)
@@ -281,7 +258,6 @@ class FuzzStats:
     inputs: int = 0
     bytes_fed: int = 0
     crashes: list[str] = field(default_factory=list)
-    known_bug_hits: int = 0
     memory_growth: int = 0
 
 
@@ -295,7 +271,6 @@ def run_fuzz_budget(examples: int, memory_iterations: int) -> FuzzStats:
     from tests.strategies import command_frames
 
     stats = FuzzStats()
-    hits0 = KNOWN_BUG_HITS[0]
     cfg = settings(
         max_examples=examples,
         database=None,
@@ -351,7 +326,6 @@ def run_fuzz_budget(examples: int, memory_iterations: int) -> FuzzStats:
     stats.inputs += memory_iterations
     stats.bytes_fed += fed
     stats.memory_growth = growth
-    stats.known_bug_hits = KNOWN_BUG_HITS[0] - hits0
     return stats
 
 

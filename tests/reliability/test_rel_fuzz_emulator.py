@@ -17,7 +17,6 @@ from tests.reliability.scenarios import (
     check_valid_feed,
     feed_memory_growth,
     fresh_board,
-    known_bugs_skipped,
     split_replies,
 )
 from tests.strategies import command_frames
@@ -53,15 +52,14 @@ def test_fuzz_board_recovers_for_valid_commands(garbage: bytes, frames: list[byt
     """Garbage, a frame-timeout gap, then valid commands: each gets exactly its reply."""
     board = fresh_board()
     clock = board.clock
-    with known_bugs_skipped(board):
-        board.feed(garbage)
-        clock.advance(board.config.frame_timeout_s * 1.5)  # type: ignore[attr-defined]
-        board.tick()
-        board.take_output()
-        for frame in frames:
-            replies = split_replies(board.feed(frame) + board.take_output())
-            assert len(replies) == 1, f"{frame.hex(' ')} -> {replies}"
-            p.decode_reply(replies[0], p.decode_command(frame))
+    board.feed(garbage)
+    clock.advance(board.config.frame_timeout_s * 1.5)  # type: ignore[attr-defined]
+    board.tick()
+    board.take_output()
+    for frame in frames:
+        replies = split_replies(board.feed(frame) + board.take_output())
+        assert len(replies) == 1, f"{frame.hex(' ')} -> {replies}"
+        p.decode_reply(replies[0], p.decode_command(frame))
 
 
 def test_fuzz_board_memory_stays_bounded() -> None:

@@ -1181,6 +1181,10 @@ class Board:
         return count
 
     def _fetch(self, pc: int) -> Entry:
+        # A PC past the 256 KB ROM (a host can write any 24-bit value to RAM 0002h) reads no
+        # instruction: treated like erased ROM, a fetch error (ROMERR, program stops).
+        if pc >= ROM_SIZE:
+            return (None, 0, _ROMERR, None)
         size = self.rom[pc]
         if size < 3 or size > 128 or pc + size > ROM_SIZE:
             return (None, 0, _ROMERR, None)
