@@ -15,6 +15,8 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
+import pytest
+
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.protocol import (
     Data,
@@ -140,7 +142,14 @@ def test_default_board_trace_is_unchanged() -> None:
     assert default_trace() == DEFAULT_EXPECTED
 
 
-def test_fixture_project_trace_is_unchanged(kxr_project_path: Path) -> None:
+def test_fixture_project_trace_is_unchanged(
+    kxr_project_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The simulator is only the driver here: pin its step to the one the digests were made
+    # with, so the trace measures the board and not the simulator's own step size.
+    from rcb4hv.project import simulate
+
+    monkeypatch.setattr(simulate, "STEP_US", 1000)
     assert project_trace(kxr_project_path) == PROJECT_EXPECTED
 
 
