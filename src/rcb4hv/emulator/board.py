@@ -120,6 +120,14 @@ def _s16(v: int) -> int:
     return v - 0x10000 if v & 0x8000 else v
 
 
+def _ramp(end: int, width: int, remaining: int, speed: int) -> int:
+    """Output with ``remaining`` of ``speed`` steps left (spec 9): end -/+ |width|*rem/speed,
+    ``width`` given as its raw 16-bit two's-complement word."""
+    if width & 0x8000:
+        return (end + (0x10000 - width) * remaining // speed) & 0xFFFF
+    return (end - width * remaining // speed) & 0xFFFF
+
+
 class Board:
     """An emulated RCB-4HV (HeartToHeart4 2.2 firmware behaviour)."""
 
@@ -771,16 +779,13 @@ class Board:
         self.periods += 1
         if self._dirty:
             self._rescan()
-        if not self._safe:
-            self._period_any()
-            return
         r = self.ram
-        blocks = self._blocks
+        block = self._blocks.__getitem__ if self._safe else self._block
         active = self._active
         flags_cleared = 0
         for ics in list(active):
-            blk = blocks[ics]
-            if blk is None or not r[blk + 8]:  # pragma: no cover - the cache keeps this out
+            blk = block(ics)
+            if blk is None or not r[blk + 8]:
                 active.discard(ics)
                 continue
             rem = r[blk + 11]
@@ -793,32 +798,35 @@ class Board:
                 continue
             rem -= 1
             r[blk + 11] = rem
-            w = r[blk + 12] | r[blk + 13] << 8
-            end = r[blk + 9] | r[blk + 10] << 8
-            if w & 0x8000:
-                out = (end + (0x10000 - w) * rem // r[blk + 8]) & 0xFFFF
-            else:
-                out = (end - w * rem // r[blk + 8]) & 0xFFFF
+            out = _ramp(
+                r[blk + 9] | r[blk + 10] << 8, r[blk + 12] | r[blk + 13] << 8, rem, r[blk + 8]
+            )
             r[blk + 6] = out & 0xFF
             r[blk + 7] = out >> 8
         if flags_cleared:
             flags = int.from_bytes(r[7:12], "little") & ~flags_cleared
             r[7:12] = flags.to_bytes(5, "little")
         if r[0] & SYS_ICS:
-            self._report_fast()
+            self._report()
         if self._listeners:
             t = self._now / 1e6
             outs = self.servo_outputs()
             for cb in self._listeners:
                 cb(t, outs)
 
-    def _report_fast(self) -> None:
-        """:meth:`_report` with the cached blocks of a safe layout (same results)."""
+    def _report(self) -> None:
+        """Virtual servos follow their sent value and report position - base into +4."""
         r = self.ram
         hold_is_free = self.config.position_7fff == "free"
         physical = self._physical
         torque = self._torque
-        for ics, blk in self._vs_blocks:
+        if self._safe:
+            pairs = self._vs_blocks
+        else:
+            pairs = [
+                (k, b) for k in self.config.virtual_servos if (b := self._block(k)) is not None
+            ]
+        for ics, blk in pairs:
             out = r[blk + 6] | r[blk + 7] << 8
             base = r[blk + 2] | r[blk + 3] << 8
             if base & 0x8000:
@@ -837,65 +845,6 @@ class Board:
                 physical[ics] = p
                 torque[ics] = True
             m = (p - base) & 0xFFFF
-            r[blk + 4] = m & 0xFF
-            r[blk + 5] = m >> 8
-
-    def _period_any(self) -> None:
-        """The uncached period of any (also overlapping) block layout."""
-        r = self.ram
-        flags_cleared = 0
-        for ics in list(self._active):
-            blk = self._block(ics)
-            if blk is None or not r[blk + 8]:
-                self._active.discard(ics)
-                continue
-            spd = r[blk + 8]
-            rem = r[blk + 11]
-            if rem == 0:
-                r[blk + 8] = 0
-                r[blk + 6] = r[blk + 9]
-                r[blk + 7] = r[blk + 10]
-                flags_cleared |= 1 << ics
-                self._active.discard(ics)
-                continue
-            rem -= 1
-            r[blk + 11] = rem
-            w = _s16(r[blk + 12] | r[blk + 13] << 8)
-            end = r[blk + 9] | r[blk + 10] << 8
-            a = abs(w) * rem // spd
-            out = (end - a if w >= 0 else end + a) & 0xFFFF
-            r[blk + 6] = out & 0xFF
-            r[blk + 7] = out >> 8
-        if flags_cleared:
-            flags = int.from_bytes(r[7:12], "little") & ~flags_cleared
-            r[7:12] = flags.to_bytes(5, "little")
-        if r[0] & SYS_ICS:
-            self._report()
-        if self._listeners:
-            t = self._now / 1e6
-            outs = self.servo_outputs()
-            for cb in self._listeners:
-                cb(t, outs)
-
-    def _report(self) -> None:
-        """Virtual servos follow their sent value and report position - base into +4."""
-        r = self.ram
-        hold_is_free = self.config.position_7fff == "free"
-        for ics in self.config.virtual_servos:
-            blk = self._block(ics)
-            if blk is None:
-                continue
-            out = r[blk + 6] | r[blk + 7] << 8
-            base = _s16(r[blk + 2] | r[blk + 3] << 8)
-            if out == FREE or (out == HOLD and hold_is_free):
-                self._torque[ics] = False
-            elif out == HOLD:
-                self._torque[ics] = True
-            else:
-                mix = self._mix(blk) if (r[blk + 14] != 0xFF or r[blk + 17] != 0xFF) else 0
-                self._physical[ics] = max(0, min(0xFFFF, out + base + mix))
-                self._torque[ics] = True
-            m = (self._physical[ics] - base) & 0xFFFF
             r[blk + 4] = m & 0xFF
             r[blk + 5] = m >> 8
 
@@ -936,14 +885,23 @@ class Board:
             flags = 0
         if self._dirty:
             self._rescan()
+        block: Callable[[int], int | None]
         if self._safe:
-            return self._skip_safe(np, horizon, flags)
+            if self._vs_mixing:
+                return np
+            block = self._blocks.__getitem__
+        else:
+            for ics in self.config.virtual_servos:
+                blk = self._block(ics)
+                if blk is not None and (r[blk + 14] != 0xFF or r[blk + 17] != 0xFF):
+                    return np
+            block = self._block
         T = self._period_us()
         n = (horizon - np) // T + 1
         info: list[tuple[int, int]] = []
         unblock = 0
         for ics in self._active:
-            blk = self._block(ics)
+            blk = block(ics)
             if blk is None:
                 return np
             info.append((ics, blk))
@@ -956,16 +914,11 @@ class Board:
             k = n if pending else min(n, unblock)
         else:
             k = n
-        for ics in self.config.virtual_servos:
-            blk = self._block(ics)
-            if blk is not None and (r[blk + 14] != 0xFF or r[blk + 17] != 0xFF):
-                return np
         skip = k - 1
         if skip <= 0:
             return np
         cleared = 0
         for ics, blk in info:
-            spd = r[blk + 8]
             rem = r[blk + 11]
             if skip > rem:
                 r[blk + 8] = 0
@@ -977,67 +930,8 @@ class Board:
             else:
                 rem -= skip
                 r[blk + 11] = rem
-                w = _s16(r[blk + 12] | r[blk + 13] << 8)
                 end = r[blk + 9] | r[blk + 10] << 8
-                a = abs(w) * rem // spd
-                out = (end - a if w >= 0 else end + a) & 0xFFFF
-                r[blk + 6] = out & 0xFF
-                r[blk + 7] = out >> 8
-        if cleared:
-            f = int.from_bytes(r[7:12], "little") & ~cleared
-            r[7:12] = f.to_bytes(5, "little")
-        self.periods += skip
-        return np + skip * T
-
-    def _skip_safe(self, np: int, horizon: int, flags: int) -> int:
-        """The rest of :meth:`_skip_periods` with the cached blocks of a safe layout."""
-        if self._vs_mixing:
-            return np
-        r = self.ram
-        blocks = self._blocks
-        T = FRAME_US[(r[0] >> 4) & 3]
-        n = (horizon - np) // T + 1
-        info: list[tuple[int, int]] = []
-        unblock = 0
-        for ics in self._active:
-            blk = blocks[ics]
-            if blk is None:  # pragma: no cover - the cache keeps this out
-                return np
-            info.append((ics, blk))
-            if flags >> ics & 1:
-                rem = r[blk + 11] + 1
-                if rem > unblock:
-                    unblock = rem
-        if flags:
-            pending = flags
-            for ics, _ in info:
-                pending &= ~(1 << ics)
-            k = n if pending else min(n, unblock)
-        else:
-            k = n
-        skip = k - 1
-        if skip <= 0:
-            return np
-        cleared = 0
-        for ics, blk in info:
-            spd = r[blk + 8]
-            rem = r[blk + 11]
-            if skip > rem:
-                r[blk + 8] = 0
-                r[blk + 6] = r[blk + 9]
-                r[blk + 7] = r[blk + 10]
-                r[blk + 11] = 0
-                cleared |= 1 << ics
-                self._active.discard(ics)
-            else:
-                rem -= skip
-                r[blk + 11] = rem
-                w = r[blk + 12] | r[blk + 13] << 8
-                end = r[blk + 9] | r[blk + 10] << 8
-                if w & 0x8000:
-                    out = (end + (0x10000 - w) * rem // spd) & 0xFFFF
-                else:
-                    out = (end - w * rem // spd) & 0xFFFF
+                out = _ramp(end, r[blk + 12] | r[blk + 13] << 8, rem, r[blk + 8])
                 r[blk + 6] = out & 0xFF
                 r[blk + 7] = out >> 8
         if cleared:
