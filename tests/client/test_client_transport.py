@@ -249,3 +249,29 @@ def test_cli_rom_dump_with_default_range_reads_the_whole_image(
     image = out_file.read_bytes()
     assert len(image) == 0x40000
     assert image[0x044B:0x044D] == b"\x09\x00"  # the main loop's system-register write
+
+
+def test_cli_servo_list_on_a_fresh_in_process_board_waits_for_start_up() -> None:
+    """Every CLI call makes a new rcb4emu:// board; its servo table exists after start-up."""
+    code, out, err = _run("servo", "list", "--port", "rcb4emu://?speed=20", "--json")
+    assert code == 0, err
+    servos = json.loads(out)
+    assert [s["ics"] for s in servos] == [
+        0,
+        2,
+        3,
+        4,
+        5,
+        6,
+        7,
+        10,
+        11,
+        12,
+        13,
+        14,
+        15,
+        16,
+        17,
+        18,
+        19,
+    ]

@@ -82,7 +82,17 @@ def connection_options(func: F) -> F:
 
 
 def open_robot(port: str | None, baud: str, timeout: float) -> Robot:
-    return Robot.open(port, baudrate=_baud(baud), timeout=timeout)
+    """Open the board. An in-process ``rcb4emu://`` board is new for every command, so wait for
+    its start-up program (it copies the servo table to RAM) before the command looks at it; a
+    real board, or an emulator served by ``rcb4hv emulate``, is used as it is."""
+    robot = Robot.open(port, baudrate=_baud(baud), timeout=timeout)
+    if port is not None and port.startswith("rcb4emu:"):
+        try:
+            robot.wait_ready(timeout=10.0)
+        except BaseException:
+            robot.close()
+            raise
+    return robot
 
 
 def parse_int(text: str | int) -> int:
