@@ -62,3 +62,23 @@ def test_every_command_describes_and_serialises(cmd: p.Command) -> None:
     code, out, _ = run("--json", p.encode_command(cmd).hex())
     assert code == 0
     assert json.loads(out)["command"] == type(cmd).__name__
+
+
+def test_closed_stdout_stops_quietly() -> None:
+    """`rcb4hv decode ... | head`: when the reader goes away, no traceback, no error line."""
+    import subprocess
+    import sys
+
+    frames = ("07 0F 02 1E 4C 1D 9F " * 20000).split()
+    proc = subprocess.Popen(
+        [sys.executable, "-c", "from rcb4hv.cli.main import main; main()", "decode", *frames],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert proc.stdout is not None and proc.stderr is not None
+    assert proc.stdout.read(100)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    proc.stderr.close()
+    assert proc.wait(timeout=60) == 1
+    assert "Traceback" not in err and "error" not in err

@@ -33,6 +33,8 @@ def handle_errors(func: F) -> F:
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         try:
             return func(*args, **kwargs)
+        except BrokenPipeError:
+            raise  # the reader went away (e.g. `| head`): main() exits quietly
         except (Rcb4Error, ValueError, OSError) as exc:
             name = type(exc).__name__
             click.echo(f"error: {exc} ({name})" if str(exc) else f"error: {name}", err=True)
