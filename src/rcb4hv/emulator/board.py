@@ -21,7 +21,13 @@ from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.romstore import RomStore
 from rcb4hv.errors import ChecksumError, FrameError, ProtocolError
 from rcb4hv.protocol import (
+    ADDR,
+    FRAME_PERIODS_MS,
     NEED_DATA,
+    POSITION_FREE,
+    POSITION_HOLD,
+    RAM_SIZE,
+    ROM_SIZE,
     Ack,
     AcknowledgeCheck,
     Add,
@@ -66,14 +72,12 @@ __all__ = ["Board", "ServoState"]
 
 log = logging.getLogger(__name__)
 
-RAM_SIZE: Final = 0x0490
-ROM_SIZE: Final = 0x40000
-ALLOC: Final = 0x0044
+ALLOC: Final = ADDR.ICS_ALLOC
 STACK_DEPTH: Final = 16
 TIMER_PERIOD_US: Final = 100_000
-FRAME_US: Final = (10_000, 15_000, 20_000, 25_000)
-FREE: Final = 0x8000
-HOLD: Final = 0x7FFF
+FRAME_US: Final = tuple(ms * 1000 for ms in FRAME_PERIODS_MS)
+FREE: Final = POSITION_FREE
+HOLD: Final = POSITION_HOLD
 SYS_ICS: Final = 0x01
 SYS_ROM: Final = 0x02
 SYS_VEC: Final = 0x08
