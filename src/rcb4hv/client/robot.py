@@ -32,6 +32,7 @@ from rcb4hv.protocol import (
     VersionReply,
     ics_to_id_port,
 )
+from rcb4hv.protocol.memory import SYS
 from rcb4hv.transport import DEFAULT_BAUD
 
 __all__ = [
@@ -51,10 +52,6 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 CENTER: Final = 7500
-ICS_F: Final = 0x0001
-ROM_F: Final = 0x0002
-MSG_F: Final = 0x0004
-VEC_F: Final = 0x0008
 MAX_SPEED: Final = 255
 SERVO_LIMIT: Final = 35  # ICS 35 is the remote-control receiver slot
 
@@ -359,7 +356,7 @@ class Robot:
         while True:
             head = self.client.read_ram(ADDR.SYSTEM, 6)
             word, pc, depth = head[0] | head[1] << 8, int.from_bytes(head[2:5], "little"), head[5]
-            if not word & ROM_F or (lay.main_loop <= pc < lay.motion_base and depth == 0):
+            if not word & SYS.ROM_RUN or (lay.main_loop <= pc < lay.motion_base and depth == 0):
                 return
             if time.monotonic() >= deadline:
                 raise Rcb4TimeoutError(
@@ -565,17 +562,19 @@ class Robot:
         self, values: Mapping[int, int] | int, ics: Iterable[int] | None = None
     ) -> None:
         """Stretch (holding gain) 1-127: a mapping, or one value for the selected servos."""
-        vals = dict(values) if isinstance(values, Mapping) else dict.fromkeys(
-            self._select(ics), values
+        vals = (
+            dict(values)
+            if isinstance(values, Mapping)
+            else dict.fromkeys(self._select(ics), values)
         )
         self.client.set_stretch(vals)
 
-    def set_speed(
-        self, values: Mapping[int, int] | int, ics: Iterable[int] | None = None
-    ) -> None:
+    def set_speed(self, values: Mapping[int, int] | int, ics: Iterable[int] | None = None) -> None:
         """Servo speed parameter 1-127: a mapping, or one value for the selected servos."""
-        vals = dict(values) if isinstance(values, Mapping) else dict.fromkeys(
-            self._select(ics), values
+        vals = (
+            dict(values)
+            if isinstance(values, Mapping)
+            else dict.fromkeys(self._select(ics), values)
         )
         self.client.set_speed(vals)
 
@@ -599,10 +598,16 @@ class Robot:
         the PC to the main loop, CALL the motion, resume with ICS_F, ROM_F and VEC_F set."""
         address = self.layout.address(motion)
         word = self._system_word()
-        self.client.write_ram(ADDR.SYSTEM, (word & ~(ICS_F | ROM_F | VEC_F)).to_bytes(2, "little"))
+        self.client.write_ram(
+            ADDR.SYSTEM,
+            (word & ~(SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP)).to_bytes(2, "little"),
+        )
         self._reset_program()
         self.client.call(address)
-        self.client.write_ram(ADDR.SYSTEM, (word | ICS_F | ROM_F | VEC_F).to_bytes(2, "little"))
+        self.client.write_ram(
+            ADDR.SYSTEM,
+            (word | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP).to_bytes(2, "little"),
+        )
         log.info("playing motion %d at %06X", motion, address)
         if wait:
             self.wait_motion(timeout=timeout)
@@ -616,15 +621,15 @@ class Robot:
         and the program runs on there (the board's idle state); without it the program is
         only paused (:meth:`resume_motion` continues it)."""
         word = self._system_word()
-        self.client.write_ram(ADDR.SYSTEM, (word & ~ROM_F).to_bytes(2, "little"))
+        self.client.write_ram(ADDR.SYSTEM, (word & ~SYS.ROM_RUN).to_bytes(2, "little"))
         if reset:
             self._reset_program()
-            self.client.write_ram(ADDR.SYSTEM, (word | ROM_F).to_bytes(2, "little"))
+            self.client.write_ram(ADDR.SYSTEM, (word | SYS.ROM_RUN).to_bytes(2, "little"))
 
     def resume_motion(self) -> None:
         """Let the ROM program run again (sets ROM_F)."""
         word = self._system_word()
-        self.client.write_ram(ADDR.SYSTEM, (word | ROM_F).to_bytes(2, "little"))
+        self.client.write_ram(ADDR.SYSTEM, (word | SYS.ROM_RUN).to_bytes(2, "little"))
 
     def wait_motion(
         self,
@@ -643,8 +648,7 @@ class Robot:
                 return
             if time.monotonic() >= deadline:
                 raise Rcb4TimeoutError(
-                    f"motion {status.motion} still playing after {timeout:g} s "
-                    f"(PC {status.pc:06X})"
+                    f"motion {status.motion} still playing after {timeout:g} s (PC {status.pc:06X})"
                 )
             time.sleep(poll)
 

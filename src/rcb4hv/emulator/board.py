@@ -28,6 +28,7 @@ from rcb4hv.protocol import (
     POSITION_HOLD,
     RAM_SIZE,
     ROM_SIZE,
+    SYS,
     Ack,
     AcknowledgeCheck,
     Add,
@@ -78,12 +79,13 @@ TIMER_PERIOD_US: Final = 100_000
 FRAME_US: Final = tuple(ms * 1000 for ms in FRAME_PERIODS_MS)
 FREE: Final = POSITION_FREE
 HOLD: Final = POSITION_HOLD
-SYS_ICS: Final = 0x01
-SYS_ROM: Final = 0x02
-SYS_VEC: Final = 0x08
-Z_BIT: Final = 0x01  # in the high byte of the system register (bit 8)
-C_BIT: Final = 0x02  # bit 9
-ROMERR_BIT: Final = 0x04  # bit 10
+# the system-register bits as the hot paths test them: low byte ram[0], high byte ram[1]
+SYS_ICS: Final = SYS.ICS_OUTPUT
+SYS_ROM: Final = SYS.ROM_RUN
+SYS_VEC: Final = SYS.VECTOR_JUMP
+Z_BIT: Final = SYS.ZERO >> 8
+C_BIT: Final = SYS.CARRY >> 8
+ROMERR_BIT: Final = SYS.ROM_ERROR >> 8
 STATIC_VECTOR_RAM: Final = 0x0350  # vector operands from here up never change by themselves
 
 # cache entries for ROM instructions: (command or None, size, kind)

@@ -78,6 +78,7 @@ from rcb4hv.protocol import (
     decode_reply,
     encode_command,
 )
+from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
 
 __all__ = [
@@ -100,10 +101,6 @@ SampleListener = Callable[[float, dict[int, int]], None]
 DEFAULT_LIMIT: Final = 60.0
 """Virtual seconds a motion may run before it is reported as ``timeout``."""
 
-ICS_F: Final = 0x0001
-ROM_F: Final = 0x0002
-VEC_F: Final = 0x0008
-ROMERR: Final = 0x0400
 STEP_US: Final = 2000
 """Virtual microseconds per step while the program executes instructions (waits on update
 flags are stepped exactly). 2 ms is below the shortest output period (10 ms), so a reported
@@ -264,11 +261,13 @@ class Simulator:
 
     def start_motion(self, address: int, *, vector: bool = True) -> None:
         """Play the motion at ``address`` as a host does (spec 11.4), through real frames."""
-        word = self._system_word() & ~(ROMERR | ICS_F | ROM_F | VEC_F)
+        word = self._system_word() & ~(
+            SYS.ROM_ERROR | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
+        )
         self._write_ram(0x0000, word.to_bytes(2, "little"))
         self._write_ram(0x0002, layout.MAIN_LOOP.to_bytes(3, "little") + bytes(7))
         self._send(Call(address, ALWAYS))
-        flags = ICS_F | ROM_F | (VEC_F if vector else 0)
+        flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
         self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
 
     # ------------------------------------------------------------------ board state
@@ -329,7 +328,7 @@ class Simulator:
         pc = b.pc
         cmd, text = self._instruction_at(pc)
         depth = b.ram[5]
-        if b.system_register & ROMERR:
+        if b.system_register & SYS.ROM_ERROR:
             return "ROMERR (checksum error in ROM)", pc, text
         if cmd is None:
             return "invalid instruction", pc, text
@@ -353,7 +352,7 @@ class Simulator:
         while True:
             dur = (self._t_us - t0) / 1e6
             n = b.instructions_executed - i0
-            if not b.system_register & ROM_F:
+            if not b.system_register & SYS.ROM_RUN:
                 kind, pc, text = self._error()
                 res = MotionResult(None, 0, "boot", "error", dur, n, kind, pc, text)
                 break
@@ -380,7 +379,7 @@ class Simulator:
         b = self.board
         dt = STEP_US
         sysw = b.system_register
-        if not sysw & ROM_F:
+        if not sysw & SYS.ROM_RUN:
             dt = 1_000_000
         elif self._flags():
             n = self._wait_periods()
@@ -454,7 +453,7 @@ class Simulator:
                 b.set_buttons(0)
                 hold_us = None
             sysw = b.system_register
-            if not sysw & ROM_F:
+            if not sysw & SYS.ROM_RUN:
                 kind, pc, text = self._error()
                 return result("error", error=kind, pc=pc, instruction=text)
             pc = b.pc
@@ -486,7 +485,7 @@ class Simulator:
         # half an instruction per step: never two instructions between two looks at the PC
         half = max(1, round(500 / b.config.instructions_per_ms))
         while self._t_us < end:
-            if not b.system_register & ROM_F:
+            if not b.system_register & SYS.ROM_RUN:
                 break
             if self._flags():
                 n = self._wait_periods()

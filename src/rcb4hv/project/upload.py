@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from rcb4hv.client import Robot
+from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
 
 __all__ = ["PAGE_SIZE", "UploadResult", "changed_pages", "upload_image"]
@@ -25,7 +26,6 @@ log = logging.getLogger(__name__)
 PAGE_SIZE: Final = 128
 """Bytes per page compared by ``only_changed``."""
 
-ROM_F: Final = 0x0002
 
 Progress = Callable[[int, int], None]
 
@@ -84,7 +84,7 @@ def upload_image(
         raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
     total_pages = layout.ROM_SIZE // PAGE_SIZE
     word = int.from_bytes(robot.read_ram(0x0000, 2), "little")
-    robot.write_ram(0x0000, (word & ~ROM_F).to_bytes(2, "little"))
+    robot.write_ram(0x0000, (word & ~SYS.ROM_RUN).to_bytes(2, "little"))
     read = 0
     if only_changed:
         if known is not None and len(known) != layout.ROM_SIZE:
@@ -113,5 +113,5 @@ def upload_image(
     log.info("wrote %d of %d pages (%d bytes)", len(pages), total_pages, total)
     if restart:
         robot.write_ram(0x0002, bytes(10))
-        robot.write_ram(0x0000, ((word & ~0x0400) | ROM_F).to_bytes(2, "little"))
+        robot.write_ram(0x0000, ((word & ~0x0400) | SYS.ROM_RUN).to_bytes(2, "little"))
     return UploadResult(total_pages, len(pages), total, read)

@@ -12,6 +12,7 @@ __all__ = [
     "BAUD_RATES",
     "COUNTS_PER_DEGREE",
     "FRAME_PERIODS_MS",
+    "SYS",
     "Button",
     "ServoBlock",
     "SystemRegister",
@@ -88,6 +89,19 @@ FRAME_PERIODS_MS: Final = (10, 15, 20, 25)
 BAUD_RATES: Final = (115200, 625000, 1250000, 115200)
 COUNTS_PER_DEGREE: Final = 8000 / 270
 CENTER: Final = 7500
+
+
+class SYS:
+    """Bits of the system register word at RAM 0000h (spec 10.2); see :class:`SystemRegister`."""
+
+    ICS_OUTPUT: Final = 0x0001  # ICS_F: servo output enabled
+    ROM_RUN: Final = 0x0002  # ROM_F: run the ROM program
+    MESSAGE: Final = 0x0004  # MSG_F
+    VECTOR_JUMP: Final = 0x0008  # VEC_F
+    ZERO: Final = 0x0100  # Z flag
+    CARRY: Final = 0x0200  # C flag
+    ROM_ERROR: Final = 0x0400  # ROMERR
+    LED: Final = 0x8000
 
 
 class Button(enum.IntFlag):

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import Final
 
-from rcb4hv.protocol import Button, RunConstFrameServo
+from rcb4hv.protocol import Button, RunConstFrameServo, SystemRegister
 from rcb4hv.rom.image import ImageDescription, Motion, ServoConfig, VectorPackage, build_image
 from rcb4hv.rom.layout import motion_address
 
@@ -28,7 +28,15 @@ DEFAULT_ICS: Final = tuple(sorted(HEAD + LEFT + RIGHT))
 HOME: Final = 7500
 
 # system register: ICS_F, ROM_F, VEC_F, 15 ms frames, COM 1,250,000 baud, ICS 1,250,000, LED
-DEFAULT_SYSTEM_REGISTER: Final = 0x0001 | 0x0002 | 0x0008 | 0x0010 | 0x0080 | 0x4000 | 0x8000
+DEFAULT_SYSTEM_REGISTER: Final = SystemRegister(
+    ics_output=True,
+    rom_run=True,
+    vector_jump=True,
+    frame_code=SystemRegister.frame_code_for(15),
+    baud_code=SystemRegister.baud_code_for(1_250_000),
+    ics_baud_code=SystemRegister.baud_code_for(1_250_000),
+    led=True,
+).to_word()
 
 
 def _pose(speed: int, changes: dict[int, int]) -> RunConstFrameServo:

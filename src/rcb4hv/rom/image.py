@@ -35,6 +35,8 @@ from rcb4hv.protocol import (
     decode_command,
     encode_command,
 )
+from rcb4hv.protocol.commands import POSITION_FREE
+from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout as L
 
 __all__ = [
@@ -51,10 +53,6 @@ __all__ = [
 
 Compare = Literal["eq", "ne", "lt", "le", "gt", "ge"]
 
-SYS_ICS: Final = 0x0001
-SYS_ROM: Final = 0x0002
-SYS_VEC: Final = 0x0008
-FREE: Final = 0x8000
 HOLD: Final = 0x7FFF
 
 
@@ -94,8 +92,8 @@ class ServoConfig:
         b[0] = 0
         b[1] = self.servo_id or 0
         b[2:4] = (self.trim & 0xFFFF).to_bytes(2, "little")
-        b[6:8] = FREE.to_bytes(2, "little")
-        b[9:11] = FREE.to_bytes(2, "little")
+        b[6:8] = POSITION_FREE.to_bytes(2, "little")
+        b[9:11] = POSITION_FREE.to_bytes(2, "little")
         b[14:16] = self.mix1_source.to_bytes(2, "little")
         b[16] = self.mix1_method
         b[17:19] = self.mix2_source.to_bytes(2, "little")
@@ -106,8 +104,8 @@ class ServoConfig:
 def _empty_block(ics: int) -> bytes:
     b = bytearray(20)
     b[1] = ics // 2
-    b[6:8] = FREE.to_bytes(2, "little")
-    b[9:11] = FREE.to_bytes(2, "little")
+    b[6:8] = POSITION_FREE.to_bytes(2, "little")
+    b[9:11] = POSITION_FREE.to_bytes(2, "little")
     b[14:16] = b"\xff\xff"
     b[17:19] = b"\xff\xff"
     return bytes(b)
@@ -362,7 +360,7 @@ def build_image(desc: ImageDescription) -> bytes:
         rom[addr : addr + len(data)] = data
 
     sysreg = desc.system_register
-    put(L.CONFIG_WRITE, _lit(0x0000, sysreg & ~SYS_ICS))
+    put(L.CONFIG_WRITE, _lit(0x0000, sysreg & ~SYS.ICS_OUTPUT))
     put(L.PIO_DIRECTION_WRITE, _lit(0x0038, desc.pio_direction))
     put(L.PIO_DATA_WRITE, _lit(0x003A, desc.pio_data))
     put(L.AD_REFERENCE_COPY, _copy(L.AD_REFERENCE_IMAGE, 0x000C, 22))
@@ -382,7 +380,7 @@ def build_image(desc: ImageDescription) -> bytes:
     put(L.VECTOR_ADDRESS_COPY, _copy(L.VECTOR_ADDRESS_IMAGE, L.RAM_VECTOR_ADDRESS, 2))
     put(L.SYSTEM_REGISTER_COPY, _copy(L.SYSTEM_REGISTER_IMAGE, 0x0000, 2))
     all_ics = range(L.SERVO_BLOCK_COPY_COUNT)
-    put(L.ALL_FREE, _servo_frame(1, dict.fromkeys(all_ics, FREE)))
+    put(L.ALL_FREE, _servo_frame(1, dict.fromkeys(all_ics, POSITION_FREE)))
     t0 = 0x003C
     wait = (
         _lit(t0, desc.startup_wait)
