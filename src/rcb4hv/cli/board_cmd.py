@@ -21,10 +21,11 @@ from rcb4hv.cli._util import (
     print_json,
     print_table,
 )
-from rcb4hv.client import HTH4_20, HTH4_22, MotionLayout, PositionRecorder, Robot, ServoInfo
+from rcb4hv.client import MotionLayout, PositionRecorder, Robot, ServoInfo
 from rcb4hv.protocol import ROM_SIZE, Button
+from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
 
-LAYOUTS: dict[str, MotionLayout] = {"2.2": HTH4_22, "2.1": HTH4_20, "2.0": HTH4_20}
+LAYOUTS: dict[str, MotionLayout] = {v: ROM_LAYOUTS[v] for v in ("2.0", "2.1", "2.2")}
 
 
 @contextmanager

@@ -33,6 +33,7 @@ from rcb4hv.protocol import (
     ics_to_id_port,
 )
 from rcb4hv.protocol.memory import SYS
+from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 from rcb4hv.transport import DEFAULT_BAUD
 
 __all__ = [
@@ -56,35 +57,8 @@ MAX_SPEED: Final = 255
 SERVO_LIMIT: Final = 35  # ICS 35 is the remote-control receiver slot
 
 
-@dataclass(frozen=True, slots=True)
-class MotionLayout:
-    """Where a HeartToHeart4 image keeps its motions and main loop (spec 11.2)."""
-
-    name: str
-    motion_base: int
-    motion_stride: int
-    main_loop: int
-    motion_count: int
-
-    def address(self, motion: int) -> int:
-        """ROM address of ``motion`` (1-based)."""
-        if not 1 <= motion <= self.motion_count:
-            raise ValueError(f"motion {motion} out of range 1..{self.motion_count}")
-        return self.motion_base + self.motion_stride * (motion - 1)
-
-    def motion_at(self, pc: int) -> int | None:
-        """The motion whose slot holds ROM address ``pc``, or None."""
-        if pc < self.motion_base:
-            return None
-        n = (pc - self.motion_base) // self.motion_stride + 1
-        return n if n <= self.motion_count else None
-
-
-HTH4_22: Final = MotionLayout("hth4-2.2", 0x0B80, 2048, 0x044B, 120)
-"""HeartToHeart4 2.2: motion n at 0B80h + 2048 (n - 1), main loop at 044Bh."""
-HTH4_20: Final = MotionLayout("hth4-2.0", 0x0BB8, 2048, 0x044B, 120)
-"""HeartToHeart4 2.0 / 2.1: motion n at 0BB8h + 2048 (n - 1); the main loop is assumed to be
-at 044Bh as in 2.2 (the spec documents only the motion base for these versions)."""
+HTH4_20: Final = LAYOUTS["2.0"]
+"""HeartToHeart4 2.0 / 2.1: motion n at 0BB8h + 2048 (n - 1) (:data:`HTH4_22` is 2.2)."""
 
 
 @dataclass(frozen=True, slots=True)

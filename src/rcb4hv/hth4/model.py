@@ -69,6 +69,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 
 from rcb4hv.hth4._xml import PROJECT_LAYOUT, ExtraElement, XmlLayout, XmlNode
+from rcb4hv.rom.layout import LAYOUTS
 
 __all__ = [
     "HTH4_22_MOTION_BASE",
@@ -86,22 +87,14 @@ __all__ = [
     "slot_from_key",
 ]
 
-HTH4_22_MOTION_BASE = 0x0B80
+HTH4_22_MOTION_BASE = LAYOUTS["2.2"].motion_base
 """ROM address of motion 1 in a HeartToHeart4 2.2 image (spec 11.2)."""
 
-MOTION_SLOT_SIZE = 2048
+MOTION_SLOT_SIZE = LAYOUTS["2.2"].motion_stride
 """Bytes reserved for each motion in the 2.x layouts."""
 
-MAX_MOTIONS = 120
+MAX_MOTIONS = LAYOUTS["2.2"].motion_count
 """Motion slots in a HeartToHeart4 2.x project."""
-
-_LAYOUTS: dict[str, tuple[int, int, int]] = {
-    # version: (base, slot size, slots)
-    "2.2": (0x0B80, 2048, 120),
-    "2.1": (0x0BB8, 2048, 120),
-    "2.0": (0x0BB8, 2048, 120),
-    "1.3": (0x0BB8, 0x1300, 50),
-}
 
 
 def motion_rom_address(slot: int, version: str = "2.2") -> int:
@@ -111,14 +104,12 @@ def motion_rom_address(slot: int, version: str = "2.2") -> int:
     with 50 slots (spec 11.2).
     """
     try:
-        base, size, count = _LAYOUTS[version]
+        layout = LAYOUTS[version]
     except KeyError:
         raise ValueError(
-            f"unknown HeartToHeart4 layout {version!r} (known: {', '.join(_LAYOUTS)})"
+            f"unknown HeartToHeart4 layout {version!r} (known: {', '.join(LAYOUTS)})"
         ) from None
-    if isinstance(slot, bool) or not isinstance(slot, int) or not 1 <= slot <= count:
-        raise ValueError(f"motion slot must be an int in 1..{count}, got {slot!r}")
-    return base + size * (slot - 1)
+    return layout.address(slot)
 
 
 def motion_key(slot: int) -> str:

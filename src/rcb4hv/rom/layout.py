@@ -18,6 +18,7 @@ priority-motion checks), this module fixes the project's own choice:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Final
 
 ROM_SIZE: Final = 0x40000
@@ -62,9 +63,47 @@ VECTOR_PACKAGE_IMAGES: Final = 0x0091B
 TITLE: Final = 0x00A1B
 TITLE_SIZE: Final = 32
 PRIORITY_IMAGES: Final = 0x00A3B
-MOTIONS: Final = 0x00B80
-MOTION_SIZE: Final = 2048
-MOTION_COUNT: Final = 120
+
+
+@dataclass(frozen=True, slots=True)
+class MotionLayout:
+    """Where a HeartToHeart4 image keeps its motions and main loop (spec 11.2)."""
+
+    name: str
+    motion_base: int
+    motion_stride: int
+    main_loop: int
+    motion_count: int
+
+    def address(self, motion: int) -> int:
+        """ROM address of ``motion`` (1-based)."""
+        if isinstance(motion, bool) or not isinstance(motion, int):
+            raise ValueError(f"motion numbers are ints, not {motion!r}")
+        if not 1 <= motion <= self.motion_count:
+            raise ValueError(f"motion {motion} out of range 1..{self.motion_count}")
+        return self.motion_base + self.motion_stride * (motion - 1)
+
+    def motion_at(self, pc: int) -> int | None:
+        """The motion whose slot holds ROM address ``pc``, or None."""
+        if pc < self.motion_base:
+            return None
+        n = (pc - self.motion_base) // self.motion_stride + 1
+        return n if n <= self.motion_count else None
+
+
+LAYOUTS: Final[dict[str, MotionLayout]] = {
+    "2.2": MotionLayout("hth4-2.2", 0x0B80, 2048, 0x044B, 120),
+    # 2.0/2.1: the spec gives only the motion base; the main loop is assumed at 044Bh as in 2.2
+    "2.1": MotionLayout("hth4-2.1", 0x0BB8, 2048, 0x044B, 120),
+    "2.0": MotionLayout("hth4-2.0", 0x0BB8, 2048, 0x044B, 120),
+    "1.3": MotionLayout("hth4-1.3", 0x0BB8, 0x1300, 0x03FD, 50),
+}
+"""Motion layouts of the HeartToHeart4 versions (spec 11.2), by version."""
+
+HTH4_22: Final = LAYOUTS["2.2"]
+MOTIONS: Final = HTH4_22.motion_base
+MOTION_SIZE: Final = HTH4_22.motion_stride
+MOTION_COUNT: Final = HTH4_22.motion_count
 STARTUP_STUB: Final = 0x3CB80
 
 # RAM targets of the copies (spec 10.1)
@@ -84,13 +123,9 @@ assert PRIORITY_CHECKS == PIO_SWITCHES + PIO_SWITCHES_SIZE
 
 def motion_address(n: int) -> int:
     """ROM address of motion ``n`` (1-120) in the HeartToHeart4 2.2 layout."""
-    if not 1 <= n <= MOTION_COUNT:
-        raise ValueError(f"motion numbers are 1..{MOTION_COUNT}, not {n}")
-    return MOTIONS + MOTION_SIZE * (n - 1)
+    return HTH4_22.address(n)
 
 
 def motion_number(address: int) -> int | None:
     """The motion slot (1-120) whose region holds ``address``, or None."""
-    if MOTIONS <= address < MOTIONS + MOTION_SIZE * MOTION_COUNT:
-        return (address - MOTIONS) // MOTION_SIZE + 1
-    return None
+    return HTH4_22.motion_at(address)
