@@ -165,3 +165,22 @@ def test_protocol_sources_import_nothing_with_io_or_clocks() -> None:
                 continue
             for name in names:
                 assert name.split(".")[0] in allowed, f"{path.name} imports {name}"
+
+
+@given(st.binary(max_size=40), command_frames, st.binary(max_size=40))
+def test_frame_at_reads_the_frame_at_an_offset(head: bytes, frame: bytes, tail: bytes) -> None:
+    data = head + frame + tail
+    assert p.frame_at(data, len(head)) == frame
+    assert p.frame_at(bytearray(data), len(head)) == frame
+
+
+def test_frame_at_errors() -> None:
+    ret = b"\x03\x0d\x10"
+    with pytest.raises(FrameError):
+        p.frame_at(ret + b"\xff", 3)  # erased ROM
+    with pytest.raises(FrameError):
+        p.frame_at(ret, 3)  # offset outside the data
+    with pytest.raises(FrameError):
+        p.frame_at(b"\x07\x0f\x02", 0)  # runs past the end
+    with pytest.raises(ChecksumError):
+        p.frame_at(b"\x03\x0d\x11", 0)

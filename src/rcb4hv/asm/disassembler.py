@@ -16,8 +16,6 @@ from rcb4hv.asm.syntax import BINARY_MNEMONICS, condition_text, position_text, r
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol import (
     ADDR,
-    MAX_FRAME_SIZE,
-    MIN_FRAME_SIZE,
     ROM_SIZE,
     AcknowledgeCheck,
     Add,
@@ -52,6 +50,7 @@ from rcb4hv.protocol import (
     Xor,
     decode_command,
     encode_command,
+    frame_at,
 )
 
 __all__ = ["disassemble", "disassemble_frames", "format_command", "operand_text"]
@@ -178,17 +177,15 @@ def _sweep(data: bytes, origin: int) -> list[_Item]:
     items: list[_Item] = []
     i, n = 0, len(data)
     while i < n:
-        size = data[i]
-        if MIN_FRAME_SIZE <= size <= MAX_FRAME_SIZE and i + size <= n:
-            frame = data[i : i + size]
-            try:
-                cmd: Command | None = decode_command(frame)
-            except ProtocolError:
-                cmd = None
-            if cmd is not None and encode_command(cmd) == frame:
-                items.append(_Item(origin + i, frame, cmd))
-                i += size
-                continue
+        try:
+            frame = frame_at(data, i)
+            cmd: Command | None = decode_command(frame)
+        except ProtocolError:
+            cmd = None
+        if cmd is not None and encode_command(cmd) == frame:
+            items.append(_Item(origin + i, frame, cmd))
+            i += len(frame)
+            continue
         items.append(_Item(origin + i, data[i : i + 1], None))
         i += 1
     return items

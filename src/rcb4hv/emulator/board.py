@@ -64,9 +64,9 @@ from rcb4hv.protocol import (
     Sub,
     VersionReply,
     Xor,
-    check_frame,
     decode_command,
     encode_reply,
+    frame_at,
 )
 
 __all__ = ["Board", "ServoState"]
@@ -1081,23 +1081,18 @@ class Board:
         return count
 
     def _fetch(self, pc: int) -> Entry:
-        # A PC past the 256 KB ROM (a host can write any 24-bit value to RAM 0002h) reads no
-        # instruction: treated like erased ROM, a fetch error (ROMERR, program stops).
-        if pc >= ROM_SIZE:
-            return (None, 0, _ROMERR, None)
-        size = self.rom[pc]
-        if size < 3 or size > 128 or pc + size > ROM_SIZE:
-            return (None, 0, _ROMERR, None)
-        frame = bytes(self.rom[pc : pc + size])
+        # Erased ROM (SIZE FF), a bad SIZE, a frame past the end, a bad checksum, and a PC past
+        # the 256 KB ROM (a host can write any 24-bit value to RAM 0002h) are fetch errors:
+        # ROMERR, the program stops.
         try:
-            check_frame(frame)
+            frame = frame_at(self.rom, pc)
         except ProtocolError:
-            return (None, size, _ROMERR, None)
+            return (None, 0, _ROMERR, None)
         try:
             cmd = decode_command(frame)
         except ProtocolError:
-            return (None, size, _CMDERR, None)
-        return (cmd, size, _OK, self._compile(cmd))
+            return (None, len(frame), _CMDERR, None)
+        return (cmd, len(frame), _OK, self._compile(cmd))
 
     def _compile(self, cmd: Command) -> Executor:
         """An executor of ``cmd`` from ROM (its reply is not needed): a closure specialised

@@ -38,9 +38,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Final
 
+from rcb4hv.errors import FrameError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
-from rcb4hv.protocol import Button, check_frame
+from rcb4hv.protocol import Button, frame_at
 from rcb4hv.rom import (
     Compare,
     ImageDescription,
@@ -97,13 +98,12 @@ def split_frames(data: bytes) -> tuple[list[bytes], bytes]:
     frames: list[bytes] = []
     i = 0
     while i < len(data):
-        size = data[i]
-        if size == layout.ERASED or size < 3 or i + size > len(data):
+        try:
+            frame = frame_at(data, i)
+        except FrameError:  # erased (FF), a SIZE below 3 or a frame past the end: the tail
             break
-        frame = bytes(data[i : i + size])
-        check_frame(frame)
         frames.append(frame)
-        i += size
+        i += len(frame)
     return frames, bytes(data[i:])
 
 

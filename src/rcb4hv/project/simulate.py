@@ -73,10 +73,10 @@ from rcb4hv.protocol import (
     Shift,
     Sub,
     Xor,
-    check_frame,
     decode_command,
     decode_reply,
     encode_command,
+    frame_at,
 )
 from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
@@ -306,15 +306,16 @@ class Simulator:
 
     def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
         rom = self.board.rom
-        size = rom[pc]
-        frame = bytes(rom[pc : pc + size])
+        try:
+            frame = frame_at(rom, pc)
+        except ProtocolError:
+            return None, f".byte {bytes(rom[pc : pc + 16]).hex(' ')}"
         known = _DECODED.get(frame)
         if known is not None:
             return known
         try:
-            check_frame(frame)
             cmd = decode_command(frame)
-        except (ProtocolError, ValueError, IndexError):
+        except ProtocolError:
             result: tuple[Command | None, str] = (None, f".byte {frame[:16].hex(' ')}")
         else:
             result = (cmd, format_command(cmd))

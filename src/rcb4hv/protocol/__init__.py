@@ -60,6 +60,7 @@ from rcb4hv.protocol.frame import (
     build_frame,
     check_frame,
     checksum,
+    frame_at,
 )
 from rcb4hv.protocol.memory import (
     ADDR,
@@ -160,6 +161,7 @@ __all__ = [
     "degrees_to_position",
     "encode_command",
     "encode_reply",
+    "frame_at",
     "ics_from_bitmap",
     "ics_number",
     "ics_to_id_port",

@@ -40,6 +40,7 @@ __all__ = [
     "build_frame",
     "check_frame",
     "checksum",
+    "frame_at",
 ]
 
 MIN_FRAME_SIZE: Final = 3
@@ -93,6 +94,27 @@ def check_frame(frame: bytes, max_size: int = MAX_FRAME_SIZE) -> None:
         raise ChecksumError(
             f"checksum {frame[-1]:02X} does not match {sum(frame[:-1]) & 0xFF:02X}", bytes(frame)
         )
+
+
+def frame_at(
+    data: bytes | bytearray | memoryview, offset: int, max_size: int = MAX_FRAME_SIZE
+) -> bytes:
+    """The whole, checked frame that starts at ``data[offset]`` (a ROM image, a motion's bytes).
+
+    Raises FrameError for an offset outside ``data``, a SIZE byte below 3 or above
+    ``max_size`` (erased ROM reads FF) or a frame running past the end, and ChecksumError for a
+    damaged frame.
+    """
+    if not 0 <= offset < len(data):
+        raise FrameError(f"offset {offset} is outside the {len(data)} bytes")
+    size = data[offset]
+    if size < MIN_FRAME_SIZE or size > max_size:
+        raise FrameError(f"size byte {size:#04x} at offset {offset} cannot start a frame")
+    if offset + size > len(data):
+        raise FrameError(f"the {size}-byte frame at offset {offset} runs past the end")
+    frame = bytes(data[offset : offset + size])
+    check_frame(frame, max_size)
+    return frame
 
 
 class FrameDecoder:

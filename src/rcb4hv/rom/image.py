@@ -34,6 +34,7 @@ from rcb4hv.protocol import (
     check_frame,
     decode_command,
     encode_command,
+    frame_at,
 )
 from rcb4hv.protocol.commands import POSITION_FREE
 from rcb4hv.protocol.memory import SYS
@@ -431,15 +432,8 @@ def build_image(desc: ImageDescription) -> bytes:
 # ----------------------------------------------------------------------------- parsing
 
 
-def _frame_at(rom: bytes, addr: int) -> bytes:
-    size = rom[addr]
-    frame = bytes(rom[addr : addr + size])
-    check_frame(frame)
-    return frame
-
-
 def _literal_of(rom: bytes, addr: int) -> int:
-    cmd = decode_command(_frame_at(rom, addr))
+    cmd = decode_command(frame_at(rom, addr))
     if not isinstance(cmd, Move) or not isinstance(cmd.src, Data):
         raise ProtocolError(f"expected a literal MOVE at {addr:05X}h")
     return int.from_bytes(cmd.src.data, "little")
@@ -459,7 +453,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
     if len(rom) != L.ROM_SIZE:
         raise ValueError(f"a ROM image is {L.ROM_SIZE} bytes, not {len(rom)}")
     sysreg = _w(rom, L.SYSTEM_REGISTER_IMAGE)
-    home_cmd = decode_command(_frame_at(rom, L.ALL_HOME))
+    home_cmd = decode_command(frame_at(rom, L.ALL_HOME))
     if not isinstance(home_cmd, RunConstFrameServo):
         raise ProtocolError("no all-servos-home frame at 003F5h")
     homes = dict(home_cmd.positions)
@@ -493,18 +487,18 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
             if last:
                 break
     title = rom[L.TITLE : L.TITLE + L.TITLE_SIZE].split(b"\x00", 1)[0].decode("cp932")
-    start = decode_command(_frame_at(rom, L.STARTUP_CALL))
+    start = decode_command(frame_at(rom, L.STARTUP_CALL))
     if not isinstance(start, Call):
         raise ProtocolError("no startup CALL at 00444h")
     startup = None if start.address == L.STARTUP_STUB else start.address
     priority: list[PriorityMotion | None] = []
     for i in range(L.PRIORITY_COUNT):
         slot = L.PRIORITY_CHECKS + L.PRIORITY_SIZE * i
-        first = decode_command(_frame_at(rom, slot))
+        first = decode_command(frame_at(rom, slot))
         if isinstance(first, Jump):
             priority.append(None)
             continue
-        call = decode_command(_frame_at(rom, slot + rom[slot]))
+        call = decode_command(frame_at(rom, slot + rom[slot]))
         if not isinstance(first, Sub) or not isinstance(call, Call):
             raise ProtocolError(f"unrecognised priority check at {slot:05X}h")
         if not isinstance(first.dst, Ram) or not isinstance(first.src, Data):
@@ -527,7 +521,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
         pc = base
         while pc < end and rom[pc] != L.ERASED:
             try:
-                f = _frame_at(rom, pc)
+                f = frame_at(rom, pc)
             except ProtocolError:
                 break
             if pc + len(f) > end:
