@@ -39,9 +39,7 @@ HOST_WIRE_TARGET = 0.01
 PEER_TARGET = 0.5
 
 
-def _row(
-    name: str, ours: float, theirs: float, wire: float, **extra: Any
-) -> dict[str, Any]:
+def _row(name: str, ours: float, theirs: float, wire: float, **extra: Any) -> dict[str, Any]:
     return {
         "name": name,
         "ours_us": ours,

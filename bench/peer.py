@@ -31,7 +31,7 @@ def available() -> str | None:
         got = version(PEER)
         import rcb4.rcb4interface  # noqa: F401
     except Exception as exc:  # any import failure means: no peer rows
-        return f"{PEER} {PEER_VERSION} not importable ({exc}); install with pip install -e '.[bench]'"
+        return f"{PEER} {PEER_VERSION} not importable ({exc}); pip install -e '.[bench]'"
     if got != PEER_VERSION:
         return f"{PEER} {got} installed, the bench compares with {PEER_VERSION}"
     return None
@@ -71,7 +71,7 @@ class CannedSerial:
         self.reply = reply
         self._left = b""
 
-    def flushInput(self) -> None:  # noqa: N802 - pyserial's name
+    def flushInput(self) -> None:
         self._left = b""
 
     def write(self, data: bytes) -> int:

@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Final, Literal
 
-from rcb4hv.client.core import DEFAULT_TIMEOUT, MAX_READ, Progress, Rcb4Client
+from rcb4hv.client.core import DEFAULT_TIMEOUT, Progress, Rcb4Client
+from rcb4hv.client.readplan import LinkCost, plan_cheapest, plan_reads
 from rcb4hv.errors import Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
@@ -42,6 +43,7 @@ __all__ = [
     "HTH4_22",
     "BoardInfo",
     "Calibration",
+    "LinkCost",
     "MotionLayout",
     "MotionStatus",
     "Robot",
@@ -163,43 +165,16 @@ class BoardInfo:
         }
 
 
-def plan_reads(spans: Iterable[tuple[int, int]], limit: int = MAX_READ) -> list[tuple[int, int]]:
-    """Cover the ``(address, size)`` spans with the fewest reads of at most ``limit`` bytes.
-
-    Greedy sweep over the union of the spans: each read starts at the first needed byte not
-    yet covered and ends at the last needed byte within ``limit`` (optimal for covering
-    points with fixed-length windows).
-    """
-    if limit < 1:
-        raise ValueError("limit must be >= 1")
-    merged: list[list[int]] = []
-    for a, b in sorted((a, a + n) for a, n in spans if n > 0):
-        if merged and a <= merged[-1][1]:
-            merged[-1][1] = max(merged[-1][1], b)
-        else:
-            merged.append([a, b])
-    reads: list[tuple[int, int]] = []
-    i, pos = 0, 0
-    while i < len(merged):
-        start = max(merged[i][0], pos)
-        window_end = start + limit
-        last = start
-        while i < len(merged) and merged[i][0] < window_end:
-            last = min(merged[i][1], window_end)
-            if merged[i][1] > window_end:
-                break
-            i += 1
-        reads.append((start, last - start))
-        pos = last
-    return reads
-
-
 class Robot:
     """The robot-level API. ``with Robot.open("rcb4emu://") as robot: robot.discover_servos()``.
 
     ``calibration`` maps ICS numbers to host-side :class:`Calibration` (trim, direction) used by
     the degree methods. Positions outside 3500..11500 (other than hold/free) raise ValueError
     before anything is sent unless ``check_range=False`` is passed to the call.
+
+    ``link_cost`` is the time model bulk reads are planned with (see
+    :func:`~rcb4hv.client.readplan.plan_cheapest`): windows over several servo blocks or one
+    frame per servo, whichever costs the link less.
     """
 
     def __init__(
@@ -208,8 +183,10 @@ class Robot:
         *,
         layout: MotionLayout = HTH4_22,
         calibration: Mapping[int, Calibration] | None = None,
+        link_cost: LinkCost | None = None,
     ) -> None:
         self.client = client
+        self.link_cost = link_cost if link_cost is not None else LinkCost()
         self.layout = layout
         self.calibration: dict[int, Calibration] = dict(calibration or {})
         self._servos: dict[int, ServoInfo] | None = None
@@ -224,10 +201,11 @@ class Robot:
         timeout: float = DEFAULT_TIMEOUT,
         layout: MotionLayout = HTH4_22,
         calibration: Mapping[int, Calibration] | None = None,
+        link_cost: LinkCost | None = None,
     ) -> Robot:
         """Open ``url`` (see :meth:`Rcb4Client.open`) and wrap it."""
         client = Rcb4Client.open(url, baudrate=baudrate, timeout=timeout)
-        return cls(client, layout=layout, calibration=calibration)
+        return cls(client, layout=layout, calibration=calibration, link_cost=link_cost)
 
     def close(self) -> None:
         self.client.close()
@@ -390,8 +368,8 @@ class Robot:
         return out
 
     def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
-        """Read several RAM spans (keyed by anything) in the fewest frames."""
-        reads = plan_reads(spans.values())
+        """Read several RAM spans (keyed by anything) with the cheapest plan (``link_cost``)."""
+        reads = plan_cheapest(spans.values(), self.link_cost)
         if not reads:
             return dict.fromkeys(spans, b"")
         lo = reads[0][0]
@@ -403,6 +381,15 @@ class Robot:
     def _read_field(self, ics: list[int], offset: int, size: int) -> dict[int, bytes]:
         known = self._known()
         return self._read_spans({k: (known[k].block_address + offset, size) for k in ics})
+
+    def read_plan(
+        self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
+    ) -> list[tuple[int, int]]:
+        """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
+        offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
+        known = self._known()
+        spans = [(known[k].block_address + offset, 2) for k in self._select(ics)]
+        return plan_cheapest(spans, self.link_cost)
 
     # ------------------------------------------------------------------ positions
 

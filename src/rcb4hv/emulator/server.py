@@ -5,8 +5,11 @@ the board's :meth:`~rcb4hv.emulator.Board.poll_timeout` (an output period while 
 runs or servos move, the frame timeout of a partial frame, a pending ROM flush), the time of
 the next queued reply, or nothing at all. Replies leave no sooner than
 ``config.min_reply_latency_s`` after the request arrived (some clients flush their input right
-after writing) and, with ``config.pace_replies``, not before their bytes would have crossed the
-wire at the configured COM baud (11 bits a byte).
+after writing) and, with ``config.pace_replies``, not before the request's bytes and then the
+reply's would have crossed the wire at the configured COM baud (11 bits a byte): a pty or a
+socket delivers the request at once, so its wire time is charged when the reply is queued.
+A queued reply is waited for to its due time (no 1 ms floor), so pacing holds for short
+frames too.
 
 The pty server keeps its own slave fd open (raw mode), so a client can close and reopen the
 slave path any number of times, with any termios settings (even parity, any supported baud).
@@ -58,6 +61,7 @@ class _Server:
         self.board = board
         self._queue: deque[tuple[float, bytes]] = deque()
         self._unsent = bytearray()
+        self._rx_unanswered = 0  # request bytes received since the last reply was queued
         self._stop_r, self._stop_w = os.pipe()
         self._thread: threading.Thread | None = None
         self._lock = threading.Lock()
@@ -122,7 +126,8 @@ class _Server:
         at = received + cfg.min_reply_latency_s
         if cfg.pace_replies:
             baud = BAUD_RATES[(self.board.ram[0] >> 6) & 3]
-            at += len(data) * 11 / baud
+            at += (self._rx_unanswered + len(data)) * 11 / baud
+        self._rx_unanswered = 0
         self._queue.append((at, data))
 
     def _flush_due(self, now: float) -> None:
@@ -153,15 +158,13 @@ class _Server:
         pass
 
     def _timeout(self, now: float) -> float | None:
-        waits: list[float] = []
+        wait = self._max_wait
         t = self.board.poll_timeout()
         if t is not None:
-            waits.append(t)
-        if self._queue:
-            waits.append(self._queue[0][0] - now)
-        if not waits:
-            return self._max_wait
-        return min(self._max_wait, max(MIN_WAIT, min(waits)))
+            wait = min(wait, max(MIN_WAIT, t))
+        if self._queue:  # due replies leave on time: _flush_due moves them out each pass
+            wait = min(wait, max(0.0, self._queue[0][0] - now))
+        return wait
 
     def _main(self) -> None:
         try:
@@ -199,6 +202,7 @@ class _Server:
 
     def _feed(self, data: bytes) -> None:
         received = time.monotonic()
+        self._rx_unanswered += len(data)
         reply = self.board.feed(data)
         self._schedule(reply, received)
 
@@ -291,6 +295,7 @@ class TcpServer(_Server):
                 self._conn.close()
             self._conn = None
             self._queue.clear()
+            self._rx_unanswered = 0
             self._unsent.clear()
             self.board.reset_input()
 
