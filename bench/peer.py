@@ -53,6 +53,9 @@ class CannedTransport(Transport):
         out, self._left = self._left[:size], self._left[size:]
         return out
 
+    def read_some(self, size: int, deadline: float) -> bytes:
+        return self.read(size, deadline)  # all of it at once, as a POSIX port's buffer
+
     def reset_input(self) -> None:
         self._left = b""
 

@@ -8,7 +8,7 @@ import threading
 import time
 from collections.abc import Callable, Iterable, Mapping
 from types import TracebackType
-from typing import Final
+from typing import Final, NoReturn
 
 from rcb4hv.errors import (
     ChecksumError,
@@ -61,6 +61,7 @@ from rcb4hv.protocol import (
     reply_length,
 )
 from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+from rcb4hv.protocol.frame import sum_ok
 from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
 from rcb4hv.transport import (
     BAUD_RATES,
@@ -268,9 +269,9 @@ class Rcb4Client:
                 len(chunk) == expected
                 and chunk[0] == expected
                 and chunk[1] == cmd
-                and sum(chunk[:-1]) & 0xFF == chunk[-1]
+                and sum_ok(chunk)
             ):
-                return bytes(chunk)
+                return chunk
             return self._slow_reply(chunk, cmd, expected, name, deadline, timeout)
 
     def _data_reply(self, frame: bytes, cmd: int, size: int, name: str) -> bytes:
@@ -278,6 +279,10 @@ class Rcb4Client:
         raw = self._roundtrip(frame, cmd, size + 3, name, self.timeout)
         if len(raw) == size + 3:
             return raw[2:-1]
+        return self._data_reply_error(raw, cmd, size, name)
+
+    @staticmethod
+    def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
         if len(raw) == 4 and raw[2] == NAK_BYTE:
             raise NakError(f"board answered NAK to {name}", cmd)
         raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
@@ -474,9 +479,22 @@ class Rcb4Client:
 
     def read_ram(self, address: int, size: int) -> bytes:
         """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
+        if (
+            type(address) is int
+            and type(size) is int
+            and 0 < size <= MAX_READ
+            and 0 <= address <= RAM_SIZE - size
+        ):  # fast path: one frame, arguments known good
+            frame = _READS.get((address, size))
+            if frame is None:
+                if len(_READS) >= _READS_KEPT:
+                    _READS.clear()
+                frame = _READS[address, size] = ram_read_frame(address, size)
+            raw = self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
+            if len(raw) == size + 3:
+                return raw[2:-1]
+            return self._data_reply_error(raw, 0x00, size, "Move")
         _check_span("RAM", address, size, RAM_SIZE)
-        if size <= MAX_READ:
-            return self._data_reply(ram_read_frame(address, size), 0x00, size, "Move")
         out = bytearray()
         for a in range(address, address + size, MAX_READ):
             n = min(MAX_READ, address + size - a)
@@ -536,6 +554,9 @@ class Rcb4Client:
 _ACK_SHORT: Final = AcknowledgeCheck().encode()
 _ACK_LONG: Final = AcknowledgeCheck(long_form=True).encode()
 _RAM_READ: Final = struct.Struct("<BBB3xHBB")
+_READS: dict[tuple[int, int], bytes] = {}
+"""RAM read frames already built, by (address, size): a control loop reads the same ones."""
+_READS_KEPT: Final = 512
 
 
 def ram_read_frame(address: int, size: int) -> bytes:
