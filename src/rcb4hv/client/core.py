@@ -47,9 +47,7 @@ from rcb4hv.protocol import (
     Reply,
     Return,
     Rom,
-    RunConstFrameServo,
     RunSeriesServo,
-    RunSingleServo,
     SetSpeed,
     SetStretch,
     Shift,
@@ -63,6 +61,7 @@ from rcb4hv.protocol import (
 from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
 from rcb4hv.protocol.frame import sum_ok
 from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
+from rcb4hv.protocol.servoframes import const_frame_servo_frame, single_servo_frame
 from rcb4hv.transport import (
     BAUD_RATES,
     DEFAULT_BAUD,
@@ -435,7 +434,7 @@ class Rcb4Client:
         self, ics: int, speed: int, position: int, set_update_flag: bool = True
     ) -> None:
         """0Fh: one servo to ``position`` in ``speed`` output periods."""
-        self.transact(RunSingleServo(ics, speed, position, set_update_flag))
+        self._ack(single_servo_frame(ics, speed, position, set_update_flag), 0x0F, "RunSingleServo")
 
     def run_const_frame_servo(
         self,
@@ -444,7 +443,8 @@ class Rcb4Client:
         set_update_flag: bool = True,
     ) -> None:
         """10h: several servos, one speed; ``positions`` maps ICS number to position."""
-        self.transact(RunConstFrameServo(speed, positions, set_update_flag))
+        frame = const_frame_servo_frame(speed, positions, set_update_flag)
+        self._ack(frame, 0x10, "RunConstFrameServo")
 
     def run_series_servo(
         self, moves: Iterable[tuple[int, int, int]], set_update_flag: bool = True

@@ -105,42 +105,52 @@ def plan_cheapest(
 ) -> list[tuple[int, int]]:
     """Cover the ``(address, size)`` spans with the reads of least :class:`LinkCost` time.
 
-    The union of the spans is cut into pieces of at most ``limit`` bytes; a read covers a run
-    of consecutive pieces from the first needed byte of the first to the last of the last, if
-    that fits ``limit``. Dynamic programming over the pieces gives the cheapest cover (ties:
+    A read starts at a needed byte and either ends with the last byte of a run of needed
+    bytes (the next read starts at the next run) or is ``limit`` bytes long and ends inside a
+    run (the next read goes on from there: stopping earlier inside a run would only add a
+    frame). Dynamic programming over those start points gives the cheapest cover (ties:
     fewer frames).
     """
     if limit < 1:
         raise ValueError("limit must be >= 1")
     model = cost if cost is not None else LinkCost()
-    pieces: list[tuple[int, int]] = []
-    for a, b in _merged(spans):
-        while b - a > limit:
-            pieces.append((a, a + limit))
-            a += limit
-        pieces.append((a, b))
-    n = len(pieces)
+    runs = _merged(spans)
+    n = len(runs)
     per_frame = READ_FRAME_BYTES * model.bits_per_byte / model.baud + model.frame_overhead_s
     per_byte = model.bits_per_byte / model.baud
-    best: list[tuple[float, int]] = [(0.0, 0)] + [(math.inf, 0)] * n  # (time, frames)
-    back = [0] * (n + 1)
-    for j in range(1, n + 1):
-        end = pieces[j - 1][1]
-        for i in range(j, 0, -1):
-            extent = end - pieces[i - 1][0]
-            if extent > limit:
-                break
-            t, f = best[i - 1]
-            cand = (t + per_frame + extent * per_byte, f + 1)
-            if cand < best[j]:
-                best[j] = cand
-                back[j] = i
+    # moves[(start, run)]: the reads that may start at byte ``start`` (inside run ``run``),
+    # as (window end, next start, next run); every move goes to a later start
+    moves: dict[tuple[int, int], list[tuple[int, int, int]]] = {}
+    todo = [(runs[0][0], 0)] if runs else []
+    while todo:
+        state = todo.pop()
+        if state in moves:
+            continue
+        start, j = state
+        options = []
+        k = j
+        while k < n and runs[k][1] - start <= limit:  # ends with run k
+            nxt = runs[k + 1][0] if k + 1 < n else runs[k][1]
+            options.append((runs[k][1], nxt, k + 1))
+            k += 1
+        if k < n and runs[k][0] < start + limit:  # a full window ending inside run k
+            options.append((start + limit, start + limit, k))
+        moves[state] = options
+        todo += [(nxt, k) for _, nxt, k in options if k < n]
+    # best[state] = (time, frames, window end, next start, next run), latest starts first
+    best: dict[tuple[int, int], tuple[float, int, int, int, int]] = {}
+    for state in sorted(moves, reverse=True):
+        start = state[0]
+        choices = []
+        for end, nxt, k in moves[state]:
+            t, f = best[(nxt, k)][:2] if k < n else (0.0, 0)
+            choices.append((t + per_frame + (end - start) * per_byte, f + 1, end, nxt, k))
+        best[state] = min(choices)
+
     reads: list[tuple[int, int]] = []
-    j = n
-    while j > 0:
-        i = back[j]
-        start = pieces[i - 1][0]
-        reads.append((start, pieces[j - 1][1] - start))
-        j = i - 1
-    reads.reverse()
+    start, j = (runs[0][0], 0) if runs else (0, 0)
+    while j < n:
+        _, _, end, nxt, k = best[(start, j)]
+        reads.append((start, end - start))
+        start, j = nxt, k
     return reads

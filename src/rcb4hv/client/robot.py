@@ -57,6 +57,7 @@ log = logging.getLogger(__name__)
 CENTER: Final = 7500
 MAX_SPEED: Final = 255
 SERVO_LIMIT: Final = 35  # ICS 35 is the remote-control receiver slot
+PLANS_KEPT: Final = 64
 
 
 HTH4_20: Final = LAYOUTS["2.0"]
@@ -187,6 +188,7 @@ class Robot:
     ) -> None:
         self.client = client
         self.link_cost = link_cost if link_cost is not None else LinkCost()
+        self._plans: dict[tuple[LinkCost, tuple[tuple[int, int], ...]], list[tuple[int, int]]] = {}
         self.layout = layout
         self.calibration: dict[int, Calibration] = dict(calibration or {})
         self._servos: dict[int, ServoInfo] | None = None
@@ -369,7 +371,7 @@ class Robot:
 
     def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
         """Read several RAM spans (keyed by anything) with the cheapest plan (``link_cost``)."""
-        reads = plan_cheapest(spans.values(), self.link_cost)
+        reads = self._plan(tuple(spans.values()))
         if not reads:
             return dict.fromkeys(spans, b"")
         lo = reads[0][0]
@@ -388,8 +390,18 @@ class Robot:
         """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
         offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
         known = self._known()
-        spans = [(known[k].block_address + offset, 2) for k in self._select(ics)]
-        return plan_cheapest(spans, self.link_cost)
+        spans = tuple((known[k].block_address + offset, 2) for k in self._select(ics))
+        return list(self._plan(spans))
+
+    def _plan(self, spans: tuple[tuple[int, int], ...]) -> list[tuple[int, int]]:
+        """:func:`plan_cheapest` of ``spans``, remembered: a loop reads the same spans."""
+        key = (self.link_cost, spans)
+        plan = self._plans.get(key)
+        if plan is None:
+            if len(self._plans) >= PLANS_KEPT:
+                self._plans.clear()
+            plan = self._plans[key] = plan_cheapest(spans, self.link_cost)
+        return plan
 
     # ------------------------------------------------------------------ positions
 

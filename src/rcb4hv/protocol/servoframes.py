@@ -1,0 +1,116 @@
+"""Servo command frames (0Fh, 10h) from plain values in one step: the host's hot path.
+
+A control loop sends a 10h frame per cycle. Building it through the dataclass (validate each
+pair, sort, store a tuple, then encode byte by byte) costs more host time than the frame
+spends on the wire at 35 servos, so the frame layouts live here once, as precompiled
+:class:`struct.Struct` objects, and :func:`const_frame_servo_frame` and
+:func:`single_servo_frame` check the arguments in bulk (C-level ``map``/``min``/``max``, no
+per-call dict or list building beyond the one sort) and pack. Anything the bulk check does
+not accept as plainly valid is handed to the dataclass, which either raises the precise
+``ValueError`` (before any byte is sent) or builds the same frame: the fast path never
+accepts what the dataclass would refuse, and gives the same bytes
+(``tests/protocol/test_protocol_fastpath.py``). :meth:`RunConstFrameServo.encode` and
+:meth:`RunSingleServo.encode` use the same layouts.
+"""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Final
+from zlib import adler32
+
+__all__ = [
+    "const_frame_servo_frame",
+    "pack_const_frame",
+    "pack_single_servo",
+    "single_servo_frame",
+]
+
+ICS_LIMIT: Final = 36  # ICS numbers 0..35 (the command reference's bitmap positions)
+POSITION_LIMIT: Final = 0xFFFF
+FLAG_BIT: Final = 0x80  # bitmap bit 39 / ICS byte bit 7: leave the other update flags alone
+CONST_FRAME_CMD: Final = 0x10
+SINGLE_SERVO_CMD: Final = 0x0F
+
+_INT: Final = frozenset((int,))
+_BIT: Final = tuple(1 << k for k in range(ICS_LIMIT))
+# 10h: SIZE CMD bitmap(5: 32 low bits, 8 high bits) SPEED positions(n x u16) - SUM appended
+_CONST: Final = tuple(struct.Struct(f"<BBIBB{n}H") for n in range(ICS_LIMIT + 1))
+# 0Fh: SIZE CMD ICS SPEED position(u16) SUM
+_SINGLE: Final = struct.Struct("<BBBBHB")
+
+
+def _with_sum(body: bytes) -> bytes:
+    return body + bytes((((adler32(body) & 0xFFFF) - 1) & 0xFF,))
+
+
+def pack_const_frame(
+    speed: int, ics: Sequence[int], positions: Sequence[int], set_update_flag: bool
+) -> bytes:
+    """The 10h frame of already checked, ICS-sorted ``ics`` and ``positions``."""
+    n = len(ics)
+    bitmap = sum(map(_BIT.__getitem__, ics))
+    high = (bitmap >> 32) | (0 if set_update_flag else FLAG_BIT)
+    return _with_sum(
+        _CONST[n].pack(9 + 2 * n, CONST_FRAME_CMD, bitmap & 0xFFFFFFFF, high, speed, *positions)
+    )
+
+
+def pack_single_servo(ics: int, speed: int, position: int, set_update_flag: bool) -> bytes:
+    """The 0Fh frame of already checked values."""
+    b = ics | (0 if set_update_flag else FLAG_BIT)
+    s = (7 + SINGLE_SERVO_CMD + b + speed + (position & 0xFF) + (position >> 8)) & 0xFF
+    return _SINGLE.pack(7, SINGLE_SERVO_CMD, b, speed, position, s)
+
+
+def const_frame_servo_frame(
+    speed: int,
+    positions: Mapping[int, int] | Iterable[tuple[int, int]],
+    set_update_flag: bool = True,
+) -> bytes:
+    """The frame of ``RunConstFrameServo(speed, positions, set_update_flag)``.
+
+    Raises ``ValueError`` exactly when the dataclass does.
+    """
+    if (
+        type(positions) is dict
+        and positions
+        and type(speed) is int
+        and 0 <= speed <= 0xFF
+        and type(set_update_flag) is bool
+        and set(map(type, positions)) <= _INT
+    ):
+        keys = sorted(positions)
+        values = [positions[k] for k in keys]
+        if (
+            set(map(type, values)) <= _INT
+            and keys[0] >= 0
+            and keys[-1] < ICS_LIMIT
+            and min(values) >= 0
+            and max(values) <= POSITION_LIMIT
+        ):
+            return pack_const_frame(speed, keys, values, set_update_flag)
+    from rcb4hv.protocol.commands import RunConstFrameServo
+
+    return RunConstFrameServo(speed, positions, set_update_flag).encode()
+
+
+def single_servo_frame(ics: int, speed: int, position: int, set_update_flag: bool = True) -> bytes:
+    """The frame of ``RunSingleServo(ics, speed, position, set_update_flag)``.
+
+    Raises ``ValueError`` exactly when the dataclass does.
+    """
+    if (
+        type(ics) is int
+        and type(speed) is int
+        and type(position) is int
+        and type(set_update_flag) is bool
+        and 0 <= ics < ICS_LIMIT
+        and 0 <= speed <= 0xFF
+        and 0 <= position <= POSITION_LIMIT
+    ):
+        return pack_single_servo(ics, speed, position, set_update_flag)
+    from rcb4hv.protocol.commands import RunSingleServo
+
+    return RunSingleServo(ics, speed, position, set_update_flag).encode()
