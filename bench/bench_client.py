@@ -8,8 +8,8 @@ baud with 11 bits a byte (8E1), with no board processing time: the best a real l
 ratio = ours / wire: below 1 means we would not be the bottleneck on a real cable.
 
 Cases: ACK check; one RunSingleServo; a bulk read of every servo's measured position (the
-cheapest MOVE reads under the robot's link cost model, see ``Robot.read_plan``); a control-loop cycle = that read plus one
-RunConstFrameServo commanding every servo.
+cheapest MOVE reads under the robot's link cost model, see ``Robot.read_plan``); a
+control-loop cycle = that read plus one RunConstFrameServo commanding every servo.
 """
 
 from __future__ import annotations
