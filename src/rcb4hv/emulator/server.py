@@ -30,6 +30,7 @@ import os
 import pty
 import select
 import socket
+import sys
 import termios
 import threading
 import time
@@ -49,6 +50,24 @@ MAX_WAIT: Final = 1.0
 MAX_UNSENT: Final = 1 << 16
 PTY_REARM: Final = 0.2
 SENTINEL_SPEED: Final = termios.B50
+PR_SET_TIMERSLACK: Final = 29
+
+
+def _fine_timer_slack() -> None:
+    """Ask Linux to fire this thread's timers on time (``PR_SET_TIMERSLACK`` 1 ns instead of
+    the default 50 µs): a paced reply is due a few hundred µs after its request, so the
+    default slack alone would add a fifth to it. Anywhere else (or if it fails) nothing
+    changes but that precision."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.prctl(PR_SET_TIMERSLACK, 1, 0, 0, 0) != 0:
+            log.debug("prctl(PR_SET_TIMERSLACK) failed: errno %d", ctypes.get_errno())
+    except (OSError, AttributeError) as exc:
+        log.debug("no fine timer slack: %s", exc)
 
 
 class _Server:
@@ -167,6 +186,8 @@ class _Server:
         return wait
 
     def _main(self) -> None:
+        if self.board.config.pace_replies:
+            _fine_timer_slack()
         try:
             self._loop()
         except BaseException as exc:  # pragma: no cover - logged, the thread ends
@@ -190,6 +211,8 @@ class _Server:
             if self._stop_r in readable:
                 return
             with self._lock:
+                if self._queue:  # replies now due leave before the board runs on
+                    self._flush_due(time.monotonic())
                 fed = False
                 for fd in readable:
                     fed = self._on_readable(fd) or fed
