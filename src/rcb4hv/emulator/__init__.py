@@ -54,6 +54,7 @@ Modelling choices where the spec is silent
 * Positions are any 16-bit value: the model interpolates and its virtual servos follow values
   outside 3500-11500 as sent (no servo-side travel limit is modelled). Speed 0 follows
   ``speed_zero`` (spec 13 #7).
+* JUMP/CALL and vector-jump targets are 24 bits; one past 3FFFFh wraps modulo the 256 KB ROM.
 * RunSingleServo (0Fh) carries a 7-bit ICS number; ICS 36-127 have no allocation entry and are
   skipped like an unallocated slot (ACK; with the update-flag bit clear every flag becomes 0).
 * Virtual servos (``virtual_servos``) report position - base into +4 of ``alloc[n]`` every
