@@ -17,7 +17,17 @@ from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.project.image import build_project_image, read_image
 from rcb4hv.project.options import BuildOptions
 from rcb4hv.project.simulate import Simulator
-from rcb4hv.protocol import SYS, Call, SetStretch, decode_command, frame_at
+from rcb4hv.protocol import (
+    SYS,
+    Call,
+    Ics,
+    Move,
+    Ram,
+    SetStretch,
+    decode_command,
+    encode_command,
+    frame_at,
+)
 from rcb4hv.rom import layout
 from tests.project.quirks import (
     EMPTY_ADDRESS,
@@ -110,7 +120,7 @@ def test_startup_in_empty_slot_boot_fails_and_motions_still_play(xml: str) -> No
     boot = sim.boot()
     assert boot.status == "error"
     assert boot.error is not None
-    assert boot.error.startswith("startup motion 09380h: slot 18 holds no motion (ROMERR")
+    assert boot.error.startswith("startup motion 09380h: slot 18 holds no motion; ROMERR")
     assert boot.pc == EMPTY_ADDRESS
     results = sim.play_all([(39, "home"), (9, "walk")])
     assert [r.status for r in results] == ["completed", "completed"]
@@ -170,3 +180,15 @@ def test_info_shows_none_settings(xml: str, tmp_path: Path) -> None:
     assert "priority check 0: Battery LessThanOrEqualTo 223 -> 14380h (slot 40, XL2G_292_" in (
         r.output
     )
+
+
+def test_boot_failure_inside_the_startup_motion_names_it(xml: str) -> None:
+    frames = motion_frames(xml, 39)
+    frames.insert(1, encode_command(Move(Ram(0x0462), Ics(4, 30), 2)).hex(" ").upper())
+    image = build_project_image(load(set_motion_frames(xml, 39, frames)))
+    sim = Simulator(image)
+    boot = sim.boot()
+    assert boot.status == "error"
+    assert boot.error == "startup motion 13B80h (slot 39): command error: ICS 30 is not allocated"
+    assert boot.instruction == "MOVE RAM[VAR[0]], ICS[30].MEASURED, 2"
+    assert sim.play(layout.motion_address(9)).status == "completed"

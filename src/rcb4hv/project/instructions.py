@@ -3,7 +3,7 @@
 * :func:`input_names` / :func:`ics_operands`: which inputs (RAM the program does not own) and
   which ICS operands a data command reads - used to classify waiting loops and command errors.
 * :func:`boot_cause`: why the boot program of a HeartToHeart4 2.2 image stopped, e.g.
-  ``"startup motion 0FB80h: slot 31 holds no motion (ROMERR ...)"``.
+  ``"startup motion 0FB80h: slot 31 holds no motion; ROMERR ..."``.
 """
 
 from __future__ import annotations
@@ -120,7 +120,7 @@ def boot_cause(rom: bytes | bytearray, error: str, pc: int | None) -> str:
     target = start.address
     problem = slot_problem(rom, target)
     if problem is not None:
-        return f"startup motion {target:05X}h: {problem} ({error})"
+        return f"startup motion {target:05X}h: {problem}; {error}"
     slot = layout.motion_number(target)
     where = f" (slot {slot})" if slot is not None else ""
     return f"startup motion {target:05X}h{where}: {error}"

@@ -34,7 +34,7 @@ Each play ends in one of these states (:class:`MotionResult.status`):
 
 A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause in words
 (:func:`rcb4hv.project.instructions.boot_cause`, e.g. ``startup motion 0FB80h: slot 31 holds no
-motion (ROMERR ...)``); motions can still be played from the host afterwards, as spec 11.4 does.
+motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
 
 The emulator exposes no "last program error" record, so the kind of error is derived from public
 state: the ROMERR bit, the instruction at the PC, the call depth and the allocation table.
