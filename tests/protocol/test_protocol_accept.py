@@ -150,3 +150,24 @@ def test_documented_ranges_move_to_the_robot_level() -> None:
             robot.move({2: 2100})
         robot.set_stretch({2: 0}, check_range=False)  # what real projects send
         robot.set_speed(0, [2, 3], check_range=False)
+
+
+def test_single_servo_beyond_ics_35_is_skipped_like_an_unallocated_slot() -> None:
+    board = Board(clock=VirtualClock())
+    board.run_for(3.0)
+    board.feed(p.encode_command(p.RunSingleServo(2, 200, 9000)))  # ICS 2 moving: its flag set
+    assert board.ram[7] & 0b100
+    frame = _frame(bytes.fromhex("0F 64 00 B4 0B"))  # ICS 100, speed 0, position 3000
+    assert frame == bytes.fromhex("07 0F 64 00 B4 0B 39")
+    assert board.feed(frame) == bytes.fromhex("04 0F 06 19")
+    assert board.ram[7:12] == bytes(5)  # 0Fh with the flag bit clear: every other flag cleared
+
+
+def test_decode_cli_prints_a_real_stretch_zero_frame() -> None:
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+
+    r = CliRunner().invoke(cli, ["decode", REAL_12H.hex(" ")])
+    assert r.exit_code == 0, r.output
+    assert "SetStretch" in r.output and "ICS 18: 0" in r.output
