@@ -392,7 +392,8 @@ class Rcb4Client:
     def run_single_servo(
         self, ics: int, speed: int, position: int, set_update_flag: bool = True
     ) -> None:
-        """0Fh: one servo to ``position`` in ``speed`` output periods."""
+        """0Fh: one servo to ``position`` in ``speed`` output periods (any 7-bit ICS number,
+        speed and 16-bit position: the wire layer takes what the board takes)."""
         self.transact(RunSingleServo(ics, speed, position, set_update_flag))
 
     def run_const_frame_servo(
