@@ -35,7 +35,7 @@ _any_int = st.one_of(
     st.integers(-3, 300), st.integers(0, 0x1_0005), st.integers(-(1 << 20), 1 << 20)
 )
 _odd = st.one_of(st.booleans(), st.floats(0, 40), st.none(), st.text(max_size=1))
-_ics = st.one_of(st.integers(0, 35), st.integers(-2, 40), _odd)
+_ics = st.one_of(st.integers(0, 35), st.integers(-2, 40), st.integers(100, 130), _odd)
 _pos = st.one_of(st.integers(0, 0xFFFF), _any_int, _odd)
 _speed = st.one_of(st.integers(0, 255), _any_int, _odd)
 _flag = st.one_of(st.booleans(), st.integers(0, 2), st.none())

@@ -27,7 +27,8 @@ __all__ = [
     "single_servo_frame",
 ]
 
-ICS_LIMIT: Final = 36  # ICS numbers 0..35 (the command reference's bitmap positions)
+ICS_LIMIT: Final = 36  # 10h bitmap: ICS numbers 0..35
+SINGLE_ICS_LIMIT: Final = 0x80  # 0Fh: any 7-bit ICS number (bit 7 is the update-flag bit)
 POSITION_LIMIT: Final = 0xFFFF
 FLAG_BIT: Final = 0x80  # bitmap bit 39 / ICS byte bit 7: leave the other update flags alone
 CONST_FRAME_CMD: Final = 0x10
@@ -106,7 +107,7 @@ def single_servo_frame(ics: int, speed: int, position: int, set_update_flag: boo
         and type(speed) is int
         and type(position) is int
         and type(set_update_flag) is bool
-        and 0 <= ics < ICS_LIMIT
+        and 0 <= ics < SINGLE_ICS_LIMIT
         and 0 <= speed <= 0xFF
         and 0 <= position <= POSITION_LIMIT
     ):
