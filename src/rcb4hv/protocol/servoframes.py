@@ -40,6 +40,8 @@ _BIT: Final = tuple(1 << k for k in range(ICS_LIMIT))
 _CONST: Final = tuple(struct.Struct(f"<BBIBB{n}H") for n in range(ICS_LIMIT + 1))
 # 0Fh: SIZE CMD ICS SPEED position(u16) SUM
 _SINGLE: Final = struct.Struct("<BBBBHB")
+_SERVO_SETS: dict[tuple[int, ...], tuple[list[int], int, int]] = {}
+_SERVO_SETS_KEPT: Final = 256
 
 
 def _with_sum(body: bytes) -> bytes:
@@ -65,6 +67,21 @@ def pack_single_servo(ics: int, speed: int, position: int, set_update_flag: bool
     return _SINGLE.pack(7, SINGLE_SERVO_CMD, b, speed, position, s)
 
 
+def _servo_set(order: tuple[int, ...]) -> tuple[list[int], int, int] | None:
+    """Sorted ICS numbers, bitmap low 32 bits and high byte of the ints in ``order`` (dict
+    order), or None if one is outside 0-35; remembered, a loop commands the same servos."""
+    got = _SERVO_SETS.get(order)
+    if got is None:
+        keys = sorted(order)
+        if keys[0] < 0 or keys[-1] >= ICS_LIMIT:
+            return None
+        bitmap = sum(map(_BIT.__getitem__, keys))
+        if len(_SERVO_SETS) >= _SERVO_SETS_KEPT:
+            _SERVO_SETS.clear()
+        got = _SERVO_SETS[order] = (keys, bitmap & 0xFFFFFFFF, bitmap >> 32)
+    return got
+
+
 def const_frame_servo_frame(
     speed: int,
     positions: Mapping[int, int] | Iterable[tuple[int, int]],
@@ -80,18 +97,27 @@ def const_frame_servo_frame(
         and type(speed) is int
         and 0 <= speed <= 0xFF
         and type(set_update_flag) is bool
-        and set(map(type, positions)) <= _INT
+        and set(map(type, positions)) <= _INT  # before the lookup: True == 1 as a key
     ):
-        keys = sorted(positions)
-        values = [positions[k] for k in keys]
-        if (
-            set(map(type, values)) <= _INT
-            and keys[0] >= 0
-            and keys[-1] < ICS_LIMIT
-            and min(values) >= 0
-            and max(values) <= POSITION_LIMIT
-        ):
-            return pack_const_frame(speed, keys, values, set_update_flag)
+        servos = _servo_set(tuple(positions))
+        if servos is not None:
+            keys, low, high = servos
+            values = list(map(positions.__getitem__, keys))
+            if set(map(type, values)) <= _INT:
+                n = len(keys)
+                try:  # "H" refuses values outside 0..FFFF
+                    body = _CONST[n].pack(
+                        9 + 2 * n,
+                        CONST_FRAME_CMD,
+                        low,
+                        high if set_update_flag else high | FLAG_BIT,
+                        speed,
+                        *values,
+                    )
+                except struct.error:
+                    pass
+                else:
+                    return _with_sum(body)
     from rcb4hv.protocol.commands import RunConstFrameServo
 
     return RunConstFrameServo(speed, positions, set_update_flag).encode()
