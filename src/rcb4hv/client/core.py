@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import logging
-import struct
 import threading
 import time
 from collections.abc import Callable, Iterable, Mapping
 from types import TracebackType
 from typing import Final, NoReturn
 
+from rcb4hv.client.exchange import RAM_READS, find_reply, ram_read_frame
 from rcb4hv.errors import (
-    ChecksumError,
     FrameError,
     NakError,
     ProtocolError,
@@ -21,7 +20,6 @@ from rcb4hv.errors import (
 from rcb4hv.protocol import (
     ALWAYS,
     MAX_REPLY_SIZE,
-    NEED_DATA,
     AcknowledgeCheck,
     Add,
     And,
@@ -256,7 +254,7 @@ class Rcb4Client:
 
         ``expected`` is the length of the successful reply. Fast path: the first read brings
         exactly that frame. Anything else (a NAK, a reply in pieces, stray bytes before it, a
-        damaged reply) goes through :meth:`_slow_reply`.
+        damaged reply) goes through :func:`~rcb4hv.client.exchange.find_reply`.
         """
         transport = self.transport
         with self._lock:
@@ -271,7 +269,17 @@ class Rcb4Client:
                 and sum_ok(chunk)
             ):
                 return chunk
-            return self._slow_reply(chunk, cmd, expected, name, deadline, timeout)
+            return find_reply(
+                transport,
+                self._decoder,
+                chunk,
+                cmd,
+                expected,
+                name,
+                deadline,
+                timeout,
+                self.corrupt_grace,
+            )
 
     def _data_reply(self, frame: bytes, cmd: int, size: int, name: str) -> bytes:
         """Send a command ``frame`` answered by ``size`` data bytes; return them."""
@@ -285,60 +293,6 @@ class Rcb4Client:
         if len(raw) == 4 and raw[2] == NAK_BYTE:
             raise NakError(f"board answered NAK to {name}", cmd)
         raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
-
-    def _slow_reply(
-        self, chunk: bytes, cmd: int, expected: int, name: str, deadline: float, timeout: float
-    ) -> bytes:
-        transport = self.transport
-        decoder = self._decoder
-        decoder.reset()
-        decoder.receive_data(chunk)
-        corrupt: ChecksumError | None = None
-        while True:
-            while True:
-                pending = decoder.pending
-                skip = 0
-                n = len(pending)
-                while skip < n and not (
-                    (pending[skip] == expected or pending[skip] == 4)
-                    and (skip + 1 >= n or pending[skip + 1] == cmd)
-                ):
-                    skip += 1
-                if skip:
-                    log.warning(
-                        "discarded %d stray byte(s) before the reply to %s: %s",
-                        skip,
-                        name,
-                        pending[:skip].hex(" "),
-                    )
-                    decoder.reset()
-                    decoder.receive_data(pending[skip:])
-                    pending = pending[skip:]
-                if not pending:
-                    need = 4
-                    break
-                try:
-                    got_frame = decoder.next_frame()
-                except ChecksumError as exc:
-                    log.warning("reply to %s with a bad checksum: %s", name, exc)
-                    corrupt = ChecksumError(
-                        f"reply to {name} has a bad checksum: {exc.frame.hex(' ')}", exc.frame
-                    )
-                    deadline = min(deadline, time.monotonic() + self.corrupt_grace)
-                    continue
-                if got_frame is NEED_DATA:
-                    need = max(pending[0] - len(pending), 1)
-                    break
-                assert isinstance(got_frame, bytes)
-                return got_frame
-            chunk = transport.read(need, deadline)
-            if not chunk:
-                partial = decoder.reset()
-                if corrupt is not None:
-                    raise corrupt
-                got = f" (incomplete: {partial.hex(' ')})" if partial else ""
-                raise Rcb4TimeoutError(f"no reply to {name} within {timeout:g} s{got}")
-            decoder.receive_data(chunk)
 
     # ------------------------------------------------------------------ data commands
 
@@ -488,11 +442,7 @@ class Rcb4Client:
             and 0 < size <= MAX_READ
             and 0 <= address <= RAM_SIZE - size
         ):  # fast path: one frame, arguments known good
-            frame = _READS.get((address, size))
-            if frame is None:
-                if len(_READS) >= _READS_KEPT:
-                    _READS.clear()
-                frame = _READS[address, size] = ram_read_frame(address, size)
+            frame = RAM_READS.get((address, size)) or ram_read_frame(address, size)
             raw = self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
             if len(raw) == size + 3:
                 return raw[2:-1]
@@ -556,18 +506,6 @@ class Rcb4Client:
 
 _ACK_SHORT: Final = AcknowledgeCheck().encode()
 _ACK_LONG: Final = AcknowledgeCheck(long_form=True).encode()
-_RAM_READ: Final = struct.Struct("<BBB3xHBB")
-_READS: dict[tuple[int, int], bytes] = {}
-"""RAM read frames already built, by (address, size): a control loop reads the same ones."""
-_READS_KEPT: Final = 512
-
-
-def ram_read_frame(address: int, size: int) -> bytes:
-    """The frame of ``Move(Com(), Ram(address), size)`` (a RAM read), built in one step for
-    the read paths; the caller has checked ``address`` and ``size`` (see :func:`_check_span`)."""
-    return _RAM_READ.pack(
-        10, 0x00, 0x20, address, size, (10 + 0x20 + (address & 0xFF) + (address >> 8) + size) & 0xFF
-    )
 
 
 def _check_span(kind: str, address: int, size: int, limit: int) -> None:
