@@ -236,6 +236,7 @@ def pty() -> list[dict[str, Any]]:
                         t["ours"],
                         t["peer"],
                         t["floor_ours"],
+                        peer_target=None,  # the target is on the time above the floor
                         note=(
                             f"wire_us = floor (bare pyserial, our {n_frames} frame(s)); "
                             f"peer floor {t['floor_peer']:.1f} us"
