@@ -224,6 +224,10 @@ class SerialTransport(Transport):
                 want = size if fd is not None else max(1, min(size, port.in_waiting))
                 data = port.read(want)
                 if data:
+                    if fd is None and len(data) < size:  # the rest that came with it
+                        more = min(size - len(data), port.in_waiting)
+                        if more:
+                            data += port.read(more)
                     return bytes(data)
                 remaining = deadline - time.monotonic()
                 if remaining <= 0.0:
