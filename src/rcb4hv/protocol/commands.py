@@ -19,7 +19,7 @@ from typing import ClassVar, Final, cast
 
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol.frame import MAX_FRAME_SIZE, build_frame, check_frame
-from rcb4hv.protocol.servoframes import pack_const_frame, pack_single_servo
+from rcb4hv.protocol.servoframes import pack_const_frame, pack_single_servo, servo_set
 
 __all__ = [
     "ALWAYS",
@@ -637,19 +637,16 @@ _INT_ONLY: Final = frozenset((int,))
 def _plain_pairs(items: object, value_max: int) -> tuple[tuple[int, int], ...] | None:
     """Fast path of :func:`_normalise_pairs`: a non-empty dict of int ICS numbers 0-35 to int
     values 0..``value_max``, sorted; None for anything else (the slow path decides)."""
-    if (
-        type(items) is not dict
-        or not items
-        or not set(map(type, items)) <= _INT_ONLY
-        or not set(map(type, items.values())) <= _INT_ONLY
-    ):
+    if type(items) is not dict or not items or not set(map(type, items)) <= _INT_ONLY:
         return None
-    if min(items) < 0 or max(items) >= ICS_COUNT:
+    servos = servo_set(tuple(items))
+    if servos is None:
         return None
-    values = items.values()
-    if min(values) < 0 or max(values) > value_max:
+    keys = servos[0]
+    values = list(map(items.__getitem__, keys))
+    if not set(map(type, values)) <= _INT_ONLY or min(values) < 0 or max(values) > value_max:
         return None
-    return tuple(sorted(items.items()))
+    return tuple(zip(keys, values, strict=True))
 
 
 def _normalise_pairs(

@@ -24,6 +24,7 @@ __all__ = [
     "const_frame_servo_frame",
     "pack_const_frame",
     "pack_single_servo",
+    "servo_set",
     "single_servo_frame",
 ]
 
@@ -53,11 +54,14 @@ def pack_const_frame(
 ) -> bytes:
     """The 10h frame of already checked, ICS-sorted ``ics`` and ``positions``."""
     n = len(ics)
-    bitmap = sum(map(_BIT.__getitem__, ics))
-    high = (bitmap >> 32) | (0 if set_update_flag else FLAG_BIT)
-    return _with_sum(
-        _CONST[n].pack(9 + 2 * n, CONST_FRAME_CMD, bitmap & 0xFFFFFFFF, high, speed, *positions)
-    )
+    if n:
+        servos = servo_set(tuple(ics))
+        assert servos is not None, "pack_const_frame takes checked ICS numbers"
+        _, low, high = servos
+    else:
+        low = high = 0
+    high |= 0 if set_update_flag else FLAG_BIT
+    return _with_sum(_CONST[n].pack(9 + 2 * n, CONST_FRAME_CMD, low, high, speed, *positions))
 
 
 def pack_single_servo(ics: int, speed: int, position: int, set_update_flag: bool) -> bytes:
@@ -67,7 +71,7 @@ def pack_single_servo(ics: int, speed: int, position: int, set_update_flag: bool
     return _SINGLE.pack(7, SINGLE_SERVO_CMD, b, speed, position, s)
 
 
-def _servo_set(order: tuple[int, ...]) -> tuple[list[int], int, int] | None:
+def servo_set(order: tuple[int, ...]) -> tuple[list[int], int, int] | None:
     """Sorted ICS numbers, bitmap low 32 bits and high byte of the ints in ``order`` (dict
     order), or None if one is outside 0-35; remembered, a loop commands the same servos."""
     got = _SERVO_SETS.get(order)
@@ -99,7 +103,7 @@ def const_frame_servo_frame(
         and type(set_update_flag) is bool
         and set(map(type, positions)) <= _INT  # before the lookup: True == 1 as a key
     ):
-        servos = _servo_set(tuple(positions))
+        servos = servo_set(tuple(positions))
         if servos is not None:
             keys, low, high = servos
             values = list(map(positions.__getitem__, keys))
