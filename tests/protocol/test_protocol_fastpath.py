@@ -90,3 +90,20 @@ def test_servo_frames_golden() -> None:
     assert len(frame) == 9 + 2 * len(ids) and frame[:8] == bytes.fromhex("2B 10 FD FC 0F 00 00 0A")
     every = const_frame_servo_frame(1, dict.fromkeys(range(36), 0x8000), set_update_flag=False)
     assert every[2:7] == bytes.fromhex("FF FF FF FF 8F")
+
+
+@given(
+    st.dictionaries(st.integers(0, 35), st.integers(0, 0xFFFF), min_size=1, max_size=36),
+    st.integers(0, 255),
+    st.booleans(),
+)
+def test_const_frame_bytes_against_a_plain_encoding(
+    positions: dict[int, int], speed: int, flag: bool
+) -> None:
+    """Byte by byte as the command reference lays 10h out, written without the fast code."""
+    bitmap = sum(1 << k for k in positions) | (0 if flag else 1 << 39)
+    body = bytes([9 + 2 * len(positions), 0x10]) + bitmap.to_bytes(5, "little") + bytes([speed])
+    body += b"".join(positions[k].to_bytes(2, "little") for k in sorted(positions))
+    expected = body + bytes([sum(body) & 0xFF])
+    assert const_frame_servo_frame(speed, positions, flag) == expected
+    assert RunConstFrameServo(speed, positions, flag).encode() == expected
