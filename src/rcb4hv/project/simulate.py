@@ -80,6 +80,7 @@ from rcb4hv.protocol import (
 )
 from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
 
 __all__ = [
     "DEFAULT_LIMIT",
@@ -219,9 +220,15 @@ class Simulator:
         ics: Iterable[int] | None = None,
         config: EmulatorConfig | None = None,
         listener: SampleListener | None = None,
+        motion_layout: MotionLayout | None = None,
     ) -> None:
         if len(image) != layout.ROM_SIZE:
             raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
+        if motion_layout is None:
+            from rcb4hv.rom.older import detect_image_layout
+
+            motion_layout = detect_image_layout(image) or HTH4_22
+        self.layout = motion_layout  # main loop and motion slots (detected from the image)
         if ics is None:
             ics = [
                 n
@@ -265,7 +272,7 @@ class Simulator:
             SYS.ROM_ERROR | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
         )
         self._write_ram(0x0000, word.to_bytes(2, "little"))
-        self._write_ram(0x0002, layout.MAIN_LOOP.to_bytes(3, "little") + bytes(7))
+        self._write_ram(0x0002, self.layout.main_loop.to_bytes(3, "little") + bytes(7))
         self._send(Call(address, ALWAYS))
         flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
         self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
@@ -358,7 +365,8 @@ class Simulator:
                 res = MotionResult(None, 0, "boot", "error", dur, n, kind, pc, text)
                 break
             pc = b.pc
-            in_main = layout.MAIN_LOOP <= pc < layout.MAIN_LOOP_JUMP + 7 and b.ram[5] == 0
+            lay = self.layout
+            in_main = lay.main_loop <= pc < lay.main_loop_end and b.ram[5] == 0
             if in_main and seen_main:
                 res = MotionResult(None, 0, "boot", "completed", dur, n)
                 break
@@ -399,7 +407,7 @@ class Simulator:
         if b.ram[5] != 1:
             return False
         cmd, _ = self._instruction_at(b.pc)
-        return isinstance(cmd, Return) and b.call_stack[0] < layout.MOTIONS
+        return isinstance(cmd, Return) and b.call_stack[0] < self.layout.motion_base
 
     def play(
         self,
@@ -422,7 +430,7 @@ class Simulator:
             raise ValueError(f"ROM address {address:#x} out of range")
         b = self.board
         if slot is None:
-            slot = layout.motion_number(address)
+            slot = self.layout.motion_at(address)
         self.start_motion(address, vector=not hold)
         t0, i0 = self._t_us, b.instructions_executed
         held = None
@@ -458,7 +466,7 @@ class Simulator:
                 kind, pc, text = self._error()
                 return result("error", error=kind, pc=pc, instruction=text)
             pc = b.pc
-            if b.ram[5] == 0 and pc < layout.MOTIONS:
+            if b.ram[5] == 0 and pc < self.layout.motion_base:
                 return result("completed")
             if elapsed >= limit_us:
                 return result("timeout", pc=pc)
@@ -528,7 +536,7 @@ class Simulator:
         out = []
         for slot, name in motions:
             r = self.play(
-                layout.motion_address(slot),
+                self.layout.address(slot),
                 slot=slot,
                 name=name,
                 hold=hold,
