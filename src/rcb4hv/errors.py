@@ -20,9 +20,9 @@ from __future__ import annotations
 __all__ = [
     "ChecksumError",
     "FrameError",
+    "LayoutError",
     "NakError",
     "ProtocolError",
-    "LayoutError",
     "Rcb4Error",
     "Rcb4TimeoutError",
     "TransportError",
