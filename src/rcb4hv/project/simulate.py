@@ -81,6 +81,7 @@ from rcb4hv.protocol import (
 from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import detect_image_layout
 
 __all__ = [
     "DEFAULT_LIMIT",
@@ -224,11 +225,7 @@ class Simulator:
     ) -> None:
         if len(image) != layout.ROM_SIZE:
             raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
-        if motion_layout is None:
-            from rcb4hv.rom.older import detect_image_layout
-
-            motion_layout = detect_image_layout(image) or HTH4_22
-        self.layout = motion_layout  # main loop and motion slots (detected from the image)
+        self.layout = motion_layout or detect_image_layout(image) or HTH4_22
         if ics is None:
             ics = [
                 n
@@ -365,8 +362,7 @@ class Simulator:
                 res = MotionResult(None, 0, "boot", "error", dur, n, kind, pc, text)
                 break
             pc = b.pc
-            lay = self.layout
-            in_main = lay.main_loop <= pc < lay.main_loop_end and b.ram[5] == 0
+            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not b.ram[5]
             if in_main and seen_main:
                 res = MotionResult(None, 0, "boot", "completed", dur, n)
                 break
