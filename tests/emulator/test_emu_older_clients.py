@@ -113,7 +113,12 @@ class Link:
         return reply
 
     def poll(
-        self, request: bytes, playing: Callable[[bytes], bool], lay: MotionLayout, slot: int, limit: float = 60.0
+        self,
+        request: bytes,
+        playing: Callable[[bytes], bool],
+        lay: MotionLayout,
+        slot: int,
+        limit: float = 60.0,
     ) -> Played:
         """Poll every 50 ms while ``playing(reply)``; track whether the motion slot ran."""
         t0, polls, seen = self.clock.now(), 0, False
