@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -34,10 +33,10 @@ from tests.emulator.test_emu_older_clients import (
     khr3hv_motion,
 )
 from tests.emulator.test_emu_rom_image import descriptions
+from tests.emulator.test_emu_server import run_cli
 
 H = bytes.fromhex
 OLDER = LAYOUTS["2.1"]
-REPO = Path(__file__).resolve().parents[2]
 
 
 def test_layout_table_holds_the_established_numbers() -> None:
@@ -117,16 +116,6 @@ def test_emulator_boots_the_older_default_board() -> None:
         board.close()
 
 
-def _emulate(*args: str) -> subprocess.Popen[str]:
-    return subprocess.Popen(
-        [sys.executable, "-c", "from rcb4hv.cli.main import main; main()", "emulate", *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=REPO,
-    )
-
-
 def _pty(proc: subprocess.Popen[str]) -> str:
     assert proc.stdout is not None
     kind, path = proc.stdout.readline().strip().split(" ", 1)
@@ -143,7 +132,7 @@ def _x(port: serial.Serial, frame: bytes, n: int) -> bytes:
 
 def test_emulate_layout_2_1_serves_both_older_and_new_clients(tmp_path: Path) -> None:
     rom = tmp_path / "older.rom"
-    proc = _emulate("--pty", "--layout", "2.1", "--rom", str(rom))
+    proc = run_cli("--pty", "--layout", "2.1", "--rom", str(rom))
     try:
         path = _pty(proc)
         with Robot.open(path, timeout=2.0) as robot:
@@ -169,7 +158,7 @@ def test_emulate_layout_2_1_serves_both_older_and_new_clients(tmp_path: Path) ->
         _, err = proc.communicate(timeout=10)
     assert proc.returncode == 0, err
     assert detect_image_layout(rom.read_bytes()) == OLDER
-    proc = _emulate("--pty", "--rom", str(rom))  # the stored older image, no --layout
+    proc = run_cli("--pty", "--rom", str(rom))  # the stored older image, no --layout
     try:
         with Robot.open(_pty(proc), timeout=2.0) as robot:
             assert robot.layout == OLDER

@@ -3,7 +3,8 @@
 :class:`Simulator` boots an image in an emulated :class:`~rcb4hv.emulator.Board` on a
 :class:`~rcb4hv.emulator.VirtualClock` and plays motions through :meth:`Board.feed` with real
 command frames (spec 11.4): suspend (system register without ICS_F/ROM_F/VEC_F), reset the
-program (PC = 044Bh, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F, VEC_F).
+program (PC = the main loop, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F,
+VEC_F). The image's layout (main loop 044Bh or 003FDh, motion slots) is detected from it.
 While a button is held for the motion (``hold``) VEC_F is left clear at the resume, so the
 held button does not also fire the package bound to it at once; the main loop re-arms VEC_F
 when it runs.
