@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from rcb4hv.client import Rcb4Client, Robot
@@ -54,3 +56,21 @@ def test_robot_plays_motions_on_an_emulated_board_of_each_layout(version: str) -
 def test_bad_layout_in_the_url() -> None:
     with pytest.raises(TransportError, match=r"unknown layout '9\.9'"):
         Robot.open("rcb4emu://?layout=9.9")
+
+
+def test_cli_motion_play_reads_the_layout_or_takes_it() -> None:
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+
+    url = "rcb4emu://?speed=20&layout=2.1"
+    r = CliRunner().invoke(cli, ["motion", "play", "--port", url, "2", "--wait"])
+    assert r.exit_code == 0, r.output
+    assert "playing motion 2 (0013B8)" in r.output and "ended" in r.output
+    url13 = "rcb4emu://?speed=20&layout=1.3"
+    r = CliRunner().invoke(cli, ["motion", "play", "--port", url13, "2", "--layout", "1.3"])
+    assert r.exit_code == 0 and "playing motion 2 (001EB8)" in r.output
+    r = CliRunner().invoke(cli, ["motion", "status", "--port", url, "--json"])
+    assert r.exit_code == 0, r.output
+    status = json.loads(r.output)
+    assert status["running"] is False and int(status["pc"], 16) < LAYOUTS["2.1"].motion_base
