@@ -60,28 +60,31 @@ def layout_named(version: str) -> MotionLayout:
         raise LayoutError(f"unknown HeartToHeart4 layout {version!r} (known: {known})") from None
 
 
+def _fits(m: Hth4Motion) -> list[str]:
+    """The layouts (of :data:`_ORDER`) that put ``m``'s slot at its stored address."""
+    return [
+        n
+        for n in _ORDER
+        if m.slot <= LAYOUTS[n].motion_count and LAYOUTS[n].address(m.slot) == m.address
+    ]
+
+
 def project_layout(project: Project) -> MotionLayout:
     """The layout whose slot addresses match every used motion's stored ``Address``.
 
     A project without motions is a 2.2 project. LayoutError when no layout fits."""
     used = project.used_motions
+    fits = [_fits(m) for m in used]
     for name in _ORDER:
-        lay = LAYOUTS[name]
-        if all(1 <= m.slot <= lay.motion_count and lay.address(m.slot) == m.address for m in used):
-            return lay
-    def fits(m: Hth4Motion) -> list[str]:
-        return [
-            n
-            for n in _ORDER
-            if m.slot <= LAYOUTS[n].motion_count and LAYOUTS[n].address(m.slot) == m.address
-        ]
-
-    odd = [m for m in used if not fits(m)]
+        if all(name in f for f in fits):
+            return LAYOUTS[name]
+    odd = [m for m, f in zip(used, fits, strict=True) if not f]
     if odd:
         m = odd[0]
         detail = f"motion {m.key} (slot {m.slot}) is stored for {m.address:05X}h"
     else:
-        detail = "; ".join(f"{m.key} fits {'/'.join(fits(m))}" for m in used[:4])
+        pairs = zip(used[:4], fits, strict=False)
+        detail = "; ".join(f"{m.key} fits {'/'.join(f)}" for m, f in pairs)
     raise LayoutError(
         "the motions' stored addresses fit no single HeartToHeart4 layout (2.2: 0B80h + "
         f"800h (n-1), 2.0/2.1: 0BB8h + 800h (n-1), 1.3: 0BB8h + 1300h (n-1)): {detail}"
