@@ -35,8 +35,9 @@ from typing import Final
 
 from rcb4hv.errors import LayoutError, ProtocolError
 from rcb4hv.protocol import ALWAYS, Call, Jump, Return, decode_command, encode_command, frame_at
+from rcb4hv.protocol.memory import ADDR
 from rcb4hv.rom import layout as L
-from rcb4hv.rom.image import ImageDescription, _lit, _priority_bytes, build_image, parse_image
+from rcb4hv.rom.image import ImageDescription, _priority_bytes, _word, build_image, parse_image
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 
 __all__ = [
@@ -93,7 +94,7 @@ def build_image_for(desc: ImageDescription, lay: MotionLayout = HTH4_22) -> byte
     put(L.STARTUP_STUB, _FF * 3)
     put(BOOT_JUMP, encode_command(Jump(BOOT_TAIL, ALWAYS)))
     sysreg = desc.system_register
-    put(MAIN_LOOP, _lit(0x0000, sysreg))
+    put(MAIN_LOOP, _word(ADDR.SYSTEM, sysreg))
     put(PIO_SWITCHES, encode_command(Jump(PRIORITY_CHECKS, ALWAYS)))
     for i in range(L.PRIORITY_COUNT):
         pm = desc.priority_motions[i] if i < len(desc.priority_motions) else None

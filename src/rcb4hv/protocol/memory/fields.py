@@ -126,6 +126,11 @@ class Field:
         v: int = self._read.unpack_from(buf, base + self.offset)[0]
         return v
 
+    def decode(self, data: ReadBuffer) -> int:
+        """The field from its own bytes alone (what reading :meth:`span` returned)."""
+        v: int = self._read.unpack_from(data, 0)[0]
+        return v
+
     def put(self, buf: WriteBuffer, base: int, value: int) -> None:
         """Store ``value`` into the field of the structure at ``base``."""
         self._write.pack_into(buf, base + self.offset, value & self._mask)

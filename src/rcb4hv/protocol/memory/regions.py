@@ -32,6 +32,8 @@ __all__ = [
     "PIO_MASK",
     "PIO_WORDS",
     "PROGRAM_STATE",
+    "RUN_STATE",
+    "RUN_STATE_SIZE",
     "TIMERS",
     "TIMER_STOPPED",
     "USER_VARIABLES",
@@ -41,6 +43,7 @@ __all__ = [
     "program_reset",
     "read_buttons",
     "read_pc",
+    "read_run_state",
     "read_system",
     "system_word_bytes",
     "write_buttons",
@@ -93,6 +96,18 @@ class ProgramState:
     def waiting(self) -> bool:
         """An update flag is set: the program waits for a servo move to end."""
         return any(self.update_flags)
+
+
+RUN_STATE: Final = Struct("<HBBB5s")
+"""RAM 0002h-000Bh (what a host reads to follow a motion): PC (low word, high byte), call
+depth, unused, update flags."""
+RUN_STATE_SIZE: Final = RUN_STATE.size
+
+
+def read_run_state(buf: ReadBuffer, at: int = ADDR.PC) -> tuple[int, int, bytes]:
+    """``(pc, call depth, update flags)`` from the bytes starting at the PC."""
+    lo, hi, depth, _unused, flags = RUN_STATE.unpack_from(buf, at)
+    return lo | hi << 16, depth, flags
 
 
 def read_pc(buf: ReadBuffer, at: int = ADDR.PC) -> int:
