@@ -184,11 +184,13 @@ class Robot(RobotIO):
         self.client.write_ram(ADDR.SYSTEM, system_word_bytes(word))
         self._period = None
 
-    def _system_word(self) -> int:
+    def system_word(self) -> int:
+        """The system register as its raw word (what :mod:`rcb4hv.protocol.sequences` takes)."""
         return read_system(self.client.read_ram(ADDR.SYSTEM, 2), 0)
 
-    def _send(self, commands: Iterable[Command]) -> None:
-        """Send a host sequence (:mod:`rcb4hv.protocol.sequences`) command by command."""
+    def send_sequence(self, commands: Iterable[Command]) -> None:
+        """Send a host sequence (:mod:`rcb4hv.protocol.sequences`) command by command; each
+        must be acknowledged (:class:`~rcb4hv.errors.NakError` otherwise)."""
         for cmd in commands:
             self.client.transact(cmd)
 
@@ -487,7 +489,7 @@ class Robot(RobotIO):
         """Play ``motion`` as HeartToHeart4 does (spec 11.4): suspend the ROM program, reset
         the PC to the main loop, CALL the motion, resume with ICS_F, ROM_F and VEC_F set."""
         address = self.layout.address(motion)
-        self._send(seq.play_motion(self._system_word(), address, self.layout.main_loop))
+        self.send_sequence(seq.play_motion(self.system_word(), address, self.layout.main_loop))
         log.info("playing motion %d at %06X", motion, address)
         if wait:
             self.wait_motion(timeout=timeout)
@@ -496,12 +498,12 @@ class Robot(RobotIO):
         """Stop the ROM program. With ``reset`` (default) the PC goes back to the main loop
         and the program runs on there (the board's idle state); without it the program is
         only paused (:meth:`resume_motion` continues it)."""
-        word = self._system_word()
-        self._send(seq.stop_program(word, self.layout.main_loop, reset=reset))
+        word = self.system_word()
+        self.send_sequence(seq.stop_program(word, self.layout.main_loop, reset=reset))
 
     def resume_motion(self) -> None:
         """Let the ROM program run again (sets ROM_F)."""
-        self._send(seq.resume_program(self._system_word()))
+        self.send_sequence(seq.resume_program(self.system_word()))
 
     def wait_motion(
         self,
@@ -523,5 +525,6 @@ class Robot(RobotIO):
                     f"motion {status.motion} still playing after {timeout:g} s (PC {status.pc:06X})"
                 )
             time.sleep(poll)
+
 
 _NO_CAL: Final = Calibration()

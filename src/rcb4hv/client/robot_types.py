@@ -155,5 +155,3 @@ def plan_reads(spans: Iterable[tuple[int, int]], limit: int = MAX_READ) -> list[
         reads.append((start, last - start))
         pos = last
     return reads
-
-

@@ -54,22 +54,26 @@ from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError
 from rcb4hv.project.instructions import boot_cause, ics_operands, input_names
 from rcb4hv.protocol import (
-    ALWAYS,
     Ack,
     Call,
-    Com,
     Command,
-    Data,
     DataReply,
-    Move,
-    Ram,
     Return,
     decode_command,
     decode_reply,
     encode_command,
     frame_at,
 )
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol import sequences as seq
+from rcb4hv.protocol.memory import (
+    ADDR,
+    NO_BLOCK,
+    SERVO,
+    SYS,
+    read_alloc,
+    read_system,
+    read_u16,
+)
 from rcb4hv.rom import layout
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
 from rcb4hv.rom.older import detect_image_layout
@@ -101,6 +105,7 @@ duration is within one step of the board's; 1 ms steps made simulation ~20% slow
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
 STACK_DEPTH: Final = 16
+
 
 class SimulationError(Exception):
     """The board did not accept a host frame, or the image does not boot."""
@@ -210,8 +215,8 @@ class Simulator:
         if ics is None:
             ics = [
                 n
-                for n in range(35)
-                if image[layout.ALLOC_IMAGE + 2 * n : layout.ALLOC_IMAGE + 2 * n + 2] != b"\xff\xff"
+                for n in range(layout.SERVO_BLOCK_COPY_COUNT)
+                if read_alloc(image, n, at=layout.ALLOC_IMAGE) != NO_BLOCK
             ]
         if config is None:
             config = EmulatorConfig(virtual_servos=tuple(ics))
@@ -239,21 +244,16 @@ class Simulator:
         raise SimulationError(f"board refused {format_command(cmd)}: {r!r}")
 
     def _system_word(self) -> int:
-        return int.from_bytes(self._send(Move(Com(), Ram(0x0000), 2)), "little")
-
-    def _write_ram(self, address: int, data: bytes) -> None:
-        self._send(Move(Ram(address), Data(data)))
+        return read_system(self._send(seq.system_query()), 0)
 
     def start_motion(self, address: int, *, vector: bool = True) -> None:
-        """Play the motion at ``address`` as a host does (spec 11.4), through real frames."""
-        word = self._system_word() & ~(
-            SYS.ROM_ERROR | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
-        )
-        self._write_ram(0x0000, word.to_bytes(2, "little"))
-        self._write_ram(0x0002, self.layout.main_loop.to_bytes(3, "little") + bytes(7))
-        self._send(Call(address, ALWAYS))
-        flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
-        self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
+        """Play the motion at ``address`` as a host does (spec 11.4), through real frames
+        (:func:`rcb4hv.protocol.sequences.play_motion`; ROMERR is cleared, so a play after a
+        failed one starts clean)."""
+        word = self._system_word()
+        main = self.layout.main_loop
+        for cmd in seq.play_motion(word, address, main, vector=vector, clear_rom_error=True):
+            self._send(cmd)
 
     # ------------------------------------------------------------------ board state
 
@@ -273,20 +273,30 @@ class Simulator:
         return round(self.board.output_period * 1e6)
 
     def _flags(self) -> int:
-        return int.from_bytes(self.board.ram[7:12], "little")
+        a = ADDR.UPDATE_FLAGS
+        return int.from_bytes(self.board.ram[a : a + ADDR.UPDATE_FLAGS_SIZE], "little")
+
+    def _depth(self) -> int:
+        return self.board.ram[ADDR.CALL_DEPTH]
 
     def _wait_periods(self) -> int | None:
         """Output periods the program will wait at least (None: flags that never clear)."""
         b = self.board
+        ram = b.ram
         flags = self._flags()
         longest = 0
-        for ics in range(36):
+        for ics in range(ADDR.ICS_ALLOC_COUNT):
             if not flags >> ics & 1:
                 continue
             blk = b.alloc(ics)
-            if blk == 0xFFFF or blk + 20 > len(b.ram) or b.ram[blk] != 0 or not b.ram[blk + 8]:
+            if (
+                blk == NO_BLOCK
+                or blk + SERVO.SIZE > len(ram)
+                or SERVO.F_TYPE.get(ram, blk) != 0
+                or not SERVO.F_SPEED.get(ram, blk)
+            ):
                 return None
-            longest = max(longest, b.ram[blk + 11])
+            longest = max(longest, SERVO.F_REMAINING.get(ram, blk))
         return longest
 
     def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
@@ -313,7 +323,7 @@ class Simulator:
         b = self.board
         pc = b.pc
         cmd, text = self._instruction_at(pc)
-        depth = b.ram[5]
+        depth = self._depth()
         if b.system_register & SYS.ROM_ERROR:
             return "ROMERR (checksum error in ROM)", pc, text
         if cmd is None:
@@ -323,7 +333,7 @@ class Simulator:
         if isinstance(cmd, Call) and depth >= STACK_DEPTH:
             return "call-stack overflow (17th nested CALL)", pc, text
         for ics in ics_operands(cmd):
-            if b.alloc(ics) == 0xFFFF:
+            if b.alloc(ics) == NO_BLOCK:
                 return f"command error: ICS {ics} is not allocated", pc, text
         return "command error (program stopped)", pc, text
 
@@ -344,7 +354,7 @@ class Simulator:
                 res = MotionResult(None, 0, "boot", "error", dur, n, cause, pc, text)
                 break
             pc = b.pc
-            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not b.ram[5]
+            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not self._depth()
             if in_main and seen_main:
                 res = MotionResult(None, 0, "boot", "completed", dur, n)
                 break
@@ -382,7 +392,7 @@ class Simulator:
     def _ends_after_wait(self) -> bool:
         """True if the instruction the program waits to fetch returns into the main loop."""
         b = self.board
-        if b.ram[5] != 1:
+        if self._depth() != 1:
             return False
         cmd, _ = self._instruction_at(b.pc)
         return isinstance(cmd, Return) and b.call_stack[0] < self.layout.motion_base
@@ -426,7 +436,7 @@ class Simulator:
                 result, t0, round(hold_for * 1e6) if hold else None, round(limit * 1e6)
             )
         finally:
-            if b.ram[0x0350] or b.ram[0x0351]:
+            if read_u16(b.ram, ADDR.BUTTONS):
                 b.set_buttons(0)
 
     def _run(
@@ -444,7 +454,7 @@ class Simulator:
                 kind, pc, text = self._error()
                 return result("error", error=kind, pc=pc, instruction=text)
             pc = b.pc
-            if b.ram[5] == 0 and pc < self.layout.motion_base:
+            if self._depth() == 0 and pc < self.layout.motion_base:
                 return result("completed")
             if elapsed >= limit_us:
                 return result("timeout", pc=pc)

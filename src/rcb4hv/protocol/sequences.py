@@ -64,14 +64,13 @@ def play_motion(
     ``clear_rom_error`` also clears ROMERR in both system register writes (the simulator's
     choice, so a play after a failed one starts clean).
     """
-    if clear_rom_error:
-        word &= ~SYS.ROM_ERROR
+    base = word & ~(PLAY_FLAGS | (SYS.ROM_ERROR if clear_rom_error else 0))
     flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
     return [
-        set_system(word & ~PLAY_FLAGS),
+        set_system(base),
         reset_program(main_loop),
         Call(address, ALWAYS),
-        set_system(word | flags),
+        set_system(base | flags),
     ]
 
 
