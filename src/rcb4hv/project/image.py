@@ -61,10 +61,10 @@ from rcb4hv.protocol.memory import (
 from rcb4hv.rom import (
     Compare,
     ImageDescription,
+    ImageMotion,
+    ImagePriorityMotion,
+    ImageServo,
     Kri3Config,
-    Motion,
-    PriorityMotion,
-    ServoConfig,
     VectorPackage,
     layout,
 )
@@ -147,11 +147,11 @@ def _rate_to_method(rate: int, what: str) -> int:
     return mix_method(rate)
 
 
-def _servo(s: Hth4Servo) -> ServoConfig:
+def _servo(s: Hth4Servo) -> ImageServo:
     where = f"servo {s.key!r} (ICS {s.device_number})"
     if not 0 <= s.device_number <= 34:
         raise ValueError(f"{where}: ICS number outside 0..34")
-    return ServoConfig(
+    return ImageServo(
         ics=s.device_number,
         servo_id=s.id,
         trim=s.trim,
@@ -271,7 +271,7 @@ def project_description(
     servos = tuple(_servo(s) for s in project.servos if s.in_use)
     if len(project.adc_reference) != 22:
         raise ValueError(f"AdcReference holds {len(project.adc_reference)} bytes, expected 22")
-    motions: list[Motion] = []
+    motions: list[ImageMotion] = []
     packages: list[VectorPackage] = []
     for m in sorted(project.used_motions, key=lambda m: m.slot):
         count = motion_layout.motion_count
@@ -285,7 +285,7 @@ def project_description(
                 f"{address:05X}h"
             )
         try:
-            motions.append(Motion(m.slot, motion_image_frames(m.frames)))
+            motions.append(ImageMotion(m.slot, motion_image_frames(m.frames)))
         except ValueError as exc:
             raise ValueError(f"motion {m.key} ({m.name}): {exc}") from None
         if len(m.rom_bytes()) > layout.MOTION_SIZE:
@@ -294,7 +294,7 @@ def project_description(
             packages.append(_vector_package(m.button_data, m.compare_type, address))
     if len(packages) > layout.VECTOR_PACKAGE_COUNT:
         raise ValueError(f"{len(packages)} button bindings; the board holds at most 32")
-    priority: list[PriorityMotion | None] = [None] * layout.PRIORITY_COUNT
+    priority: list[ImagePriorityMotion | None] = [None] * layout.PRIORITY_COUNT
     for index, pm in project.active_priority_motions:
         if index >= layout.PRIORITY_COUNT:
             raise ValueError(f"priority check {index} outside 0..12")
@@ -310,12 +310,12 @@ def project_description(
             if options.priority_none == "skip":
                 continue
             target = layout.STARTUP_STUB
-        priority[index] = PriorityMotion(source, compare, pm.value, target, size)
+        priority[index] = ImagePriorityMotion(source, compare, pm.value, target, size)
     if project.low_power_motion_address >= 0:
         free = [i for i, p in enumerate(priority) if p is None]
         if not free:
             raise ValueError("no free priority check for the low-power motion")
-        priority[free[0]] = PriorityMotion(
+        priority[free[0]] = ImagePriorityMotion(
             AD0, "le", project.low_power_value, project.low_power_motion_address
         )
     startup = project.startup_motion_address

@@ -51,7 +51,7 @@ from typing import Any, Final, Literal
 
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
-from rcb4hv.errors import ProtocolError
+from rcb4hv.errors import ProtocolError, SimulationError
 from rcb4hv.project.instructions import boot_cause, ics_operands, input_names
 from rcb4hv.protocol import (
     Ack,
@@ -105,10 +105,6 @@ duration is within one step of the board's; 1 ms steps made simulation ~20% slow
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
 STACK_DEPTH: Final = 16
-
-
-class SimulationError(Exception):
-    """The board did not accept a host frame, or the image does not boot."""
 
 
 @dataclass(frozen=True)

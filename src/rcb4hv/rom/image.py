@@ -55,10 +55,10 @@ from rcb4hv.rom import layout as L
 __all__ = [
     "Compare",
     "ImageDescription",
+    "ImageMotion",
+    "ImagePriorityMotion",
+    "ImageServo",
     "Kri3Config",
-    "Motion",
-    "PriorityMotion",
-    "ServoConfig",
     "VectorPackage",
     "build_image",
     "parse_image",
@@ -83,7 +83,7 @@ def _check(name: str, value: int, lo: int, hi: int) -> None:
 
 
 @dataclass(frozen=True, slots=True)
-class ServoConfig:
+class ImageServo:
     """One servo: its ICS number, the ID stored in its block, trim (base), home and mixing."""
 
     ics: int
@@ -121,7 +121,7 @@ class ServoConfig:
         return self.servo_block().to_bytes()
 
     @classmethod
-    def from_block(cls, ics: int, block: ServoBlock, home: int = 7500) -> ServoConfig:
+    def from_block(cls, ics: int, block: ServoBlock, home: int = 7500) -> ImageServo:
         """The configuration of ``ics`` read back from its servo block image."""
         return cls(
             ics=ics,
@@ -161,7 +161,7 @@ _COND: Final[dict[str, tuple[Condition, int]]] = {
 
 
 @dataclass(frozen=True, slots=True)
-class PriorityMotion:
+class ImagePriorityMotion:
     """A main-loop check: CALL ``target`` when RAM ``source`` compares to ``value``.
 
     ``le`` / ``gt`` are normalised to ``lt`` / ``ge`` with ``value + 1`` (the board only
@@ -189,7 +189,7 @@ class PriorityMotion:
 
 
 @dataclass(frozen=True, slots=True)
-class Motion:
+class ImageMotion:
     """A motion: command frames laid out from the start of slot ``slot`` (1-120).
 
     Jump targets inside a motion are absolute ROM addresses (use :meth:`address`). A RETURN is
@@ -229,15 +229,15 @@ class ImageDescription:
     pio_direction: int = 0x03FF
     pio_data: int = 0
     ad_references: tuple[int, ...] = (0,) * 11
-    servos: tuple[ServoConfig, ...] = ()
+    servos: tuple[ImageServo, ...] = ()
     kri3: Kri3Config | None = field(default_factory=Kri3Config)
     vector_packages: tuple[VectorPackage, ...] = ()
     title: str = ""
     startup_motion: int | None = None
     startup_wait: int = L.TIMER_WAIT_COUNT
     home_speed: int = 10
-    priority_motions: tuple[PriorityMotion | None, ...] = ()
-    motions: tuple[Motion, ...] = ()
+    priority_motions: tuple[ImagePriorityMotion | None, ...] = ()
+    motions: tuple[ImageMotion, ...] = ()
 
     def __post_init__(self) -> None:
         _check("system register", self.system_register, 0, 0xFFFF)
@@ -274,7 +274,7 @@ class ImageDescription:
             raise ValueError("a motion slot is used twice")
         object.__setattr__(self, "motions", tuple(motions))
 
-    def servo(self, ics: int) -> ServoConfig | None:
+    def servo(self, ics: int) -> ImageServo | None:
         for s in self.servos:
             if s.ics == ics:
                 return s
@@ -301,7 +301,7 @@ def _servo_frame(speed: int, positions: dict[int, int]) -> bytes:
     return encode_command(RunConstFrameServo(speed, positions))
 
 
-def _priority_bytes(pm: PriorityMotion | None, slot_addr: int, sysreg: int) -> bytes:
+def _priority_bytes(pm: ImagePriorityMotion | None, slot_addr: int, sysreg: int) -> bytes:
     if pm is None:
         jump = encode_command(Jump(slot_addr + L.PRIORITY_SIZE, ALWAYS))
         return jump + bytes([L.ERASED]) * (L.PRIORITY_SIZE - len(jump))
@@ -413,12 +413,12 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
     if not isinstance(home_cmd, RunConstFrameServo):
         raise ProtocolError("no all-servos-home frame at 003F5h")
     homes = dict(home_cmd.positions)
-    servos: list[ServoConfig] = []
+    servos: list[ImageServo] = []
     for n in range(L.SERVO_BLOCK_COPY_COUNT):
         if read_alloc(rom, n, at=L.ALLOC_IMAGE) == NO_BLOCK:
             continue
         block = ServoBlock.unpack(rom, L.SERVO_BLOCK_IMAGES + SERVO.SIZE * n)
-        servos.append(ServoConfig.from_block(n, block, homes.get(n, 7500)))
+        servos.append(ImageServo.from_block(n, block, homes.get(n, 7500)))
     kri3 = None
     if read_alloc(rom, KRI3_ICS, at=L.ALLOC_IMAGE) != NO_BLOCK:
         kri3 = Kri3Config(rom[L.KRI3_BLOCK_IMAGE : L.KRI3_BLOCK_IMAGE + ADDR.KRI3_BLOCK_SIZE])
@@ -434,7 +434,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
     if not isinstance(start, Call):
         raise ProtocolError("no startup CALL at 00444h")
     startup = None if start.address == L.STARTUP_STUB else start.address
-    priority: list[PriorityMotion | None] = []
+    priority: list[ImagePriorityMotion | None] = []
     for i in range(L.PRIORITY_COUNT):
         slot = L.PRIORITY_CHECKS + L.PRIORITY_SIZE * i
         first = decode_command(frame_at(rom, slot))
@@ -448,7 +448,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
             raise ProtocolError(f"unrecognised priority comparison at {slot:05X}h")
         compare = next(k for k, (c, _) in _COND.items() if c == call.condition)
         priority.append(
-            PriorityMotion(
+            ImagePriorityMotion(
                 first.dst.address,
                 compare,  # type: ignore[arg-type]
                 int.from_bytes(first.src.data, "little"),
@@ -456,7 +456,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
                 first.nbytes,
             )
         )
-    motions: list[Motion] = []
+    motions: list[ImageMotion] = []
     for n in range(1, L.MOTION_COUNT + 1):
         base = L.motion_address(n)
         end = base + L.MOTION_SIZE
@@ -472,7 +472,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
             frames.append(f)
             pc += len(f)
         if frames:
-            motions.append(Motion(n, frames))
+            motions.append(ImageMotion(n, frames))
     ad = AD_CHANNELS.unpack_from(rom, L.AD_REFERENCE_IMAGE)
     return ImageDescription(
         system_register=sysreg,
@@ -489,3 +489,10 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
         priority_motions=tuple(priority),
         motions=tuple(motions),
     )
+
+
+# Old names, kept importable. rcb4hv.hth4 has its own ServoConfig / Motion / PriorityMotion
+# (the project file's entries); these are what a ROM image holds.
+ServoConfig = ImageServo
+Motion = ImageMotion
+PriorityMotion = ImagePriorityMotion

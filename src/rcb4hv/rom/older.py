@@ -76,7 +76,7 @@ def _check_fits(desc: ImageDescription, lay: MotionLayout) -> None:
 
 
 def build_image_for(desc: ImageDescription, lay: MotionLayout = HTH4_22) -> bytes:
-    """The 256 KB image of ``desc`` in layout ``lay``: motion ``Motion(n)`` goes to
+    """The 256 KB image of ``desc`` in layout ``lay``: motion ``ImageMotion(n)`` goes to
     ``lay.address(n)``; startup, priority and vector targets are taken as given (absolute)."""
     if not lay.older:
         if lay.motion_base != HTH4_22.motion_base or lay.motion_stride != HTH4_22.motion_stride:
@@ -129,7 +129,7 @@ def _slot_bytes(rom: bytes, start: int, size: int) -> bytes:
 
 
 def parse_image_for(rom: bytes | bytearray, lay: MotionLayout = HTH4_22) -> ImageDescription:
-    """Read an image in layout ``lay`` back into a description (``Motion(n)`` = slot n).
+    """Read an image in layout ``lay`` back into a description (``ImageMotion(n)`` = slot n).
 
     ProtocolError when the image does not have that layout's boot region."""
     rom = bytes(rom)
