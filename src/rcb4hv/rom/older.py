@@ -34,7 +34,18 @@ from dataclasses import replace
 from typing import Final
 
 from rcb4hv.errors import LayoutError, ProtocolError
-from rcb4hv.protocol import ALWAYS, Call, Jump, Return, decode_command, encode_command, frame_at
+from rcb4hv.protocol import (
+    ALWAYS,
+    Call,
+    Data,
+    Jump,
+    Move,
+    Ram,
+    Return,
+    decode_command,
+    encode_command,
+    frame_at,
+)
 from rcb4hv.protocol.memory import ADDR
 from rcb4hv.rom import layout as L
 from rcb4hv.rom.image import ImageDescription, _priority_bytes, _word, build_image, parse_image
@@ -161,7 +172,10 @@ def parse_image_for(rom: bytes | bytearray, lay: MotionLayout = HTH4_22) -> Imag
 
 def _is_sysreg_write(frame: bytes) -> bool:
     """A 9-byte literal MOVE to RAM 0000h (the first instruction of every main loop)."""
-    return len(frame) == 9 and frame[1:6] == b"\x00\x02\x00\x00\x00"
+    if len(frame) != 9:
+        return False
+    cmd = decode_command(frame)
+    return isinstance(cmd, Move) and cmd.dst == Ram(ADDR.SYSTEM) and isinstance(cmd.src, Data)
 
 
 def main_loop_layout(at_03fd: bytes, at_044b: bytes) -> MotionLayout | None:
