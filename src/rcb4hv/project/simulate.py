@@ -37,8 +37,8 @@ A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause
 (:func:`rcb4hv.project.instructions.boot_cause`, e.g. ``startup motion 0FB80h: slot 31 holds no
 motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
 
-The emulator exposes no "last program error" record, so the kind of error is derived from public
-state: the ROMERR bit, the instruction at the PC, the call depth and the allocation table.
+The kind of error is the board's own record of why the program stopped
+(:attr:`rcb4hv.emulator.Board.last_stop`), read in one place (``Simulator._error``).
 """
 
 from __future__ import annotations
@@ -52,10 +52,9 @@ from typing import Any, Final, Literal
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError, SimulationError
-from rcb4hv.project.instructions import boot_cause, ics_operands, input_names
+from rcb4hv.project.instructions import boot_cause, input_names
 from rcb4hv.protocol import (
     Ack,
-    Call,
     Command,
     DataReply,
     Return,
@@ -104,7 +103,13 @@ flags are stepped exactly). 2 ms is below the shortest output period (10 ms), so
 duration is within one step of the board's; 1 ms steps made simulation ~20% slower."""
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
-STACK_DEPTH: Final = 16
+_STOP_WORDS: Final[dict[str, str]] = {
+    "romerr": "ROMERR (checksum error in ROM)",
+    "stack-underflow": "call-stack underflow (RETURN on an empty stack)",
+    "stack-overflow": "call-stack overflow (17th nested CALL)",
+    "suspended": "stopped by the host (ROM_F cleared)",
+}
+"""How :class:`MotionResult` names the board's stop kinds (:class:`rcb4hv.emulator.Stop`)."""
 
 
 @dataclass(frozen=True)
@@ -222,6 +227,7 @@ class Simulator:
         if listener is not None:
             self.board.add_output_listener(listener)
         self.boot_result: MotionResult | None = None
+        self._stop_before = self.board.last_stop
 
     # ------------------------------------------------------------------ host side
 
@@ -315,23 +321,28 @@ class Simulator:
         return result
 
     def _error(self) -> tuple[str, int, str]:
-        """(kind, PC, disassembly) of the instruction that stopped the program."""
+        """(kind, PC, disassembly) of the instruction that stopped the program.
+
+        The one place the stop reason is read: the board's own record
+        (:attr:`rcb4hv.emulator.Board.last_stop`), in the simulator's words. A stop the board
+        did not record since the play began (the program cleared ROM_F itself) is a plain
+        "program stopped".
+        """
         b = self.board
-        pc = b.pc
-        cmd, text = self._instruction_at(pc)
-        depth = self._depth()
-        if b.system_register & SYS.ROM_ERROR:
-            return "ROMERR (checksum error in ROM)", pc, text
-        if cmd is None:
-            return "invalid instruction", pc, text
-        if isinstance(cmd, Return) and depth == 0:
-            return "call-stack underflow (RETURN on an empty stack)", pc, text
-        if isinstance(cmd, Call) and depth >= STACK_DEPTH:
-            return "call-stack overflow (17th nested CALL)", pc, text
-        for ics in ics_operands(cmd):
-            if b.alloc(ics) == NO_BLOCK:
-                return f"command error: ICS {ics} is not allocated", pc, text
-        return "command error (program stopped)", pc, text
+        stop = b.last_stop
+        if stop is None or stop is self._stop_before or not stop.halted:
+            pc = b.pc
+            return "program stopped (ROM_F cleared)", pc, self._instruction_at(pc)[1]
+        pc = stop.where
+        text = self._instruction_at(pc)[1]
+        kind = _STOP_WORDS.get(stop.what)
+        if kind is not None:
+            return kind, pc, text
+        reason = stop.why
+        if stop.instruction is not None:
+            reason = reason.removesuffix(f": {stop.instruction}")
+            return f"command error: {reason}", pc, text
+        return f"invalid instruction ({reason})", pc, text
 
     # ------------------------------------------------------------------ running
 
@@ -416,6 +427,7 @@ class Simulator:
         if slot is None:
             slot = self.layout.motion_at(address)
         self.start_motion(address, vector=not hold)
+        self._stop_before = b.last_stop  # the host's own suspend, not the motion's stop
         t0, i0 = self._t_us, b.instructions_executed
         held = None
         if hold:
