@@ -47,12 +47,13 @@ import logging
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Final, Literal
+from typing import Any, Final
 
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError, SimulationError
 from rcb4hv.project.instructions import boot_cause, input_names
+from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.protocol import (
     Ack,
     Command,
@@ -91,7 +92,6 @@ log = logging.getLogger(__name__)
 # Decoded instructions by their exact frame bytes (pure: the same bytes always decode alike).
 _DECODED: dict[bytes, tuple[Command | None, str]] = {}
 
-Status = Literal["completed", "waiting", "stalled", "timeout", "error"]
 SampleListener = Callable[[float, dict[int, int]], None]
 
 DEFAULT_LIMIT: Final = 60.0
@@ -110,58 +110,6 @@ _STOP_WORDS: Final[dict[str, str]] = {
     "suspended": "stopped by the host (ROM_F cleared)",
 }
 """How :class:`MotionResult` names the board's stop kinds (:class:`rcb4hv.emulator.Stop`)."""
-
-
-@dataclass(frozen=True)
-class MotionResult:
-    """How one motion played (see the module docstring for ``status``)."""
-
-    slot: int | None
-    address: int
-    name: str
-    status: Status
-    duration: float
-    instructions: int
-    error: str | None = None
-    pc: int | None = None
-    instruction: str | None = None
-    loop: tuple[int, int] | None = None
-    inputs: tuple[str, ...] = ()
-    held: str | None = None
-
-    @property
-    def ok(self) -> bool:
-        return self.status in ("completed", "waiting")
-
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "slot": self.slot,
-            "address": f"{self.address:05X}",
-            "name": self.name,
-            "status": self.status,
-            "duration_s": round(self.duration, 6),
-            "instructions": self.instructions,
-            "error": self.error,
-            "pc": None if self.pc is None else f"{self.pc:05X}",
-            "instruction": self.instruction,
-            "loop": None if self.loop is None else [f"{a:05X}" for a in self.loop],
-            "inputs": list(self.inputs),
-            "held": self.held,
-        }
-
-    @property
-    def detail(self) -> str:
-        """One line: the error, the waiting loop, or nothing."""
-        if self.status == "error":
-            where = "" if self.pc is None else f" at {self.pc:05X}h"
-            ins = f": {self.instruction}" if self.instruction else ""
-            return f"{self.error}{where}{ins}"
-        if self.loop is not None:
-            what = ", ".join(self.inputs) if self.inputs else "nothing"
-            return f"loop {self.loop[0]:05X}-{self.loop[1]:05X}h reads {what}"
-        if self.status == "timeout":
-            return f"PC {self.pc:05X}h after the limit" if self.pc is not None else ""
-        return ""
 
 
 @dataclass
