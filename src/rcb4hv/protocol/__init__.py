@@ -64,11 +64,11 @@ from rcb4hv.protocol.frame import (
 )
 from rcb4hv.protocol.memory import (
     ADDR,
-    BAUD_RATES,
     COUNTS_PER_DEGREE,
     FRAME_PERIODS_MS,
     SERVO,
     SYS,
+    SYSTEM_BAUD_RATES,
     Button,
     ServoBlock,
     SystemRegister,
@@ -91,10 +91,13 @@ from rcb4hv.protocol.replies import (
     reply_length,
 )
 
+BAUD_RATES = SYSTEM_BAUD_RATES
+"""Old name of :data:`SYSTEM_BAUD_RATES` (kept importable; :data:`rcb4hv.transport.BAUD_RATES`
+is the list of host port rates)."""
+
 __all__ = [
     "ADDR",
     "ALWAYS",
-    "BAUD_RATES",
     "COUNTS_PER_DEGREE",
     "FRAME_PERIODS_MS",
     "ICS_COUNT",
@@ -110,6 +113,7 @@ __all__ = [
     "ROM_SIZE",
     "SERVO",
     "SYS",
+    "SYSTEM_BAUD_RATES",
     "Ack",
     "AcknowledgeCheck",
     "Add",
