@@ -90,7 +90,7 @@ def test_romerr_stop() -> None:
     b.run_for(0.01)
     s = b.last_stop
     assert s is not None and (s.what, s.where, s.instruction) == ("romerr", 0x5000, None)
-    assert "no valid frame" in s.why and s.halted
+    assert isinstance(s, Stop) and "no valid frame" in s.why and s.halted
     assert b.ram[1] & (SYS.ROM_ERROR >> 8)
 
 
