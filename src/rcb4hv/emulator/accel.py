@@ -26,12 +26,12 @@ from rcb4hv.emulator.memmap import (
     B_REMAINING,
     B_SPEED,
     B_WIDTH,
-    B_WIDTH_HI,
     PC,
     RAM_SIZE,
     ROM_SIZE,
     SYS_ROM,
     SYS_VEC,
+    U16,
 )
 from rcb4hv.emulator.servos import Servos, ramp, set_update_flags, update_flags
 from rcb4hv.emulator.vectors import Vectors
@@ -60,6 +60,7 @@ if TYPE_CHECKING:
 __all__ = ["DataCommand", "Executor", "compile_command", "polling_loop_length", "skip_periods"]
 
 Executor = Callable[[int], object]
+_u16 = U16.unpack_from
 DataCommand = And | Or | Xor | Add | Sub | Mul | Div | Mod | Not | Shift
 
 # the binary operations compiled to a closure: they cannot fail on in-range RAM operands
@@ -273,8 +274,7 @@ def skip_periods(
         else:
             rem -= skip
             r[blk + B_REMAINING] = rem
-            end = r[blk + B_END] | r[blk + B_END_HI] << 8
-            out = ramp(end, r[blk + B_WIDTH] | r[blk + B_WIDTH_HI] << 8, rem, r[blk + B_SPEED])
+            out = ramp(_u16(r, blk + B_END)[0], _u16(r, blk + B_WIDTH)[0], rem, r[blk + B_SPEED])
             r[blk + B_OUTPUT] = out & 0xFF
             r[blk + B_OUTPUT_HI] = out >> 8
     if cleared:

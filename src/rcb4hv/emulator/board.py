@@ -31,9 +31,10 @@ from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
     AD_VALUES,
     ALLOC,
-    ALLOC_BYTES,
+    ALLOC_END,
     BUTTONS,
     CALL_DEPTH,
+    NO_BLOCK,
     PA,
     PIO_DIRECTION,
     RAM_SIZE,
@@ -42,8 +43,8 @@ from rcb4hv.emulator.memmap import (
     SYS_ROM,
     SYSTEM,
     VECTOR_TABLE,
-    set_word,
-    word,
+    read_u16,
+    write_u16,
 )
 from rcb4hv.emulator.romstore import RomStore
 from rcb4hv.emulator.servos import Servos, ServoState
@@ -51,6 +52,7 @@ from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, t
 from rcb4hv.emulator.vectors import Vectors
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol import FRAME_PERIODS_MS, FrameDecoder, Rom, decode_command, encode_reply
+from rcb4hv.protocol.memory import PIO_MASK, pack_alloc, read_system, write_buttons, write_system
 
 __all__ = ["Board", "ServoState", "Stop"]
 
@@ -118,14 +120,13 @@ class Board:
         cfg = self.config
         r = self.ram
         r[:] = bytes(RAM_SIZE)
-        set_word(r, SYSTEM, cfg.power_on_system_register)
-        set_word(r, AD_VALUES, cfg.ad0)
-        for i, v in enumerate(cfg.ad_values):
-            set_word(r, AD_VALUES + 2 * (i + 1), v)
-        set_word(r, PIO_DIRECTION, 0x03FF)
+        write_system(r, cfg.power_on_system_register)
+        for i, v in enumerate((cfg.ad0, *cfg.ad_values)):
+            write_u16(r, AD_VALUES + 2 * i, v)
+        write_u16(r, PIO_DIRECTION, PIO_MASK)  # every PIO pin an output
         reset_timers(r)
-        r[ALLOC : ALLOC + ALLOC_BYTES] = b"\xff" * ALLOC_BYTES
-        set_word(r, VECTOR_TABLE, 0xFFFF)
+        r[ALLOC:ALLOC_END] = pack_alloc(())
+        write_u16(r, VECTOR_TABLE, NO_BLOCK)
         t = self._us(self.clock.now())
         self._now = t
         self._interp.reset(t)
@@ -299,7 +300,7 @@ class Board:
 
     @property
     def system_register(self) -> int:
-        return word(self.ram, SYSTEM)
+        return read_system(self.ram)
 
     @property
     def call_stack(self) -> list[int]:
@@ -332,7 +333,7 @@ class Board:
 
     def alloc(self, ics: int) -> int:
         """``alloc[ics]``: RAM address of the device block of ICS ``ics`` (FFFF = none)."""
-        return word(self.ram, ALLOC + 2 * ics)
+        return read_u16(self.ram, ALLOC + 2 * ics)
 
     # ------------------------------------------------------------------ test / host hooks
 
@@ -352,7 +353,7 @@ class Board:
         if not 0 <= int(buttons) <= 0xFFFF:
             raise ValueError("the button word is 16 bits")
         self.tick()
-        self.ram[BUTTONS : BUTTONS + 2] = int(buttons).to_bytes(2, "big")
+        write_buttons(self.ram, int(buttons))
         self._touch(BUTTONS, 2)
 
     def set_pa(self, n: int, value: int) -> None:
@@ -368,7 +369,7 @@ class Board:
         if not 0 <= channel <= 10 or not 0 <= value <= 1023:
             raise ValueError("AD channels 0-10 take 0..1023")
         self.tick()
-        set_word(self.ram, AD_VALUES + 2 * channel, value)
+        write_u16(self.ram, AD_VALUES + 2 * channel, value)
         self._touch(AD_VALUES + 2 * channel, 2)
 
     def set_servo_position(self, ics: int, position: int) -> None:

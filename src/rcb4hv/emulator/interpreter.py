@@ -24,15 +24,20 @@ from rcb4hv.emulator.events import BoardReset, CommandError, Stop, StopKind
 from rcb4hv.emulator.memmap import (
     ALLOC,
     CALL_DEPTH,
+    NO_BLOCK,
     PC,
     RAM_SIZE,
     ROM_SIZE,
     ROMERR_BIT,
     SYS_ROM,
     SYS_VEC,
+    SYSTEM,
+    SYSTEM_HI,
+    U24,
     UPDATE_FLAGS,
+    UPDATE_FLAGS_END,
     VECTOR_TABLE,
-    word,
+    read_u16,
 )
 from rcb4hv.emulator.servos import Servos
 from rcb4hv.emulator.vectors import Vectors
@@ -72,8 +77,9 @@ __all__ = ["STACK_DEPTH", "Interpreter"]
 log = logging.getLogger(__name__)
 
 STACK_DEPTH: Final = 16
-_PC_HI: Final = PC + 2
-_F0, _F1, _F2, _F3, _F4 = range(UPDATE_FLAGS, UPDATE_FLAGS + 5)
+_F0, _F1, _F2, _F3, _F4 = range(UPDATE_FLAGS, UPDATE_FLAGS_END)
+_get_pc = U24.unpack_from
+_put_pc = U24.pack_into
 _VT0, _VT1 = VECTOR_TABLE, VECTOR_TABLE + 1
 _RETURN_SIZE: Final = len(encode_command(Return()))
 
@@ -127,15 +133,15 @@ class Interpreter:
 
     @property
     def pc(self) -> int:
-        r = self.ram
-        return r[PC] | r[PC + 1] << 8 | r[_PC_HI] << 16
+        lo, hi = _get_pc(self.ram, PC)
+        return int(lo | hi << 16)
 
     def set_pc(self, v: int) -> None:
-        self.ram[PC : PC + 3] = v.to_bytes(3, "little")
+        _put_pc(self.ram, PC, v & 0xFFFF, v >> 16)
 
     def holds(self, cond: int) -> bool:
         """Whether a JUMP/CALL condition nibble holds on the current Z/C flags."""
-        return condition_table(cond, self._any)[self.ram[1] & 3]
+        return condition_table(cond, self._any)[self.ram[SYSTEM_HI] & 3]
 
     def push(self, addr: int, host: bool = False) -> None:
         d = self.ram[CALL_DEPTH]
@@ -161,8 +167,8 @@ class Interpreter:
         if isinstance(op, Ram):
             a = op.address
         else:
-            base = word(self.ram, ALLOC + 2 * op.ics)
-            if base == 0xFFFF:
+            base = read_u16(self.ram, ALLOC + 2 * op.ics)
+            if base == NO_BLOCK:
                 raise CommandError(f"ICS {op.ics} is not allocated")
             a = base + op.offset
         if a + size > RAM_SIZE:
@@ -263,7 +269,7 @@ class Interpreter:
         result = r.to_bytes(size, "little")
         if not cmd.no_write:
             self.write(cmd.dst, result)
-        self.ram[1] = set_flags(self.ram[1], z, c, self._logic_clear)
+        self.ram[SYSTEM_HI] = set_flags(self.ram[SYSTEM_HI], z, c, self._logic_clear)
         return result
 
     # ------------------------------------------------------------------ stops
@@ -276,9 +282,9 @@ class Interpreter:
 
     def stop(self, what: StopKind, why: str, cmd: Command | None = None) -> None:
         """Stop the program at the current PC (clear ROM_F; a fetch error sets ROMERR)."""
-        self.ram[0] &= ~SYS_ROM
+        self.ram[SYSTEM] &= ~SYS_ROM
         if what == "romerr":
-            self.ram[1] |= ROMERR_BIT
+            self.ram[SYSTEM_HI] |= ROMERR_BIT
         self._record(what, self.pc, why, cmd)
 
     def suspended(self, cmd: Command) -> None:
@@ -314,7 +320,7 @@ class Interpreter:
         if hit is None:
             return
         i, target, is_call = hit
-        self.ram[0] &= ~SYS_VEC
+        self.ram[SYSTEM] &= ~SYS_VEC
         if is_call:
             try:
                 self.push(self.pc)
@@ -328,9 +334,11 @@ class Interpreter:
         """True when the program would run now (not stopped, not waiting on update flags,
         or a vector table that may fire)."""
         r = self.ram
-        if not r[0] & SYS_ROM:
+        if not r[SYSTEM] & SYS_ROM:
             return False
-        return not any(r[_F0 : _F4 + 1]) or bool(r[0] & SYS_VEC and word(r, VECTOR_TABLE) != 0xFFFF)
+        return not any(r[UPDATE_FLAGS:UPDATE_FLAGS_END]) or bool(
+            r[SYSTEM] & SYS_VEC and read_u16(r, VECTOR_TABLE) != NO_BLOCK
+        )
 
     def run(self, until: int) -> None:
         """Run the program up to board time ``until`` (microseconds)."""
@@ -344,7 +352,7 @@ class Interpreter:
         fast_loops = self.accelerate
         seen_loop: tuple[int, int] | None = None
         while credit >= 1:
-            sysw = r[0]
+            sysw = r[SYSTEM]
             if not sysw & SYS_ROM:
                 credit = 0.0
                 break
@@ -352,7 +360,7 @@ class Interpreter:
                 memo = vectors.memo
                 if (
                     memo is None
-                    or memo[0] != r[_VT0] | r[_VT1] << 8
+                    or memo[0] != read_u16(r, VECTOR_TABLE)
                     or len(memo[1]) != 1
                     or r[memo[1][0][0] : memo[1][0][1]] != memo[2]
                 ):
@@ -361,7 +369,8 @@ class Interpreter:
                 credit = 0.0
                 break
             # one instruction
-            pc = r[PC] | r[PC + 1] << 8 | r[_PC_HI] << 16
+            lo, hi = _get_pc(r, PC)
+            pc = lo | hi << 16
             entry = cache.get(pc)
             if entry is None:
                 entry = self.fetch(pc)
@@ -372,9 +381,7 @@ class Interpreter:
             else:
                 self.instructions_executed += 1
                 nxt = (pc + entry[1]) % ROM_SIZE
-                r[PC] = nxt & 0xFF
-                r[PC + 1] = (nxt >> 8) & 0xFF
-                r[_PC_HI] = nxt >> 16
+                _put_pc(r, PC, nxt & 0xFFFF, nxt >> 16)
                 try:
                     fn(nxt)
                 except CommandError as exc:
@@ -383,7 +390,8 @@ class Interpreter:
                 except BoardReset:
                     self._on_reset()
             credit -= 1
-            target = r[PC] | r[PC + 1] << 8 | r[_PC_HI] << 16
+            lo, hi = _get_pc(r, PC)
+            target = lo | hi << 16
             if target < pc and credit >= 1 and fast_loops:
                 # A backward branch closed an iteration. Nothing but the program changes RAM
                 # within this call, so once a whole iteration of a flags-only polling loop has

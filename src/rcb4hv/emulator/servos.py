@@ -19,9 +19,8 @@ from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import BoardReset, CommandError
 from rcb4hv.emulator.memmap import (
     ALLOC,
-    ALLOC_BYTES,
+    ALLOC_END,
     B_BASE,
-    B_BASE_HI,
     B_END,
     B_END_HI,
     B_MEASURED,
@@ -38,18 +37,23 @@ from rcb4hv.emulator.memmap import (
     BLOCK_SIZE,
     FREE,
     HOLD,
-    MIX_METHOD,
+    NO_BLOCK,
     RAM_SIZE,
+    SERVO,
+    U16,
     UPDATE_FLAGS,
     UPDATE_FLAGS_END,
+    mix_rate,
+    mix_source,
+    read_u16,
     s16,
-    word,
 )
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
 
 __all__ = ["ServoState", "Servos", "ramp"]
 
 ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
+_u16 = U16.unpack_from
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,8 +122,8 @@ class Servos:
         if self.safe and not self.dirty:
             return self.blocks[ics]
         r = self.ram
-        a = word(r, ALLOC + 2 * ics)
-        if a == 0xFFFF or a + BLOCK_SIZE > RAM_SIZE or r[a + B_TYPE] != 0:
+        a = read_u16(r, ALLOC + 2 * ics)
+        if a == NO_BLOCK or a + BLOCK_SIZE > RAM_SIZE or r[a + B_TYPE] != 0:
             return None
         return a
 
@@ -138,8 +142,8 @@ class Servos:
         blocks: list[int | None] = []
         spans: list[int] = []
         for ics in range(ICS_COUNT):
-            a = word(r, ALLOC + 2 * ics)
-            if a == 0xFFFF or a + BLOCK_SIZE > RAM_SIZE:
+            a = read_u16(r, ALLOC + 2 * ics)
+            if a == NO_BLOCK or a + BLOCK_SIZE > RAM_SIZE:
                 blocks.append(None)
                 continue
             spans.append(a)
@@ -150,7 +154,7 @@ class Servos:
         spans.sort()
         safe = (
             self.accelerate
-            and all(a >= ALLOC + ALLOC_BYTES for a in spans)
+            and all(a >= ALLOC_END for a in spans)
             and all(y - x >= BLOCK_SIZE for x, y in pairwise(spans))
         )
         self.blocks = blocks
@@ -160,7 +164,7 @@ class Servos:
         self.vs_mixing = any(self.mixes(b) for _, b in self.vs_blocks)
         self.dirty_lo = ALLOC
         if safe:
-            self.dirty_hi = spans[-1] + BLOCK_SIZE if spans else ALLOC + ALLOC_BYTES
+            self.dirty_hi = spans[-1] + BLOCK_SIZE if spans else ALLOC_END
         else:
             self.dirty_hi = RAM_SIZE + 1
         self.safe = safe
@@ -188,10 +192,10 @@ class Servos:
             r[blk + B_WIDTH_HI] = 0
             self.active.discard(ics)
             return False
-        cur = word(r, blk + B_OUTPUT)
+        cur = read_u16(r, blk + B_OUTPUT)
         if cur in (FREE, HOLD):
             phys = self.physical.get(ics)
-            cur = pos if phys is None else (phys - s16(word(r, blk + B_BASE)) - self.mix(blk))
+            cur = pos if phys is None else (phys - s16(read_u16(r, blk + B_BASE)) - self.mix(blk))
             cur &= 0xFFFF
             r[blk + B_OUTPUT] = cur & 0xFF
             r[blk + B_OUTPUT_HI] = cur >> 8
@@ -243,24 +247,23 @@ class Servos:
         """The sum of the block's two mixing terms (source value x factor, signed)."""
         total = 0
         r = self.ram
-        for off in (B_MIX1, B_MIX2):
-            src = word(r, blk + off)
-            method = r[blk + off + MIX_METHOD]
-            if src == 0xFFFF or not method & 0x7F:
+        for src_off, method_off in SERVO.MIXES:
+            src = read_u16(r, blk + src_off)
+            rate = mix_rate(r[blk + method_off])
+            if src == NO_BLOCK or not rate:
                 continue
-            if src & 0x8000:
-                base = word(r, ALLOC + 2 * (((src >> 8) & 0x3F) % ICS_COUNT))
-                if base == 0xFFFF:
+            is_ics, is_word, operand = mix_source(src)
+            if is_ics:
+                base = read_u16(r, ALLOC + 2 * ((operand >> 8) % ICS_COUNT))
+                if base == NO_BLOCK:
                     continue
-                a = base + (src & 0xFF)
+                a = base + (operand & 0xFF)
             else:
-                a = src & 0x0FFF
-            is_word = bool(src & 0x4000)
+                a = operand
             if a + (2 if is_word else 1) > RAM_SIZE:
                 continue
-            v = s16(word(r, a)) if is_word else (r[a] ^ 0x80) - 0x80
-            m = method & 0x7F
-            total += -v * m if method & 0x80 else v * m
+            v = s16(read_u16(r, a)) if is_word else (r[a] ^ 0x80) - 0x80
+            total += v * rate
         return total
 
     # ------------------------------------------------------------------ output periods
@@ -289,12 +292,7 @@ class Servos:
                 continue
             rem -= 1
             r[blk + B_REMAINING] = rem
-            out = ramp(
-                r[blk + B_END] | r[blk + B_END_HI] << 8,
-                r[blk + B_WIDTH] | r[blk + B_WIDTH_HI] << 8,
-                rem,
-                r[blk + B_SPEED],
-            )
+            out = ramp(_u16(r, blk + B_END)[0], _u16(r, blk + B_WIDTH)[0], rem, r[blk + B_SPEED])
             r[blk + B_OUTPUT] = out & 0xFF
             r[blk + B_OUTPUT_HI] = out >> 8
         if flags_cleared:
@@ -311,10 +309,8 @@ class Servos:
         else:
             pairs = [(k, b) for k in self.config.virtual_servos if (b := self.block(k)) is not None]
         for ics, blk in pairs:
-            out = r[blk + B_OUTPUT] | r[blk + B_OUTPUT_HI] << 8
-            base = r[blk + B_BASE] | r[blk + B_BASE_HI] << 8
-            if base & 0x8000:
-                base -= 0x10000
+            out = _u16(r, blk + B_OUTPUT)[0]
+            base = s16(_u16(r, blk + B_BASE)[0])
             if out == FREE or (out == HOLD and hold_is_free):
                 torque[ics] = False
                 p = physical[ics]
@@ -335,10 +331,10 @@ class Servos:
     # ------------------------------------------------------------------ host views
 
     def sent(self, blk: int) -> int:
-        out = word(self.ram, blk + B_OUTPUT)
+        out = read_u16(self.ram, blk + B_OUTPUT)
         if out in (FREE, HOLD) and self.config.free_hold_base == "omit":
             return out
-        return (out + s16(word(self.ram, blk + B_BASE)) + self.mix(blk)) & 0xFFFF
+        return (out + s16(read_u16(self.ram, blk + B_BASE)) + self.mix(blk)) & 0xFFFF
 
     def outputs(self) -> dict[int, int]:
         """The value sent to each allocated servo: output + base + mixing (spec 9)."""
@@ -353,7 +349,7 @@ class Servos:
         blk = self.block(ics)
         if blk is None:
             return None
-        out = word(self.ram, blk + B_OUTPUT)
+        out = read_u16(self.ram, blk + B_OUTPUT)
         return ServoState(
             ics=ics,
             output=out,

@@ -15,24 +15,18 @@ from __future__ import annotations
 from rcb4hv.emulator.alu import AluOp, alu, condition_table
 from rcb4hv.emulator.memmap import (
     ALLOC,
+    ICS_SLOTS,
+    NO_BLOCK,
     RAM_SIZE,
     ROM_SIZE,
     STATIC_VECTOR_RAM,
-    V_COND,
-    V_DST,
-    V_ICS_OPERAND,
-    V_JUMP,
-    V_LAST,
-    V_LITERAL,
-    V_SRC,
-    V_TARGET,
-    V_WORD,
-    VECTOR_PACKAGE_SIZE,
-    VECTOR_PACKAGES,
+    VEC,
+    VECTOR_PACKAGE,
+    VECTOR_PACKAGE_COUNT,
     VECTOR_TABLE,
-    word,
+    operand_ics,
+    read_u16,
 )
-from rcb4hv.protocol import ICS_COUNT
 
 __all__ = ["Memo", "Vectors"]
 
@@ -50,15 +44,16 @@ class Vectors:
         self._static_memo: tuple[int, bytearray, bool] | None = None
 
     def table(self) -> int:
-        return word(self.ram, VECTOR_TABLE)
+        return read_u16(self.ram, VECTOR_TABLE)
 
     def operand_address(self, w: int, size: int) -> int | None:
         """RAM address of a package operand word (direct or ICS-relative), None if invalid."""
-        if w & V_ICS_OPERAND:
-            base = word(self.ram, ALLOC + 2 * (((w >> 8) & 0x7F) % ICS_COUNT))
-            if base == 0xFFFF:
+        ics = operand_ics(w)
+        if ics is not None:
+            base = read_u16(self.ram, ALLOC + 2 * (ics[0] % ICS_SLOTS))
+            if base == NO_BLOCK:
                 return None
-            a = base + (w & 0xFF)
+            a = base + ics[1]
         else:
             a = w
         return a if a + size <= RAM_SIZE else None
@@ -73,18 +68,17 @@ class Vectors:
             return None
         self.memo = None
         r = self.ram
-        for i in range(VECTOR_PACKAGES):
-            a = table + VECTOR_PACKAGE_SIZE * i
-            if a + VECTOR_PACKAGE_SIZE > RAM_SIZE:
+        for i in range(VECTOR_PACKAGE_COUNT):
+            a = table + VEC.SIZE * i
+            if a + VEC.SIZE > RAM_SIZE:
                 return None
-            c = r[a]
-            size = 2 if c & V_WORD else 1
-            da = self.operand_address(word(r, a + V_DST), size)
+            c, dst, src, lo, hi = VECTOR_PACKAGE.unpack_from(r, a)
+            size = 2 if c & VEC.WORD else 1
+            da = self.operand_address(dst, size)
             if da is None:
                 return None
             dv = int.from_bytes(r[da : da + size], "little")
-            src = word(r, a + V_SRC)
-            if c & V_LITERAL:
+            if c & VEC.LITERAL:
                 sv = src & (0xFFFF if size == 2 else 0xFF)
             else:
                 sa = self.operand_address(src, size)
@@ -92,11 +86,9 @@ class Vectors:
                     return None
                 sv = int.from_bytes(r[sa : sa + size], "little")
             _, z, carry = alu(AluOp.SUB, dv, sv, size)
-            if condition_table(c & V_COND)[int(z) | int(bool(carry)) << 1]:
-                t = a + V_TARGET
-                target = (r[t] | r[t + 1] << 8 | r[t + 2] << 16) % ROM_SIZE
-                return i, target, not c & V_JUMP
-            if c & V_LAST:
+            if condition_table(c & VEC.CONDITION)[int(z) | int(bool(carry)) << 1]:
+                return i, (lo | hi << 16) % ROM_SIZE, not c & VEC.JUMP
+            if c & VEC.EOF:
                 break
         if self.accelerate:
             self.memo = self.snapshot(table)
@@ -121,20 +113,18 @@ class Vectors:
         operand is indirect (ICS) and so depends on more than its own bytes."""
         r = self.ram
         spans = []
-        for i in range(VECTOR_PACKAGES):
-            a = table + VECTOR_PACKAGE_SIZE * i
-            if a + VECTOR_PACKAGE_SIZE > RAM_SIZE:
+        for i in range(VECTOR_PACKAGE_COUNT):
+            a = table + VEC.SIZE * i
+            if a + VEC.SIZE > RAM_SIZE:
                 break
-            c = r[a]
-            size = 2 if c & V_WORD else 1
-            spans.append((a, a + VECTOR_PACKAGE_SIZE))
-            for w, literal in ((word(r, a + V_DST), False), (word(r, a + V_SRC), c & V_LITERAL)):
-                if literal:
-                    continue
-                if w & V_ICS_OPERAND or w + size > RAM_SIZE:
+            c, dst, src, _, _ = VECTOR_PACKAGE.unpack_from(r, a)
+            size = 2 if c & VEC.WORD else 1
+            spans.append((a, a + VEC.SIZE))
+            for w in (dst,) if c & VEC.LITERAL else (dst, src):
+                if operand_ics(w) is not None or w + size > RAM_SIZE:
                     return None
                 spans.append((w, w + size))
-            if c & V_LAST:
+            if c & VEC.EOF:
                 break
         merged: list[tuple[int, int]] = []
         for x, y in sorted(spans):
@@ -151,11 +141,11 @@ class Vectors:
         """True when no package reads RAM that changes by itself (memoised on the table's
         bytes: the answer depends on nothing else)."""
         table = self.table()
-        if table == 0xFFFF:
+        if table == NO_BLOCK:
             return True
         if table < STATIC_VECTOR_RAM:
             return False
-        span = VECTOR_PACKAGE_SIZE * VECTOR_PACKAGES
+        span = VEC.SIZE * VECTOR_PACKAGE_COUNT
         snap = self.ram[table : table + span]
         memo = self._static_memo
         if memo is not None and memo[0] == table and memo[1] == snap:
@@ -166,17 +156,14 @@ class Vectors:
 
     def _static_scan(self, table: int) -> bool:
         r = self.ram
-        for i in range(VECTOR_PACKAGES):
-            a = table + VECTOR_PACKAGE_SIZE * i
-            if a + VECTOR_PACKAGE_SIZE > RAM_SIZE:
+        for i in range(VECTOR_PACKAGE_COUNT):
+            a = table + VEC.SIZE * i
+            if a + VEC.SIZE > RAM_SIZE:
                 return True
-            c = r[a]
-            for off, is_src in ((V_DST, False), (V_SRC, True)):
-                if is_src and c & V_LITERAL:
-                    continue
-                w = word(r, a + off)
-                if w & V_ICS_OPERAND or w < STATIC_VECTOR_RAM or w + 2 > RAM_SIZE:
+            c, dst, src, _, _ = VECTOR_PACKAGE.unpack_from(r, a)
+            for w in (dst,) if c & VEC.LITERAL else (dst, src):
+                if operand_ics(w) is not None or w < STATIC_VECTOR_RAM or w + 2 > RAM_SIZE:
                     return False
-            if c & V_LAST:
+            if c & VEC.EOF:
                 return True
         return True
