@@ -191,3 +191,13 @@ def test_field_decode_and_run_state_of_a_span_read_from_a_board() -> None:
     assert m.RUN_STATE_SIZE == m.ProgramState.SIZE - m.ADDR.PC == 10
     # HeartToHeart4's block of ICS 35 is where the KRI-3 block lives
     assert m.ADDR.servo_block(35) == m.ADDR.KRI3_BLOCK
+
+
+def test_one_meaning_per_baud_name() -> None:
+    from rcb4hv import protocol, transport
+
+    # the system register's 2-bit codes (spec 10.2) vs the rates a host port can use
+    assert m.SYSTEM_BAUD_RATES == (115200, 625000, 1250000, 115200)
+    assert m.SystemRegister(baud_code=2).baud_rate == 1250000
+    assert sorted(transport.BAUD_RATES) == [115200, 625000, 1250000]
+    assert not hasattr(protocol, "BAUD_RATES") and not hasattr(m, "BAUD_RATES")

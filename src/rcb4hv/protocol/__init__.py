@@ -91,10 +91,6 @@ from rcb4hv.protocol.replies import (
     reply_length,
 )
 
-BAUD_RATES = SYSTEM_BAUD_RATES
-"""Old name of :data:`SYSTEM_BAUD_RATES` (kept importable; :data:`rcb4hv.transport.BAUD_RATES`
-is the list of host port rates)."""
-
 __all__ = [
     "ADDR",
     "ALWAYS",
