@@ -5,10 +5,18 @@
     Rcb4Error                      base of everything this package raises on purpose
     ├── ProtocolError              bytes that are not a valid frame / command / reply
     │   ├── FrameError             framing: bad size byte, oversize or truncated frame
-    │   └── ChecksumError          a frame whose last byte is not the sum of the others
+    │   ├── ChecksumError          a frame whose last byte is not the sum of the others
+    │   └── VerifyError            memory read back after a write differs
     ├── NakError                   the board answered NAK (``04 CMD 15 SUM``)
     ├── TransportError             the port failed, closed or disconnected
-    └── Rcb4TimeoutError           no (complete) reply in time; also a builtin TimeoutError
+    ├── Rcb4TimeoutError           no (complete) reply in time; also a builtin TimeoutError
+    ├── CommandNotAllowedError     a command the client refuses unless enabled (0Eh); also
+    │                              a builtin PermissionError
+    ├── LayoutError                a project / image that fits no HeartToHeart4 layout;
+    │                              also a ValueError
+    ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
+    ├── AsmError                   assembler source that does not assemble; also a ValueError
+    └── SimulationError            the emulated board refused a host frame in a simulation
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -18,14 +26,19 @@ escapes is a bug.
 from __future__ import annotations
 
 __all__ = [
+    "AsmError",
     "ChecksumError",
+    "CommandNotAllowedError",
     "FrameError",
+    "Hth4FormatError",
     "LayoutError",
     "NakError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "SimulationError",
     "TransportError",
+    "VerifyError",
 ]
 
 
@@ -68,3 +81,42 @@ class Rcb4TimeoutError(Rcb4Error, TimeoutError):
 class LayoutError(Rcb4Error, ValueError):
     """A project or image does not fit a HeartToHeart4 ROM layout: motions stored for no
     known layout, or a motion that cannot be moved to the layout asked for."""
+
+
+class VerifyError(ProtocolError):
+    """Reading back memory just written gave different bytes."""
+
+    def __init__(self, message: str, address: int) -> None:
+        super().__init__(message)
+        self.address = address
+
+
+class CommandNotAllowedError(Rcb4Error, PermissionError):
+    """A command the client refuses unless explicitly enabled (ICS communication, 0Eh)."""
+
+
+class Hth4FormatError(Rcb4Error, ValueError):
+    """A HeartToHeart4 file that is malformed or not of the expected kind.
+
+    ``path`` names the offending element (``Rcb4/Kri3/Count``) or CSV cell (``line 3,
+    column 2``); it is also the start of the message.
+    """
+
+    def __init__(self, path: str, message: str) -> None:
+        super().__init__(f"{path}: {message}" if path else message)
+        self.path = path
+
+
+class AsmError(Rcb4Error, ValueError):
+    """A source line that does not assemble; carries the 1-based ``line`` and ``column``."""
+
+    def __init__(self, message: str, line: int, column: int = 1, source: str | None = None):
+        self.message = message
+        self.line = line
+        self.column = column
+        self.source = source
+        super().__init__(f"line {line}, column {column}: {message}")
+
+
+class SimulationError(Rcb4Error):
+    """The emulated board did not accept a host frame during a simulation."""

@@ -84,7 +84,7 @@ def test_internal_error_becomes_nak(idle: Board, monkeypatch: pytest.MonkeyPatch
     def boom(*args: object) -> None:
         raise RuntimeError("bug")
 
-    monkeypatch.setattr(idle, "_execute", boom)
+    monkeypatch.setattr(idle._interp, "execute", boom)
     assert x(idle, ACK_CHECK) == h("04 FE 15 17")
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from rcb4hv import hth4
+from rcb4hv.emulator import EmulatorConfig
 from rcb4hv.project.simulate import MotionResult, Simulator
 from rcb4hv.protocol import (
     ALWAYS,
@@ -12,6 +13,7 @@ from rcb4hv.protocol import (
     Button,
     Call,
     Data,
+    Div,
     Ics,
     Jump,
     Move,
@@ -152,3 +154,22 @@ def test_button_poll_is_waiting() -> None:
     r = _play(_image(poll))
     assert r.status == "waiting" and r.inputs == ("buttons",)
     assert r.loop == (a, a + 9 + 7 - 1)
+
+
+def test_error_kind_is_the_boards_own_stop_record() -> None:
+    # the reason comes from Board.last_stop: a division by zero (a stop the old heuristics
+    # could only call "command error (program stopped)") is named
+    img = _image([Div(Ram(0x0462), Data(b"\x00\x00")), Return()])
+    sim = Simulator(img, config=EmulatorConfig(division_by_zero="error"))
+    sim.boot()
+    r = sim.play(layout.motion_address(1), limit=1.0)
+    assert r.status == "error" and r.error == "command error: division by zero"
+    assert r.pc == layout.motion_address(1) and r.instruction is not None
+    stop = sim.board.last_stop
+    assert stop is not None and stop.what == "command-error" and stop.where == r.pc
+
+
+def test_a_program_that_clears_rom_f_itself_is_a_plain_stop() -> None:
+    # MOVE RAM[0000h] <- 0000: the program stops itself; the board records no stop for it
+    r = _play(_image([Move(Ram(0x0000), Data(b"\x00\x00")), Return()]))
+    assert r.status == "error" and r.error == "program stopped (ROM_F cleared)"

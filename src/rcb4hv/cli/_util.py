@@ -16,6 +16,7 @@ from rcb4hv.transport import BAUD_RATES, DEFAULT_BAUD
 
 __all__ = [
     "connection_options",
+    "error_line",
     "handle_errors",
     "open_robot",
     "parse_int",
@@ -24,6 +25,12 @@ __all__ = [
 ]
 
 F = TypeVar("F", bound=Callable[..., Any])
+
+
+def error_line(exc: BaseException) -> str:
+    """The one line the CLI prints for an error: ``error: <message> (<ErrorClass>)``."""
+    name = type(exc).__name__
+    return f"error: {exc} ({name})" if str(exc) else f"error: {name}"
 
 
 def handle_errors(func: F) -> F:
@@ -36,8 +43,7 @@ def handle_errors(func: F) -> F:
         except BrokenPipeError:
             raise  # the reader went away (e.g. `| head`): main() exits quietly
         except (Rcb4Error, ValueError, OSError) as exc:
-            name = type(exc).__name__
-            click.echo(f"error: {exc} ({name})" if str(exc) else f"error: {name}", err=True)
+            click.echo(error_line(exc), err=True)
             sys.exit(1)
 
     return wrapper  # type: ignore[return-value]

@@ -14,6 +14,8 @@ import sys
 import click
 
 from rcb4hv import __version__
+from rcb4hv.cli._util import error_line
+from rcb4hv.errors import Rcb4Error
 
 # Modules that contribute commands; each defines ``register(cli: click.Group) -> None``.
 COMMAND_MODULES = (
@@ -46,4 +48,8 @@ def main() -> None:
         # stdout was closed by its reader (`rcb4hv ... | head`): stop quietly, as Unix tools do
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
+        sys.exit(1)
+    except Rcb4Error as exc:
+        # every rcb4hv error is one line, also from a command without @handle_errors
+        click.echo(error_line(exc), err=True)
         sys.exit(1)

@@ -11,11 +11,13 @@ from typing import Final, NoReturn
 
 from rcb4hv.client.exchange import RAM_READS, find_reply, ram_read_frame
 from rcb4hv.errors import (
+    CommandNotAllowedError,
     FrameError,
     NakError,
     ProtocolError,
     Rcb4TimeoutError,
     TransportError,
+    VerifyError,
 )
 from rcb4hv.protocol import (
     ALWAYS,
@@ -93,18 +95,6 @@ used in this board family), so no page write ever wraps around inside its page."
 
 Progress = Callable[[int, int], None]
 """Progress callback: ``progress(done_bytes, total_bytes)``."""
-
-
-class CommandNotAllowedError(PermissionError):
-    """A command the client refuses unless explicitly enabled (ICS communication, 0Eh)."""
-
-
-class VerifyError(ProtocolError):
-    """Reading back memory just written gave different bytes."""
-
-    def __init__(self, message: str, address: int) -> None:
-        super().__init__(message)
-        self.address = address
 
 
 def _name(command: Command) -> str:

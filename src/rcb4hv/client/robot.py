@@ -10,28 +10,44 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Final, Literal
 
 from rcb4hv.client.core import DEFAULT_TIMEOUT, Progress, Rcb4Client
 from rcb4hv.client.readplan import LinkCost, plan_cheapest, plan_reads
+from rcb4hv.client.robot_io import RobotIO
+from rcb4hv.client.robot_types import (
+    BoardInfo,
+    Calibration,
+    MotionStatus,
+    ServoInfo,
+    TimerState,
+)
 from rcb4hv.errors import Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
-    COUNTS_PER_DEGREE,
-    ICS_COUNT,
     POSITION_FREE,
     POSITION_HOLD,
     RAM_SIZE,
     SERVO,
-    Button,
+    Command,
     ServoBlock,
     SystemRegister,
     VersionReply,
-    ics_to_id_port,
 )
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol import sequences as seq
+from rcb4hv.protocol.memory import (
+    CENTER,
+    RUN_STATE_SIZE,
+    SYS,
+    Field,
+    ProgramState,
+    read_pc,
+    read_run_state,
+    read_system,
+    system_word_bytes,
+    unpack_alloc,
+)
 from rcb4hv.protocol.ranges import (
     check_documented_ics,
     check_documented_position,
@@ -59,7 +75,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-CENTER: Final = 7500
 MAX_SPEED: Final = 255
 SERVO_LIMIT: Final = 35  # ICS 35 is the remote-control receiver slot
 PLANS_KEPT: Final = 64
@@ -69,109 +84,7 @@ HTH4_20: Final = LAYOUTS["2.0"]
 """HeartToHeart4 2.0 / 2.1: motion n at 0BB8h + 2048 (n - 1) (:data:`HTH4_22` is 2.2)."""
 
 
-@dataclass(frozen=True, slots=True)
-class Calibration:
-    """Host-side angle calibration of one servo: ``trim`` in counts added to the centre
-    (7500) and ``direction`` (+1 or -1) of positive angles."""
-
-    trim: int = 0
-    direction: Literal[1, -1] = 1
-
-    def __post_init__(self) -> None:
-        if self.direction not in (1, -1):
-            raise ValueError("direction must be +1 or -1")
-
-    def to_position(self, degrees: float) -> int:
-        return round(CENTER + self.trim + self.direction * degrees * COUNTS_PER_DEGREE)
-
-    def to_degrees(self, position: int) -> float:
-        return self.direction * (position - CENTER - self.trim) / COUNTS_PER_DEGREE
-
-
-@dataclass(frozen=True, slots=True)
-class ServoInfo:
-    """One servo found through the ICS allocation table and its servo block."""
-
-    ics: int
-    block_address: int
-    block: ServoBlock
-
-    @property
-    def servo_id(self) -> int:
-        return ics_to_id_port(self.ics)[0]
-
-    @property
-    def port(self) -> str:
-        return ics_to_id_port(self.ics)[1]
-
-    @property
-    def trim(self) -> int:
-        """The board's base value (+2): HeartToHeart4's trim."""
-        return self.block.base
-
-    @property
-    def state(self) -> str:
-        out = self.block.output
-        if out == POSITION_FREE:
-            return "free"
-        if out == POSITION_HOLD:
-            return "hold"
-        return "moving" if self.block.speed else "on"
-
-    def describe(self) -> dict[str, object]:
-        b = self.block
-        return {
-            "ics": self.ics,
-            "id": self.servo_id,
-            "port": self.port,
-            "block": f"{self.block_address:04X}",
-            "trim": b.base,
-            "measured": b.measured,
-            "output": b.output,
-            "state": self.state,
-            "speed": b.speed,
-            "remaining": b.remaining,
-        }
-
-
-@dataclass(frozen=True, slots=True)
-class MotionStatus:
-    """The ROM program's state: PC, call depth, update flags, and the motion it is in."""
-
-    pc: int
-    call_depth: int
-    update_flags: bytes
-    motion: int | None
-    running: bool
-
-
-@dataclass(frozen=True, slots=True)
-class TimerState:
-    count: int
-    running: bool
-
-
-@dataclass(frozen=True, slots=True)
-class BoardInfo:
-    version: str
-    system: SystemRegister
-    pc: int
-    call_depth: int
-    update_flags: bytes
-    servos: list[ServoInfo] = field(default_factory=list)
-
-    def describe(self) -> dict[str, object]:
-        return {
-            "version": self.version,
-            "system_register": self.system.describe(),
-            "pc": f"{self.pc:06X}",
-            "call_depth": self.call_depth,
-            "update_flags": self.update_flags.hex(),
-            "servos": [s.describe() for s in self.servos],
-        }
-
-
-class Robot:
+class Robot(RobotIO):
     """The robot-level API. ``with Robot.open("rcb4emu://") as robot: robot.discover_servos()``.
 
     ``calibration`` maps ICS numbers to host-side :class:`Calibration` (trim, direction) used by
@@ -278,11 +191,18 @@ class Robot:
         word = value.to_word() if isinstance(value, SystemRegister) else value
         if not 0 <= word <= 0xFFFF:
             raise ValueError("the system register is 16 bits")
-        self.client.write_ram(ADDR.SYSTEM, word.to_bytes(2, "little"))
+        self.client.write_ram(ADDR.SYSTEM, system_word_bytes(word))
         self._period = None
 
-    def _system_word(self) -> int:
-        return int.from_bytes(self.client.read_ram(ADDR.SYSTEM, 2), "little")
+    def system_word(self) -> int:
+        """The system register as its raw word (what :mod:`rcb4hv.protocol.sequences` takes)."""
+        return read_system(self.client.read_ram(ADDR.SYSTEM, 2), 0)
+
+    def send_sequence(self, commands: Iterable[Command]) -> None:
+        """Send a host sequence (:mod:`rcb4hv.protocol.sequences`) command by command; each
+        must be acknowledged (:class:`~rcb4hv.errors.NakError` otherwise)."""
+        for cmd in commands:
+            self.client.transact(cmd)
 
     def output_period(self, refresh: bool = False) -> float:
         """Servo output period in seconds (system register bits 5-4), cached."""
@@ -306,14 +226,14 @@ class Robot:
     def info(self) -> BoardInfo:
         """Version, system register, ROM program state and the servo table."""
         version = self.client.get_version_info().text
-        head = self.client.read_ram(0, 12)
+        state = ProgramState.unpack(self.client.read_ram(ADDR.SYSTEM, ProgramState.SIZE), 0)
         servos = self.discover_servos()
         return BoardInfo(
             version=version,
-            system=SystemRegister.from_bytes(head[0:2]),
-            pc=int.from_bytes(head[2:5], "little"),
-            call_depth=head[5],
-            update_flags=head[7:12],
+            system=SystemRegister.from_word(state.system),
+            pc=state.pc,
+            call_depth=state.call_depth,
+            update_flags=state.update_flags,
             servos=servos,
         )
 
@@ -325,8 +245,8 @@ class Robot:
         deadline = time.monotonic() + timeout
         lay = self.layout
         while True:
-            head = self.client.read_ram(ADDR.SYSTEM, 6)
-            word, pc, depth = head[0] | head[1] << 8, int.from_bytes(head[2:5], "little"), head[5]
+            head = self.client.read_ram(ADDR.SYSTEM, ADDR.CALL_DEPTH + 1)
+            word, pc, depth = read_system(head), read_pc(head), head[ADDR.CALL_DEPTH]
             if not word & SYS.ROM_RUN or (lay.main_loop <= pc < lay.motion_base and depth == 0):
                 return
             if time.monotonic() >= deadline:
@@ -339,12 +259,8 @@ class Robot:
 
     def allocation_table(self) -> list[int | None]:
         """``alloc[0..35]``: the RAM address of each ICS number's block, or None (FFFF)."""
-        raw = self.client.read_ram(ADDR.ICS_ALLOC, 2 * ICS_COUNT)
-        out: list[int | None] = []
-        for k in range(ICS_COUNT):
-            v = raw[2 * k] | raw[2 * k + 1] << 8
-            out.append(None if v == 0xFFFF else v)
-        return out
+        raw = self.client.read_ram(ADDR.ICS_ALLOC, 2 * ADDR.ICS_ALLOC_COUNT)
+        return unpack_alloc(raw, 0)
 
     def discover_servos(self) -> list[ServoInfo]:
         """Servos = allocated ICS numbers 0-34 whose block has type 0, read in the fewest
@@ -397,17 +313,19 @@ class Robot:
             window[a - lo : a - lo + n] = self.client.read_ram(a, n)
         return {key: bytes(window[a - lo : a - lo + n]) for key, (a, n) in spans.items()}
 
-    def _read_field(self, ics: list[int], offset: int, size: int) -> dict[int, bytes]:
+    def _read_field(self, ics: list[int], fld: Field) -> dict[int, int]:
+        """One servo-block field of each of the ``ics`` servos, in the fewest frames."""
         known = self._known()
-        return self._read_spans({k: (known[k].block_address + offset, size) for k in ics})
+        raw = self._read_spans({k: fld.span(known[k].block_address) for k in ics})
+        return {k: fld.decode(raw[k]) for k in ics}
 
     def read_plan(
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> list[tuple[int, int]]:
         """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
-        offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
+        fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
         known = self._known()
-        spans = tuple((known[k].block_address + offset, 2) for k in self._select(ics))
+        spans = tuple(fld.span(known[k].block_address) for k in self._select(ics))
         return list(self._plan(spans))
 
     def _plan(self, spans: tuple[tuple[int, int], ...]) -> list[tuple[int, int]]:
@@ -426,16 +344,14 @@ class Robot:
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> dict[int, int]:
         """Raw positions by ICS number: ``measured`` (+4) or commanded ``output`` (+6)."""
-        offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
-        sel = self._select(ics)
-        raw = self._read_field(sel, offset, 2)
-        return {k: int.from_bytes(raw[k], "little") for k in sel}
+        fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
+        return self._read_field(self._select(ics), fld)
 
     def servo_states(self, ics: Iterable[int] | None = None) -> list[ServoInfo]:
         """Fresh servo blocks (positions, speed, remaining steps) of the selected servos."""
         sel = self._select(ics)
-        raw = self._read_field(sel, 0, ServoBlock.SIZE)
         known = self._known()
+        raw = self._read_spans({k: (known[k].block_address, ServoBlock.SIZE) for k in sel})
         return [ServoInfo(k, known[k].block_address, ServoBlock.from_bytes(raw[k])) for k in sel]
 
     def to_degrees(self, ics: int, position: int) -> float:
@@ -524,8 +440,8 @@ class Robot:
     def interpolating(self, ics: Iterable[int] | None = None) -> list[int]:
         """ICS numbers whose interpolation is still running (speed byte +8 non-zero)."""
         sel = self._select(ics)
-        raw = self._read_field(sel, SERVO.SPEED, 1)
-        return [k for k in sel if raw[k][0]]
+        speeds = self._read_field(sel, SERVO.F_SPEED)
+        return [k for k in sel if speeds[k]]
 
     def wait_interpolation(
         self, ics: Iterable[int] | None = None, *, timeout: float = 5.0, poll: float | None = None
@@ -589,9 +505,7 @@ class Robot:
 
     def motion_status(self) -> MotionStatus:
         """PC, call depth and update flags (one frame), and the motion being played."""
-        raw = self.client.read_ram(ADDR.PC, 10)
-        pc = int.from_bytes(raw[0:3], "little")
-        depth, flags = raw[3], bytes(raw[5:10])
+        pc, depth, flags = read_run_state(self.client.read_ram(ADDR.PC, RUN_STATE_SIZE), 0)
         motion = self.layout.motion_at(pc)
         running = motion is not None and (depth != 0 or any(flags))
         return MotionStatus(pc, depth, flags, motion if running else None, running)
@@ -604,39 +518,21 @@ class Robot:
         """Play ``motion`` as HeartToHeart4 does (spec 11.4): suspend the ROM program, reset
         the PC to the main loop, CALL the motion, resume with ICS_F, ROM_F and VEC_F set."""
         address = self.layout.address(motion)
-        word = self._system_word()
-        self.client.write_ram(
-            ADDR.SYSTEM,
-            (word & ~(SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP)).to_bytes(2, "little"),
-        )
-        self._reset_program()
-        self.client.call(address)
-        self.client.write_ram(
-            ADDR.SYSTEM,
-            (word | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP).to_bytes(2, "little"),
-        )
+        self.send_sequence(seq.play_motion(self.system_word(), address, self.layout.main_loop))
         log.info("playing motion %d at %06X", motion, address)
         if wait:
             self.wait_motion(timeout=timeout)
-
-    def _reset_program(self) -> None:
-        pc = self.layout.main_loop.to_bytes(3, "little")
-        self.client.write_ram(ADDR.PC, pc + bytes(7))
 
     def stop_motion(self, *, reset: bool = True) -> None:
         """Stop the ROM program. With ``reset`` (default) the PC goes back to the main loop
         and the program runs on there (the board's idle state); without it the program is
         only paused (:meth:`resume_motion` continues it)."""
-        word = self._system_word()
-        self.client.write_ram(ADDR.SYSTEM, (word & ~SYS.ROM_RUN).to_bytes(2, "little"))
-        if reset:
-            self._reset_program()
-            self.client.write_ram(ADDR.SYSTEM, (word | SYS.ROM_RUN).to_bytes(2, "little"))
+        word = self.system_word()
+        self.send_sequence(seq.stop_program(word, self.layout.main_loop, reset=reset))
 
     def resume_motion(self) -> None:
         """Let the ROM program run again (sets ROM_F)."""
-        word = self._system_word()
-        self.client.write_ram(ADDR.SYSTEM, (word | SYS.ROM_RUN).to_bytes(2, "little"))
+        self.send_sequence(seq.resume_program(self.system_word()))
 
     def wait_motion(
         self,
@@ -658,107 +554,6 @@ class Robot:
                     f"motion {status.motion} still playing after {timeout:g} s (PC {status.pc:06X})"
                 )
             time.sleep(poll)
-
-    # ------------------------------------------------------------------ remote, sensors, I/O
-
-    def buttons(self) -> Button:
-        """The remote-control button word (0350h, high byte first)."""
-        return Button.from_ram(self.client.read_ram(ADDR.BUTTONS, 2))
-
-    def set_buttons(self, buttons: Button | int) -> None:
-        """Write the button word: a virtual remote control."""
-        value = int(buttons)
-        if not 0 <= value <= 0xFFFF:
-            raise ValueError("the button word is 16 bits")
-        self.client.write_ram(ADDR.BUTTONS, value.to_bytes(2, "big"))
-
-    def press_button(self, buttons: Button | int, duration: float = 0.2) -> None:
-        """Hold ``buttons`` on the virtual remote for ``duration`` seconds, then release."""
-        if duration < 0:
-            raise ValueError("duration must be >= 0")
-        self.set_buttons(buttons)
-        try:
-            time.sleep(duration)
-        finally:
-            self.set_buttons(Button.NONE)
-
-    def pa_values(self) -> tuple[int, int, int, int]:
-        """The four analogue remote values PA1-PA4 (0352h-0355h)."""
-        raw = self.client.read_ram(ADDR.PA[0], 4)
-        return (raw[0], raw[1], raw[2], raw[3])
-
-    def set_pa(self, index: int, value: int) -> None:
-        """Set PA``index`` (1-4) to ``value`` (0-255)."""
-        if not 1 <= index <= 4:
-            raise ValueError("PA inputs are 1-4")
-        if not 0 <= value <= 0xFF:
-            raise ValueError("PA values are 0-255")
-        self.client.write_ram(ADDR.PA[index - 1], bytes((value,)))
-
-    def ad_values(self) -> list[int]:
-        """AD0-AD10 (10-bit) in one frame."""
-        raw = self.client.read_ram(ADDR.AD_VALUES, 22)
-        return [(raw[2 * i] | raw[2 * i + 1] << 8) & 0x3FF for i in range(11)]
-
-    def battery_voltage(self) -> float:
-        """Supply voltage from AD0: AD0 * 25 / 1024 volts."""
-        raw = self.client.read_ram(ADDR.AD_VALUES, 2)
-        return ((raw[0] | raw[1] << 8) & 0x3FF) * 25 / 1024
-
-    def pio(self) -> tuple[int, int]:
-        """(direction mask, data) of the 10 PIO pins (1 = output)."""
-        raw = self.client.read_ram(ADDR.PIO_DIRECTION, 4)
-        return (raw[0] | raw[1] << 8) & 0x3FF, (raw[2] | raw[3] << 8) & 0x3FF
-
-    def set_pio_direction(self, mask: int) -> None:
-        if not 0 <= mask <= 0x3FF:
-            raise ValueError("PIO direction is 10 bits")
-        self.client.write_ram(ADDR.PIO_DIRECTION, mask.to_bytes(2, "little"))
-
-    def write_pio(self, value: int) -> None:
-        if not 0 <= value <= 0x3FF:
-            raise ValueError("PIO data is 10 bits")
-        self.client.write_ram(ADDR.PIO_DATA, value.to_bytes(2, "little"))
-
-    def timer(self, n: int) -> TimerState:
-        """Timer ``n`` (0-3): count (100 ms steps) and whether it runs."""
-        raw = self.client.read_ram(ADDR.timer(n), 2)
-        word = raw[0] | raw[1] << 8
-        return TimerState(word & 0x7FFF, not word & 0x8000)
-
-    def set_timer(self, n: int, count: int, *, run: bool = True) -> None:
-        """Load timer ``n`` with ``count`` (0-32767) and start it (or leave it stopped)."""
-        if not 0 <= count <= 0x7FFF:
-            raise ValueError("timer counts are 0..32767")
-        word = count | (0 if run else 0x8000)
-        self.client.write_ram(ADDR.timer(n), word.to_bytes(2, "little"))
-
-    def stop_timer(self, n: int) -> None:
-        state = self.timer(n)
-        self.set_timer(n, state.count, run=False)
-
-    def counter(self, n: int) -> int:
-        """Counter ``n`` (0-10), one byte each from 0457h."""
-        return self.client.read_ram(ADDR.counter(n), 1)[0]
-
-    def set_counter(self, n: int, value: int) -> None:
-        if not 0 <= value <= 0xFF:
-            raise ValueError("counters are 0..255")
-        self.client.write_ram(ADDR.counter(n), bytes((value,)))
-
-    def variable(self, n: int) -> int:
-        """User variable ``n`` (0-19), a signed 16-bit value."""
-        return int.from_bytes(self.client.read_ram(ADDR.user_variable(n), 2), "little", signed=True)
-
-    def variables(self) -> list[int]:
-        """All 20 user variables in one frame."""
-        raw = self.client.read_ram(ADDR.USER_VARIABLES, 2 * ADDR.USER_VARIABLE_COUNT)
-        return [int.from_bytes(raw[i : i + 2], "little", signed=True) for i in range(0, 40, 2)]
-
-    def set_variable(self, n: int, value: int) -> None:
-        if not -0x8000 <= value <= 0xFFFF:
-            raise ValueError("user variables are 16 bits")
-        self.client.write_ram(ADDR.user_variable(n), (value & 0xFFFF).to_bytes(2, "little"))
 
 
 _NO_CAL: Final = Calibration()

@@ -4,6 +4,12 @@ The core is :class:`Board`: ``feed(bytes) -> bytes`` and ``tick()``, driven by a
 :class:`Clock` (:class:`VirtualClock` in tests, :class:`RealClock` when serving). Serving is a
 thin adapter: :class:`PtyServer`, :class:`TcpServer` (``rcb4hv emulate``).
 
+The board is composed of units over one RAM (see :mod:`rcb4hv.emulator.board`): link
+(framing, NAK timeouts), interpreter (one ALU, :mod:`~rcb4hv.emulator.alu`), servos, vectors,
+timers, ROM store; the speed work is a separate layer (:mod:`~rcb4hv.emulator.accel`) that
+``Board(accelerate=False)`` leaves out. :attr:`Board.last_stop` says why the ROM program last
+stopped (:class:`Stop`: ``what``, ``where``, ``why``).
+
 Bad input: the exact rules
 --------------------------
 Frames are cut by the protocol core's :class:`~rcb4hv.protocol.FrameDecoder` (``resync="frame"``)
@@ -69,6 +75,7 @@ from typing import TYPE_CHECKING
 from rcb4hv.emulator.board import Board, ServoState
 from rcb4hv.emulator.clock import Clock, RealClock, VirtualClock
 from rcb4hv.emulator.config import DEFAULT_VERSION, EmulatorConfig
+from rcb4hv.emulator.events import Stop, StopKind
 
 if TYPE_CHECKING:  # the servers need pty/termios: imported on first use
     from rcb4hv.emulator.server import PtyServer, TcpServer
@@ -81,6 +88,8 @@ __all__ = [
     "PtyServer",
     "RealClock",
     "ServoState",
+    "Stop",
+    "StopKind",
     "TcpServer",
     "VirtualClock",
 ]

@@ -1,4 +1,11 @@
-"""Clocks injected into the board model: virtual time for tests, scaled real time for serving."""
+"""Clocks injected into the board model: virtual time for tests, scaled real time for serving.
+
+The clock owns time and its conversions (trio's ``Clock``/``MockClock`` is the model): the
+board counts in *board seconds* (:meth:`Clock.now`) and asks the clock how many *real*
+seconds a stretch of board time takes (:meth:`Clock.real_seconds`, for a server's wait) and
+how much board time a real duration covers (:meth:`Clock.board_seconds`, for the frame
+timeout, which is a property of the serial line and so of real time).
+"""
 
 from __future__ import annotations
 
@@ -10,15 +17,40 @@ __all__ = ["Clock", "RealClock", "VirtualClock"]
 
 @runtime_checkable
 class Clock(Protocol):
-    """A monotonic source of board time in seconds."""
+    """A monotonic source of board time in seconds, running ``speed`` times real time."""
 
-    def now(self) -> float: ...
+    @property
+    def speed(self) -> float:
+        """Board seconds per real second (> 0)."""
+        ...
+
+    def now(self) -> float:
+        """The current board time in seconds."""
+        ...
+
+    def real_seconds(self, board_seconds: float) -> float:
+        """Real seconds that ``board_seconds`` of board time take."""
+        ...
+
+    def board_seconds(self, real_seconds: float) -> float:
+        """Board seconds that pass in ``real_seconds`` of real time."""
+        ...
 
 
-class VirtualClock:
-    """Time that moves only when told (``advance`` / ``set``)."""
+class _Scaled:
+    """The conversions of a clock running ``speed`` times real time."""
 
-    speed = 1.0
+    speed: float = 1.0
+
+    def real_seconds(self, board_seconds: float) -> float:
+        return board_seconds / self.speed
+
+    def board_seconds(self, real_seconds: float) -> float:
+        return real_seconds * self.speed
+
+
+class VirtualClock(_Scaled):
+    """Time that moves only when told (``advance`` / ``set``); nominally at real speed."""
 
     def __init__(self, start: float = 0.0) -> None:
         if start < 0:
@@ -39,7 +71,7 @@ class VirtualClock:
         self._t = float(t)
 
 
-class RealClock:
+class RealClock(_Scaled):
     """``time.monotonic()`` since construction, scaled by ``speed`` (> 0)."""
 
     def __init__(self, speed: float = 1.0) -> None:

@@ -39,7 +39,7 @@ from collections import deque
 from typing import Final
 
 from rcb4hv.emulator.board import Board
-from rcb4hv.protocol import BAUD_RATES
+from rcb4hv.protocol.memory import SystemRegister, read_system
 
 __all__ = ["PtyServer", "TcpServer"]
 
@@ -144,7 +144,7 @@ class _Server:
         cfg = self.board.config
         at = received + cfg.min_reply_latency_s
         if cfg.pace_replies:
-            baud = BAUD_RATES[(self.board.ram[0] >> 6) & 3]
+            baud = SystemRegister.from_word(read_system(self.board.ram)).baud_rate
             at += (self._rx_unanswered + len(data)) * 11 / baud
         self._rx_unanswered = 0
         self._queue.append((at, data))

@@ -31,7 +31,7 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 
-from rcb4hv.errors import Rcb4Error
+from rcb4hv.errors import Hth4FormatError
 
 __all__ = [
     "XSD",
@@ -49,18 +49,6 @@ XSI_TYPE = f"{{{XSI}}}type"
 
 INT32_MIN = -(2**31)
 INT32_MAX = 2**31 - 1
-
-
-class Hth4FormatError(Rcb4Error, ValueError):
-    """A HeartToHeart4 file that is malformed or not of the expected kind.
-
-    ``path`` names the offending element (``Rcb4/Kri3/Count``) or CSV cell (``line 3,
-    column 2``); it is also the start of the message.
-    """
-
-    def __init__(self, path: str, message: str) -> None:
-        super().__init__(f"{path}: {message}" if path else message)
-        self.path = path
 
 
 # ---------------------------------------------------------------------------------------------

@@ -69,6 +69,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 
 from rcb4hv.hth4._xml import PROJECT_LAYOUT, ExtraElement, XmlLayout, XmlNode
+from rcb4hv.protocol.memory import ADDR, read_system, read_u16
 from rcb4hv.rom.layout import LAYOUTS
 
 __all__ = [
@@ -143,7 +144,7 @@ class Kri3Settings:
     name: str | None = "KRI-3"
     count: int = 11
     rom_address: int = 0
-    ram_address: int = 0x034C
+    ram_address: int = ADDR.KRI3_BLOCK
     device_number: int = 35
     code: int = 1
     id: int = 31
@@ -293,13 +294,13 @@ class Project:
         """``Config`` as the 16-bit system-register value (little-endian)."""
         if len(self.config) != 2:
             raise ValueError(f"Config holds {len(self.config)} bytes, expected 2")
-        return int.from_bytes(self.config, "little")
+        return read_system(self.config, 0)
 
     @property
     def adc_reference_words(self) -> tuple[int, ...]:
         """``AdcReference`` as little-endian 16-bit words (AD0, AD1, …)."""
         data = self.adc_reference
-        return tuple(int.from_bytes(data[i : i + 2], "little") for i in range(0, len(data) - 1, 2))
+        return tuple(read_u16(data, i) for i in range(0, len(data) - 1, 2))
 
     @property
     def used_motions(self) -> tuple[Motion, ...]:

@@ -31,6 +31,7 @@ from pathlib import Path
 
 from rcb4hv.hth4._xml import Hth4FormatError
 from rcb4hv.hth4.model import MOTION_SLOT_SIZE, Motion
+from rcb4hv.protocol.memory import Button
 
 __all__ = [
     "BUTTON_SYMBOLS",
@@ -49,18 +50,18 @@ ENCODING = "cp932"
 DEFAULT_HEADER = ("番号", "名前", "ボタン番号", "ボタン記号", "比較", "日付", "使用率")
 
 BUTTON_SYMBOLS: tuple[tuple[int, str], ...] = (
-    (0x0001, "↑"),
-    (0x0002, "↓"),
-    (0x0004, "→"),
-    (0x0008, "←"),
-    (0x0010, "△"),
-    (0x0020, "×"),
-    (0x0040, "○"),
-    (0x0100, "□"),
-    (0x0200, "S1"),
-    (0x0400, "S2"),
-    (0x0800, "S3"),
-    (0x1000, "S4"),
+    (Button.UP, "↑"),
+    (Button.DOWN, "↓"),
+    (Button.RIGHT, "→"),
+    (Button.LEFT, "←"),
+    (Button.TRIANGLE, "△"),
+    (Button.CROSS, "×"),
+    (Button.CIRCLE, "○"),
+    (Button.SQUARE, "□"),
+    (Button.S1, "S1"),
+    (Button.S2, "S2"),
+    (Button.S3, "S3"),
+    (Button.S4, "S4"),
 )
 """Remote button bits (spec 10.1) and the symbols HeartToHeart4 shows for them."""
 

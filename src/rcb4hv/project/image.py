@@ -48,13 +48,23 @@ from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
 from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
 from rcb4hv.protocol import Button, frame_at
+from rcb4hv.protocol.memory import (
+    AD_CHANNELS,
+    ADDR,
+    PA_VALUES,
+    Kri3Block,
+    button_operand,
+    mix_method,
+    mix_rate,
+    u16_bytes,
+)
 from rcb4hv.rom import (
     Compare,
     ImageDescription,
+    ImageMotion,
+    ImagePriorityMotion,
+    ImageServo,
     Kri3Config,
-    Motion,
-    PriorityMotion,
-    ServoConfig,
     VectorPackage,
     layout,
 )
@@ -87,8 +97,9 @@ COMPARE: Final[dict[str, Compare]] = {
 
 _COMPARE_NAME: Final = {v: k for k, v in COMPARE.items()}
 
-AD0: Final = 0x0022
-PA1: Final = 0x0352
+AD0: Final = ADDR.ad(0)
+PA1: Final = ADDR.PA[0]
+_AD_LAST: Final = ADDR.ad(ADDR.AD_COUNT - 1)
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -133,18 +144,14 @@ def motion_image_frames(entry_frames: Sequence[bytes]) -> list[bytes]:
 def _rate_to_method(rate: int, what: str) -> int:
     if not -127 <= rate <= 127:
         raise ValueError(f"{what} {rate} is outside -127..127")
-    return 0x80 | -rate if rate < 0 else rate
+    return mix_method(rate)
 
 
-def _method_to_rate(method: int) -> int:
-    return -(method & 0x7F) if method & 0x80 else method
-
-
-def _servo(s: Hth4Servo) -> ServoConfig:
+def _servo(s: Hth4Servo) -> ImageServo:
     where = f"servo {s.key!r} (ICS {s.device_number})"
     if not 0 <= s.device_number <= 34:
         raise ValueError(f"{where}: ICS number outside 0..34")
-    return ServoConfig(
+    return ImageServo(
         ics=s.device_number,
         servo_id=s.id,
         trim=s.trim,
@@ -158,7 +165,7 @@ def _servo(s: Hth4Servo) -> ServoConfig:
 
 def _button_raw(buttons: int) -> int:
     """The button word as the little-endian RAM word the board compares (high byte first)."""
-    return int.from_bytes(int(buttons).to_bytes(2, "big"), "little")
+    return button_operand(buttons)
 
 
 def _vector_package(buttons: int, compare: str, target: int) -> VectorPackage:
@@ -169,7 +176,7 @@ def _vector_package(buttons: int, compare: str, target: int) -> VectorPackage:
     if not 0 < buttons <= 0xFFFF:
         raise ValueError(f"button word {buttons:#x} out of range")
     raw = _button_raw(buttons)
-    dst = layout.RAM_BUTTONS
+    dst = ADDR.BUTTONS
     if cmp == "le":  # dst <= v  <=>  dst < v + 1
         if raw == 0xFFFF:
             cmp = "ge"
@@ -190,9 +197,9 @@ def _vector_package(buttons: int, compare: str, target: int) -> VectorPackage:
 
 def _package_compare(p: VectorPackage) -> tuple[str, int] | None:
     """(CompareType, button word) of a package made by :func:`_vector_package`, else None."""
-    if p.destination != layout.RAM_BUTTONS or not p.literal or not p.word:
+    if p.destination != ADDR.BUTTONS or not p.literal or not p.word:
         return None
-    value = int.from_bytes(p.source.to_bytes(2, "little"), "big")
+    value = button_operand(p.source)  # swapping the bytes back gives the button word
     key = (p.compare_z, p.z, p.compare_c, p.c)
     names = {
         (True, True, False, False): "Equals",
@@ -212,40 +219,29 @@ def _port_source(port: str) -> tuple[int, int]:
         return AD0, 2
     up = p.upper()
     if up.startswith("AD") and up[2:].isdigit() and 0 <= int(up[2:]) <= 10:
-        return AD0 + 2 * int(up[2:]), 2
+        return ADDR.ad(int(up[2:])), 2
     if up.startswith("PA") and up[2:].isdigit() and 1 <= int(up[2:]) <= 4:
-        return PA1 + int(up[2:]) - 1, 1
+        return ADDR.PA[int(up[2:]) - 1], 1
     raise ValueError(f"unknown priority-motion port {port!r} (known: Battery, AD0-AD10, PA1-PA4)")
 
 
 def _port_name(source: int, size: int) -> str:
     if size == 2 and source == AD0:
         return "Battery"
-    if size == 2 and AD0 < source <= AD0 + 20 and (source - AD0) % 2 == 0:
+    if size == 2 and AD0 < source <= _AD_LAST and (source - AD0) % 2 == 0:
         return f"AD{(source - AD0) // 2}"
-    if size == 1 and PA1 <= source < PA1 + 4:
+    if size == 1 and PA1 <= source < PA1 + PA_VALUES.size:
         return f"PA{source - PA1 + 1}"
     return f"RAM {source:04X}h"
 
 
 def _kri3_block(project: Project) -> bytes:
     k = project.kri3
-    values = (
-        k.code,
-        k.id,
-        0,
-        0,
-        *k.button_value.to_bytes(2, "big"),
-        k.pa1,
-        k.pa2,
-        k.pa3,
-        k.pa4,
-        k.checksum,
-    )
-    for v in values:
-        if not 0 <= v <= 0xFF:
-            raise ValueError(f"KRI-3 settings hold a value outside 0..255: {values}")
-    return bytes(values)
+    block = Kri3Block(k.code, k.id, 0, k.button_value, k.pa1, k.pa2, k.pa3, k.pa4, k.checksum)
+    try:
+        return block.to_bytes()
+    except ValueError as exc:
+        raise ValueError(f"KRI-3 settings hold a value out of range: {exc}") from None
 
 
 def _title(text: str | None) -> str:
@@ -275,7 +271,7 @@ def project_description(
     servos = tuple(_servo(s) for s in project.servos if s.in_use)
     if len(project.adc_reference) != 22:
         raise ValueError(f"AdcReference holds {len(project.adc_reference)} bytes, expected 22")
-    motions: list[Motion] = []
+    motions: list[ImageMotion] = []
     packages: list[VectorPackage] = []
     for m in sorted(project.used_motions, key=lambda m: m.slot):
         count = motion_layout.motion_count
@@ -289,7 +285,7 @@ def project_description(
                 f"{address:05X}h"
             )
         try:
-            motions.append(Motion(m.slot, motion_image_frames(m.frames)))
+            motions.append(ImageMotion(m.slot, motion_image_frames(m.frames)))
         except ValueError as exc:
             raise ValueError(f"motion {m.key} ({m.name}): {exc}") from None
         if len(m.rom_bytes()) > layout.MOTION_SIZE:
@@ -298,7 +294,7 @@ def project_description(
             packages.append(_vector_package(m.button_data, m.compare_type, address))
     if len(packages) > layout.VECTOR_PACKAGE_COUNT:
         raise ValueError(f"{len(packages)} button bindings; the board holds at most 32")
-    priority: list[PriorityMotion | None] = [None] * layout.PRIORITY_COUNT
+    priority: list[ImagePriorityMotion | None] = [None] * layout.PRIORITY_COUNT
     for index, pm in project.active_priority_motions:
         if index >= layout.PRIORITY_COUNT:
             raise ValueError(f"priority check {index} outside 0..12")
@@ -314,12 +310,12 @@ def project_description(
             if options.priority_none == "skip":
                 continue
             target = layout.STARTUP_STUB
-        priority[index] = PriorityMotion(source, compare, pm.value, target, size)
+        priority[index] = ImagePriorityMotion(source, compare, pm.value, target, size)
     if project.low_power_motion_address >= 0:
         free = [i for i, p in enumerate(priority) if p is None]
         if not free:
             raise ValueError("no free priority check for the low-power motion")
-        priority[free[0]] = PriorityMotion(
+        priority[free[0]] = ImagePriorityMotion(
             AD0, "le", project.low_power_value, project.low_power_motion_address
         )
     startup = project.startup_motion_address
@@ -418,11 +414,11 @@ class ImageContents:
     @property
     def config(self) -> bytes:
         """The system register as the project's ``Config`` bytes."""
-        return self.system_register.to_bytes(2, "little")
+        return u16_bytes(self.system_register)
 
     @property
     def adc_reference(self) -> bytes:
-        return b"".join(v.to_bytes(2, "little") for v in self.description.ad_references)
+        return AD_CHANNELS.pack(*self.description.ad_references)
 
     @property
     def title(self) -> str:
@@ -440,9 +436,7 @@ class ImageContents:
         raise KeyError(f"no motion in slot {slot}")
 
 
-def read_image(
-    rom: bytes | bytearray, motion_layout: MotionLayout = HTH4_22
-) -> ImageContents:
+def read_image(rom: bytes | bytearray, motion_layout: MotionLayout = HTH4_22) -> ImageContents:
     """The motions and settings of a HeartToHeart4 2.2 image (via :func:`rom.parse_image`).
 
     :class:`~rcb4hv.errors.ProtocolError` if it is not such an image; ValueError for a wrong
@@ -485,9 +479,9 @@ def read_image(
             "trim": s.trim,
             "home": s.home,
             "mixing1_address": s.mix1_source,
-            "mixing1_rate": _method_to_rate(s.mix1_method),
+            "mixing1_rate": mix_rate(s.mix1_method),
             "mixing2_address": s.mix2_source,
-            "mixing2_rate": _method_to_rate(s.mix2_method),
+            "mixing2_rate": mix_rate(s.mix2_method),
         }
         for s in desc.servos
     }

@@ -30,17 +30,18 @@ from rcb4hv.protocol import (
     decode_command,
     frame_at,
 )
+from rcb4hv.protocol.memory import AD_CHANNELS, ADDR, SERVO, TIMERS
 from rcb4hv.rom import layout
 
 __all__ = ["boot_cause", "ics_operands", "input_names", "slot_problem"]
 
 # RAM that changes from outside the program: (first, last, name)
 _INPUTS: Final = (
-    (0x0022, 0x0037, "AD"),
-    (0x003A, 0x003B, "PIO"),
-    (0x003C, 0x0043, "timer"),
-    (0x0350, 0x0351, "buttons"),
-    (0x0352, 0x0355, "PA"),
+    (ADDR.AD_VALUES, ADDR.AD_VALUES + AD_CHANNELS.size - 1, "AD"),
+    (ADDR.PIO_DATA, ADDR.PIO_DATA + 1, "PIO"),
+    (ADDR.TIMERS[0], ADDR.TIMERS[0] + TIMERS.size - 1, "timer"),
+    (ADDR.BUTTONS, ADDR.BUTTONS + 1, "buttons"),
+    (ADDR.PA[0], ADDR.PA[-1], "PA"),
 )
 
 _DATA: Final = (Move, And, Or, Xor, Add, Sub, Mul, Div, Mod, Not, Shift)
@@ -70,7 +71,7 @@ def input_names(cmd: Command) -> list[str]:
     names: list[str] = []
     for op in _operands(cmd):
         if isinstance(op, Ics):
-            if op.offset in (4, 5):
+            if op.offset in (SERVO.MEASURED, SERVO.MEASURED + 1):
                 names.append(f"ICS {op.ics} measured value")
             continue
         if not isinstance(op, Ram):
@@ -81,7 +82,7 @@ def input_names(cmd: Command) -> list[str]:
                 continue
             if kind == "AD":
                 first = max(0, (a0 - lo) // 2)
-                last = min(10, (a1 - lo) // 2)
+                last = min(ADDR.AD_COUNT - 1, (a1 - lo) // 2)
                 names += [f"AD{n}" for n in range(first, last + 1)]
             elif kind == "PA":
                 names += [f"PA{n - lo + 1}" for n in range(max(a0, lo), min(a1, hi) + 1)]

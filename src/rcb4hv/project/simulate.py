@@ -37,8 +37,8 @@ A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause
 (:func:`rcb4hv.project.instructions.boot_cause`, e.g. ``startup motion 0FB80h: slot 31 holds no
 motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
 
-The emulator exposes no "last program error" record, so the kind of error is derived from public
-state: the ROMERR bit, the instruction at the PC, the call depth and the allocation table.
+The kind of error is the board's own record of why the program stopped
+(:attr:`rcb4hv.emulator.Board.last_stop`), read in one place (``Simulator._error``).
 """
 
 from __future__ import annotations
@@ -47,29 +47,33 @@ import logging
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Final, Literal
+from typing import Any, Final
 
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
-from rcb4hv.errors import ProtocolError
-from rcb4hv.project.instructions import boot_cause, ics_operands, input_names
+from rcb4hv.errors import ProtocolError, SimulationError
+from rcb4hv.project.instructions import boot_cause, input_names
+from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.protocol import (
-    ALWAYS,
     Ack,
-    Call,
-    Com,
     Command,
-    Data,
     DataReply,
-    Move,
-    Ram,
     Return,
     decode_command,
     decode_reply,
     encode_command,
     frame_at,
 )
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol import sequences as seq
+from rcb4hv.protocol.memory import (
+    ADDR,
+    NO_BLOCK,
+    SERVO,
+    SYS,
+    read_alloc,
+    read_system,
+    read_u16,
+)
 from rcb4hv.rom import layout
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
 from rcb4hv.rom.older import detect_image_layout
@@ -88,7 +92,6 @@ log = logging.getLogger(__name__)
 # Decoded instructions by their exact frame bytes (pure: the same bytes always decode alike).
 _DECODED: dict[bytes, tuple[Command | None, str]] = {}
 
-Status = Literal["completed", "waiting", "stalled", "timeout", "error"]
 SampleListener = Callable[[float, dict[int, int]], None]
 
 DEFAULT_LIMIT: Final = 60.0
@@ -100,62 +103,13 @@ flags are stepped exactly). 2 ms is below the shortest output period (10 ms), so
 duration is within one step of the board's; 1 ms steps made simulation ~20% slower."""
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
-STACK_DEPTH: Final = 16
-
-class SimulationError(Exception):
-    """The board did not accept a host frame, or the image does not boot."""
-
-
-@dataclass(frozen=True)
-class MotionResult:
-    """How one motion played (see the module docstring for ``status``)."""
-
-    slot: int | None
-    address: int
-    name: str
-    status: Status
-    duration: float
-    instructions: int
-    error: str | None = None
-    pc: int | None = None
-    instruction: str | None = None
-    loop: tuple[int, int] | None = None
-    inputs: tuple[str, ...] = ()
-    held: str | None = None
-
-    @property
-    def ok(self) -> bool:
-        return self.status in ("completed", "waiting")
-
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "slot": self.slot,
-            "address": f"{self.address:05X}",
-            "name": self.name,
-            "status": self.status,
-            "duration_s": round(self.duration, 6),
-            "instructions": self.instructions,
-            "error": self.error,
-            "pc": None if self.pc is None else f"{self.pc:05X}",
-            "instruction": self.instruction,
-            "loop": None if self.loop is None else [f"{a:05X}" for a in self.loop],
-            "inputs": list(self.inputs),
-            "held": self.held,
-        }
-
-    @property
-    def detail(self) -> str:
-        """One line: the error, the waiting loop, or nothing."""
-        if self.status == "error":
-            where = "" if self.pc is None else f" at {self.pc:05X}h"
-            ins = f": {self.instruction}" if self.instruction else ""
-            return f"{self.error}{where}{ins}"
-        if self.loop is not None:
-            what = ", ".join(self.inputs) if self.inputs else "nothing"
-            return f"loop {self.loop[0]:05X}-{self.loop[1]:05X}h reads {what}"
-        if self.status == "timeout":
-            return f"PC {self.pc:05X}h after the limit" if self.pc is not None else ""
-        return ""
+_STOP_WORDS: Final[dict[str, str]] = {
+    "romerr": "ROMERR (checksum error in ROM)",
+    "stack-underflow": "call-stack underflow (RETURN on an empty stack)",
+    "stack-overflow": "call-stack overflow (17th nested CALL)",
+    "suspended": "stopped by the host (ROM_F cleared)",
+}
+"""How :class:`MotionResult` names the board's stop kinds (:class:`rcb4hv.emulator.Stop`)."""
 
 
 @dataclass
@@ -210,8 +164,8 @@ class Simulator:
         if ics is None:
             ics = [
                 n
-                for n in range(35)
-                if image[layout.ALLOC_IMAGE + 2 * n : layout.ALLOC_IMAGE + 2 * n + 2] != b"\xff\xff"
+                for n in range(layout.SERVO_BLOCK_COPY_COUNT)
+                if read_alloc(image, n, at=layout.ALLOC_IMAGE) != NO_BLOCK
             ]
         if config is None:
             config = EmulatorConfig(virtual_servos=tuple(ics))
@@ -221,6 +175,7 @@ class Simulator:
         if listener is not None:
             self.board.add_output_listener(listener)
         self.boot_result: MotionResult | None = None
+        self._stop_before = self.board.last_stop
 
     # ------------------------------------------------------------------ host side
 
@@ -239,21 +194,16 @@ class Simulator:
         raise SimulationError(f"board refused {format_command(cmd)}: {r!r}")
 
     def _system_word(self) -> int:
-        return int.from_bytes(self._send(Move(Com(), Ram(0x0000), 2)), "little")
-
-    def _write_ram(self, address: int, data: bytes) -> None:
-        self._send(Move(Ram(address), Data(data)))
+        return read_system(self._send(seq.system_query()), 0)
 
     def start_motion(self, address: int, *, vector: bool = True) -> None:
-        """Play the motion at ``address`` as a host does (spec 11.4), through real frames."""
-        word = self._system_word() & ~(
-            SYS.ROM_ERROR | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
-        )
-        self._write_ram(0x0000, word.to_bytes(2, "little"))
-        self._write_ram(0x0002, self.layout.main_loop.to_bytes(3, "little") + bytes(7))
-        self._send(Call(address, ALWAYS))
-        flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
-        self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
+        """Play the motion at ``address`` as a host does (spec 11.4), through real frames
+        (:func:`rcb4hv.protocol.sequences.play_motion`; ROMERR is cleared, so a play after a
+        failed one starts clean)."""
+        word = self._system_word()
+        main = self.layout.main_loop
+        for cmd in seq.play_motion(word, address, main, vector=vector, clear_rom_error=True):
+            self._send(cmd)
 
     # ------------------------------------------------------------------ board state
 
@@ -273,20 +223,30 @@ class Simulator:
         return round(self.board.output_period * 1e6)
 
     def _flags(self) -> int:
-        return int.from_bytes(self.board.ram[7:12], "little")
+        a = ADDR.UPDATE_FLAGS
+        return int.from_bytes(self.board.ram[a : a + ADDR.UPDATE_FLAGS_SIZE], "little")
+
+    def _depth(self) -> int:
+        return self.board.ram[ADDR.CALL_DEPTH]
 
     def _wait_periods(self) -> int | None:
         """Output periods the program will wait at least (None: flags that never clear)."""
         b = self.board
+        ram = b.ram
         flags = self._flags()
         longest = 0
-        for ics in range(36):
+        for ics in range(ADDR.ICS_ALLOC_COUNT):
             if not flags >> ics & 1:
                 continue
             blk = b.alloc(ics)
-            if blk == 0xFFFF or blk + 20 > len(b.ram) or b.ram[blk] != 0 or not b.ram[blk + 8]:
+            if (
+                blk == NO_BLOCK
+                or blk + SERVO.SIZE > len(ram)
+                or SERVO.F_TYPE.get(ram, blk) != 0
+                or not SERVO.F_SPEED.get(ram, blk)
+            ):
                 return None
-            longest = max(longest, b.ram[blk + 11])
+            longest = max(longest, SERVO.F_REMAINING.get(ram, blk))
         return longest
 
     def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
@@ -309,23 +269,28 @@ class Simulator:
         return result
 
     def _error(self) -> tuple[str, int, str]:
-        """(kind, PC, disassembly) of the instruction that stopped the program."""
+        """(kind, PC, disassembly) of the instruction that stopped the program.
+
+        The one place the stop reason is read: the board's own record
+        (:attr:`rcb4hv.emulator.Board.last_stop`), in the simulator's words. A stop the board
+        did not record since the play began (the program cleared ROM_F itself) is a plain
+        "program stopped".
+        """
         b = self.board
-        pc = b.pc
-        cmd, text = self._instruction_at(pc)
-        depth = b.ram[5]
-        if b.system_register & SYS.ROM_ERROR:
-            return "ROMERR (checksum error in ROM)", pc, text
-        if cmd is None:
-            return "invalid instruction", pc, text
-        if isinstance(cmd, Return) and depth == 0:
-            return "call-stack underflow (RETURN on an empty stack)", pc, text
-        if isinstance(cmd, Call) and depth >= STACK_DEPTH:
-            return "call-stack overflow (17th nested CALL)", pc, text
-        for ics in ics_operands(cmd):
-            if b.alloc(ics) == 0xFFFF:
-                return f"command error: ICS {ics} is not allocated", pc, text
-        return "command error (program stopped)", pc, text
+        stop = b.last_stop
+        if stop is None or stop is self._stop_before or not stop.halted:
+            pc = b.pc
+            return "program stopped (ROM_F cleared)", pc, self._instruction_at(pc)[1]
+        pc = stop.where
+        text = self._instruction_at(pc)[1]
+        kind = _STOP_WORDS.get(stop.what)
+        if kind is not None:
+            return kind, pc, text
+        reason = stop.why
+        if stop.instruction is not None:
+            reason = reason.removesuffix(f": {stop.instruction}")
+            return f"command error: {reason}", pc, text
+        return f"invalid instruction ({reason})", pc, text
 
     # ------------------------------------------------------------------ running
 
@@ -344,7 +309,7 @@ class Simulator:
                 res = MotionResult(None, 0, "boot", "error", dur, n, cause, pc, text)
                 break
             pc = b.pc
-            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not b.ram[5]
+            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not self._depth()
             if in_main and seen_main:
                 res = MotionResult(None, 0, "boot", "completed", dur, n)
                 break
@@ -382,7 +347,7 @@ class Simulator:
     def _ends_after_wait(self) -> bool:
         """True if the instruction the program waits to fetch returns into the main loop."""
         b = self.board
-        if b.ram[5] != 1:
+        if self._depth() != 1:
             return False
         cmd, _ = self._instruction_at(b.pc)
         return isinstance(cmd, Return) and b.call_stack[0] < self.layout.motion_base
@@ -410,6 +375,7 @@ class Simulator:
         if slot is None:
             slot = self.layout.motion_at(address)
         self.start_motion(address, vector=not hold)
+        self._stop_before = b.last_stop  # the host's own suspend, not the motion's stop
         t0, i0 = self._t_us, b.instructions_executed
         held = None
         if hold:
@@ -426,7 +392,7 @@ class Simulator:
                 result, t0, round(hold_for * 1e6) if hold else None, round(limit * 1e6)
             )
         finally:
-            if b.ram[0x0350] or b.ram[0x0351]:
+            if read_u16(b.ram, ADDR.BUTTONS):
                 b.set_buttons(0)
 
     def _run(
@@ -444,7 +410,7 @@ class Simulator:
                 kind, pc, text = self._error()
                 return result("error", error=kind, pc=pc, instruction=text)
             pc = b.pc
-            if b.ram[5] == 0 and pc < self.layout.motion_base:
+            if self._depth() == 0 and pc < self.layout.motion_base:
                 return result("completed")
             if elapsed >= limit_us:
                 return result("timeout", pc=pc)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from rcb4hv.client import Robot
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol import sequences as seq
 from rcb4hv.rom import layout
 
 __all__ = ["PAGE_SIZE", "UploadResult", "changed_pages", "upload_image"]
@@ -83,8 +83,8 @@ def upload_image(
     if len(image) != layout.ROM_SIZE:
         raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
     total_pages = layout.ROM_SIZE // PAGE_SIZE
-    word = int.from_bytes(robot.read_ram(0x0000, 2), "little")
-    robot.write_ram(0x0000, (word & ~SYS.ROM_RUN).to_bytes(2, "little"))
+    word = robot.system_word()
+    robot.send_sequence(seq.suspend_program(word))
     read = 0
     if only_changed:
         if known is not None and len(known) != layout.ROM_SIZE:
@@ -112,6 +112,5 @@ def upload_image(
         done += size
     log.info("wrote %d of %d pages (%d bytes)", len(pages), total_pages, total)
     if restart:
-        robot.write_ram(0x0002, bytes(10))
-        robot.write_ram(0x0000, ((word & ~0x0400) | SYS.ROM_RUN).to_bytes(2, "little"))
+        robot.send_sequence(seq.restart_program(word))
     return UploadResult(total_pages, len(pages), total, read)

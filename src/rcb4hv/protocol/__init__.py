@@ -1,7 +1,8 @@
 """The RCB-4HV protocol core: pure, sans-I/O (no serial, socket, threading or time imports).
 
 Frames (:mod:`.frame`), one dataclass per command with ``encode_command`` / ``decode_command``
-(:mod:`.commands`), replies (:mod:`.replies`) and the memory map (:mod:`.memory`).
+(:mod:`.commands`), replies (:mod:`.replies`), the memory map and its struct views
+(:mod:`.memory`) and the host sequences that drive the ROM program (:mod:`.sequences`).
 """
 
 from __future__ import annotations
@@ -64,11 +65,11 @@ from rcb4hv.protocol.frame import (
 )
 from rcb4hv.protocol.memory import (
     ADDR,
-    BAUD_RATES,
     COUNTS_PER_DEGREE,
     FRAME_PERIODS_MS,
     SERVO,
     SYS,
+    SYSTEM_BAUD_RATES,
     Button,
     ServoBlock,
     SystemRegister,
@@ -94,7 +95,6 @@ from rcb4hv.protocol.replies import (
 __all__ = [
     "ADDR",
     "ALWAYS",
-    "BAUD_RATES",
     "COUNTS_PER_DEGREE",
     "FRAME_PERIODS_MS",
     "ICS_COUNT",
@@ -110,6 +110,7 @@ __all__ = [
     "ROM_SIZE",
     "SERVO",
     "SYS",
+    "SYSTEM_BAUD_RATES",
     "Ack",
     "AcknowledgeCheck",
     "Add",

@@ -1,4 +1,8 @@
-"""HeartToHeart4 2.2 ROM images: layout constants, a typed description, builder and parser."""
+"""HeartToHeart4 2.2 ROM images: layout constants, a typed description, builder and parser.
+
+:class:`ImageServo`, :class:`ImageMotion` and :class:`ImagePriorityMotion` are what an image
+holds; ``ServoConfig``, ``Motion`` and ``PriorityMotion`` are their old names here (the
+project file's entries of those names are in :mod:`rcb4hv.hth4`)."""
 
 from __future__ import annotations
 
@@ -7,6 +11,9 @@ from rcb4hv.rom.default import DEFAULT_ICS, default_description, default_image
 from rcb4hv.rom.image import (
     Compare,
     ImageDescription,
+    ImageMotion,
+    ImagePriorityMotion,
+    ImageServo,
     Kri3Config,
     Motion,
     PriorityMotion,
@@ -20,6 +27,9 @@ __all__ = [
     "DEFAULT_ICS",
     "Compare",
     "ImageDescription",
+    "ImageMotion",
+    "ImagePriorityMotion",
+    "ImageServo",
     "Kri3Config",
     "Motion",
     "PriorityMotion",

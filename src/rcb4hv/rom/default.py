@@ -6,7 +6,7 @@
 * left arm IDs 1-3 and left leg IDs 5-9 on SIO1-4 -> ICS 2, 4, 6, 10, 12, 14, 16, 18
 * right arm IDs 1-3 and right leg IDs 5-9 on SIO5-8 -> ICS 3, 5, 7, 11, 13, 15, 17, 19
 
-Motion 1 raises both arms, waits for the pose, brings them back home and returns; motion 2
+ImageMotion 1 raises both arms, waits for the pose, brings them back home and returns; motion 2
 turns the head left and right. The triangle button (vector jump) calls motion 1, the circle
 button motion 2. No startup motion (the stub at 3CB80h).
 
@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import Final
 
 from rcb4hv.protocol import Button, RunConstFrameServo, SystemRegister
-from rcb4hv.rom.image import ImageDescription, Motion, ServoConfig, VectorPackage
+from rcb4hv.rom.image import ImageDescription, ImageMotion, ImageServo, VectorPackage
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
 
 __all__ = ["DEFAULT_ICS", "default_description", "default_image"]
@@ -49,11 +49,12 @@ def default_description(layout: MotionLayout = HTH4_22) -> ImageDescription:
     """The typed description of the default board (button targets in ``layout``)."""
     motion_address = layout.address
     raise_arms = {2: HOME + 2700, 3: HOME - 2700, 4: HOME + 300, 5: HOME - 300}
-    motion1 = Motion(1, [_pose(20, raise_arms), _pose(20, {})])
-    motion2 = Motion(2, [_pose(10, {0: HOME + 1500}), _pose(10, {0: HOME - 1500}), _pose(10, {})])
+    motion1 = ImageMotion(1, [_pose(20, raise_arms), _pose(20, {})])
+    swing = [_pose(10, {0: HOME + 1500}), _pose(10, {0: HOME - 1500}), _pose(10, {})]
+    motion2 = ImageMotion(2, swing)
     return ImageDescription(
         system_register=DEFAULT_SYSTEM_REGISTER,
-        servos=tuple(ServoConfig(ics, home=HOME) for ics in DEFAULT_ICS),
+        servos=tuple(ImageServo(ics, home=HOME) for ics in DEFAULT_ICS),
         vector_packages=(
             VectorPackage.button(Button.TRIANGLE, motion_address(1)),
             VectorPackage.button(Button.CIRCLE, motion_address(2)),

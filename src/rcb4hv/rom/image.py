@@ -19,7 +19,6 @@ from typing import Final, Literal
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol import (
     ALWAYS,
-    Button,
     Call,
     Command,
     Condition,
@@ -37,16 +36,29 @@ from rcb4hv.protocol import (
     frame_at,
 )
 from rcb4hv.protocol.commands import POSITION_FREE
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol.memory import (
+    AD_CHANNELS,
+    ADDR,
+    NO_BLOCK,
+    SERVO,
+    SYS,
+    VEC,
+    ServoBlock,
+    VectorPackage,
+    pack_alloc,
+    read_alloc,
+    read_u16,
+    u16_bytes,
+)
 from rcb4hv.rom import layout as L
 
 __all__ = [
     "Compare",
     "ImageDescription",
+    "ImageMotion",
+    "ImagePriorityMotion",
+    "ImageServo",
     "Kri3Config",
-    "Motion",
-    "PriorityMotion",
-    "ServoConfig",
     "VectorPackage",
     "build_image",
     "parse_image",
@@ -55,7 +67,14 @@ __all__ = [
 Compare = Literal["eq", "ne", "lt", "le", "gt", "ge"]
 
 HOLD: Final = 0x7FFF
+KRI3_ICS: Final = 35
+"""The allocation-table slot of the KRI-3 receiver block."""
+VEC_SIZE: Final = VEC.SIZE
 
+
+def _vector_ram(i: int) -> int:
+    """RAM address of vector package ``i`` in HeartToHeart4's table."""
+    return ADDR.VECTOR_PACKAGES + VEC.SIZE * i
 
 
 def _check(name: str, value: int, lo: int, hi: int) -> None:
@@ -64,7 +83,7 @@ def _check(name: str, value: int, lo: int, hi: int) -> None:
 
 
 @dataclass(frozen=True, slots=True)
-class ServoConfig:
+class ImageServo:
     """One servo: its ICS number, the ID stored in its block, trim (base), home and mixing."""
 
     ics: int
@@ -88,29 +107,36 @@ class ServoConfig:
         for n in ("mix1_method", "mix2_method"):
             _check(n, getattr(self, n), 0, 0xFF)
 
+    def servo_block(self) -> ServoBlock:
+        """The servo block as the image holds it (output free until boot homes it)."""
+        return ServoBlock.configured(
+            self.servo_id or 0,
+            self.trim,
+            (self.mix1_source, self.mix1_method),
+            (self.mix2_source, self.mix2_method),
+        )
+
     def block(self) -> bytes:
         """The 20-byte servo block image (output free until the boot sequence homes it)."""
-        b = bytearray(20)
-        b[0] = 0
-        b[1] = self.servo_id or 0
-        b[2:4] = (self.trim & 0xFFFF).to_bytes(2, "little")
-        b[6:8] = POSITION_FREE.to_bytes(2, "little")
-        b[9:11] = POSITION_FREE.to_bytes(2, "little")
-        b[14:16] = self.mix1_source.to_bytes(2, "little")
-        b[16] = self.mix1_method
-        b[17:19] = self.mix2_source.to_bytes(2, "little")
-        b[19] = self.mix2_method
-        return bytes(b)
+        return self.servo_block().to_bytes()
+
+    @classmethod
+    def from_block(cls, ics: int, block: ServoBlock, home: int = 7500) -> ImageServo:
+        """The configuration of ``ics`` read back from its servo block image."""
+        return cls(
+            ics=ics,
+            servo_id=block.ics_id,
+            trim=block.base,
+            home=home,
+            mix1_source=block.mix1_source,
+            mix1_method=block.mix1_method,
+            mix2_source=block.mix2_source,
+            mix2_method=block.mix2_method,
+        )
 
 
 def _empty_block(ics: int) -> bytes:
-    b = bytearray(20)
-    b[1] = ics // 2
-    b[6:8] = POSITION_FREE.to_bytes(2, "little")
-    b[9:11] = POSITION_FREE.to_bytes(2, "little")
-    b[14:16] = b"\xff\xff"
-    b[17:19] = b"\xff\xff"
-    return bytes(b)
+    return ServoBlock.configured(ics // 2).to_bytes()
 
 
 @dataclass(frozen=True, slots=True)
@@ -122,74 +148,8 @@ class Kri3Config:
     def __post_init__(self) -> None:
         if not isinstance(self.block, bytes):
             object.__setattr__(self, "block", bytes(self.block))
-        if len(self.block) != L.KRI3_BLOCK_SIZE:
+        if len(self.block) != ADDR.KRI3_BLOCK_SIZE:
             raise ValueError("the KRI-3 block is 11 bytes")
-
-
-@dataclass(frozen=True, slots=True)
-class VectorPackage:
-    """One 8-byte vector-jump package (spec 11.3); EOF is set by the builder on the last."""
-
-    destination: int
-    source: int
-    target: int
-    compare_z: bool = True
-    z: bool = True
-    compare_c: bool = False
-    c: bool = False
-    literal: bool = True
-    word: bool = True
-    jump: bool = False
-
-    def __post_init__(self) -> None:
-        _check("destination", self.destination, 0, 0xFFFF)
-        _check("source", self.source, 0, 0xFFFF)
-        _check("target", self.target, 0, 0xFFFFFF)  # 24 bits, as on the wire
-
-    @classmethod
-    def button(cls, buttons: int, target: int, *, jump: bool = False) -> VectorPackage:
-        """Branch to ``target`` when the button word equals ``buttons`` (e.g. Button.CIRCLE)."""
-        _check("buttons", int(buttons), 0, 0xFFFF)
-        raw = int.from_bytes(Button(int(buttons) & 0x1F7F).to_ram(), "little")
-        return cls(L.RAM_BUTTONS, raw, target, jump=jump)
-
-    def cond_byte(self, last: bool) -> int:
-        return (
-            int(self.z)
-            | int(self.c) << 1
-            | int(self.compare_z) << 2
-            | int(self.compare_c) << 3
-            | int(self.literal) << 4
-            | int(self.word) << 5
-            | int(self.jump) << 6
-            | int(last) << 7
-        )
-
-    def to_bytes(self, last: bool) -> bytes:
-        t = self.target
-        return (
-            bytes((self.cond_byte(last),))
-            + self.destination.to_bytes(2, "little")
-            + self.source.to_bytes(2, "little")
-            + bytes((t & 0xFF, (t >> 8) & 0xFF, t >> 16))
-        )
-
-    @classmethod
-    def from_bytes(cls, data: bytes) -> tuple[VectorPackage, bool]:
-        c = data[0]
-        pkg = cls(
-            destination=data[1] | data[2] << 8,
-            source=data[3] | data[4] << 8,
-            target=data[5] | data[6] << 8 | data[7] << 16,
-            z=bool(c & 1),
-            c=bool(c & 2),
-            compare_z=bool(c & 4),
-            compare_c=bool(c & 8),
-            literal=bool(c & 0x10),
-            word=bool(c & 0x20),
-            jump=bool(c & 0x40),
-        )
-        return pkg, bool(c & 0x80)
 
 
 _COND: Final[dict[str, tuple[Condition, int]]] = {
@@ -201,7 +161,7 @@ _COND: Final[dict[str, tuple[Condition, int]]] = {
 
 
 @dataclass(frozen=True, slots=True)
-class PriorityMotion:
+class ImagePriorityMotion:
     """A main-loop check: CALL ``target`` when RAM ``source`` compares to ``value``.
 
     ``le`` / ``gt`` are normalised to ``lt`` / ``ge`` with ``value + 1`` (the board only
@@ -215,7 +175,7 @@ class PriorityMotion:
     size: int = 2
 
     def __post_init__(self) -> None:
-        _check("source", self.source, 0, 0x048F)
+        _check("source", self.source, 0, ADDR.RAM_SIZE - 1)
         _check("size", self.size, 1, 2)
         _check("value", self.value, 0, (1 << (8 * self.size)) - 1)
         _check("target", self.target, 0, 0xFFFFFF)  # 24 bits, as on the wire
@@ -229,7 +189,7 @@ class PriorityMotion:
 
 
 @dataclass(frozen=True, slots=True)
-class Motion:
+class ImageMotion:
     """A motion: command frames laid out from the start of slot ``slot`` (1-120).
 
     Jump targets inside a motion are absolute ROM addresses (use :meth:`address`). A RETURN is
@@ -269,15 +229,15 @@ class ImageDescription:
     pio_direction: int = 0x03FF
     pio_data: int = 0
     ad_references: tuple[int, ...] = (0,) * 11
-    servos: tuple[ServoConfig, ...] = ()
+    servos: tuple[ImageServo, ...] = ()
     kri3: Kri3Config | None = field(default_factory=Kri3Config)
     vector_packages: tuple[VectorPackage, ...] = ()
     title: str = ""
     startup_motion: int | None = None
     startup_wait: int = L.TIMER_WAIT_COUNT
     home_speed: int = 10
-    priority_motions: tuple[PriorityMotion | None, ...] = ()
-    motions: tuple[Motion, ...] = ()
+    priority_motions: tuple[ImagePriorityMotion | None, ...] = ()
+    motions: tuple[ImageMotion, ...] = ()
 
     def __post_init__(self) -> None:
         _check("system register", self.system_register, 0, 0xFFFF)
@@ -314,7 +274,7 @@ class ImageDescription:
             raise ValueError("a motion slot is used twice")
         object.__setattr__(self, "motions", tuple(motions))
 
-    def servo(self, ics: int) -> ServoConfig | None:
+    def servo(self, ics: int) -> ImageServo | None:
         for s in self.servos:
             if s.ics == ics:
                 return s
@@ -328,8 +288,9 @@ class ImageDescription:
 # ----------------------------------------------------------------------------- building
 
 
-def _lit(address: int, value: int, size: int = 2) -> bytes:
-    return encode_command(Move(Ram(address), Data(value.to_bytes(size, "little"))))
+def _word(address: int, value: int) -> bytes:
+    """A literal MOVE of a 16-bit word to RAM ``address``."""
+    return encode_command(Move(Ram(address), Data(u16_bytes(value))))
 
 
 def _copy(rom: int, ram: int, size: int) -> bytes:
@@ -340,7 +301,7 @@ def _servo_frame(speed: int, positions: dict[int, int]) -> bytes:
     return encode_command(RunConstFrameServo(speed, positions))
 
 
-def _priority_bytes(pm: PriorityMotion | None, slot_addr: int, sysreg: int) -> bytes:
+def _priority_bytes(pm: ImagePriorityMotion | None, slot_addr: int, sysreg: int) -> bytes:
     if pm is None:
         jump = encode_command(Jump(slot_addr + L.PRIORITY_SIZE, ALWAYS))
         return jump + bytes([L.ERASED]) * (L.PRIORITY_SIZE - len(jump))
@@ -348,7 +309,7 @@ def _priority_bytes(pm: PriorityMotion | None, slot_addr: int, sysreg: int) -> b
     out = (
         encode_command(Sub(Ram(pm.source), Data(pm.value.to_bytes(pm.size, "little")), None, True))
         + encode_command(Call(pm.target, cond))
-        + _lit(0, sysreg)
+        + _word(ADDR.SYSTEM, sysreg)
     )
     assert len(out) == L.PRIORITY_SIZE + (pm.size - 2)
     return out.ljust(L.PRIORITY_SIZE, bytes([L.ERASED]))
@@ -362,30 +323,31 @@ def build_image(desc: ImageDescription) -> bytes:
         rom[addr : addr + len(data)] = data
 
     sysreg = desc.system_register
-    put(L.CONFIG_WRITE, _lit(0x0000, sysreg & ~SYS.ICS_OUTPUT))
-    put(L.PIO_DIRECTION_WRITE, _lit(0x0038, desc.pio_direction))
-    put(L.PIO_DATA_WRITE, _lit(0x003A, desc.pio_data))
-    put(L.AD_REFERENCE_COPY, _copy(L.AD_REFERENCE_IMAGE, 0x000C, 22))
+    put(L.CONFIG_WRITE, _word(ADDR.SYSTEM, sysreg & ~SYS.ICS_OUTPUT))
+    put(L.PIO_DIRECTION_WRITE, _word(ADDR.PIO_DIRECTION, desc.pio_direction))
+    put(L.PIO_DATA_WRITE, _word(ADDR.PIO_DATA, desc.pio_data))
+    put(L.AD_REFERENCE_COPY, _copy(L.AD_REFERENCE_IMAGE, ADDR.AD_REFERENCE, 2 * ADDR.AD_COUNT))
+    size = SERVO.SIZE
     for n in range(L.SERVO_BLOCK_COPY_COUNT):
         put(
             L.SERVO_BLOCK_COPIES + 11 * n,
-            _copy(L.SERVO_BLOCK_IMAGES + 20 * n, L.RAM_SERVO_BLOCKS + 20 * n, 20),
+            _copy(L.SERVO_BLOCK_IMAGES + size * n, ADDR.servo_block(n), size),
         )
-    put(L.ALLOC_COPY, _copy(L.ALLOC_IMAGE, L.RAM_ALLOC, 72))
-    put(L.KRI3_ALLOC_COPY, _copy(L.KRI3_ALLOC_IMAGE, L.RAM_KRI3_ALLOC, 2))
-    put(L.KRI3_BLOCK_COPY, _copy(L.KRI3_BLOCK_IMAGE, L.RAM_KRI3_BLOCK, L.KRI3_BLOCK_SIZE))
+    put(L.ALLOC_COPY, _copy(L.ALLOC_IMAGE, ADDR.ICS_ALLOC, 2 * ADDR.ICS_ALLOC_COUNT))
+    put(L.KRI3_ALLOC_COPY, _copy(L.KRI3_ALLOC_IMAGE, ADDR.KRI3_ALLOC, 2))
+    put(L.KRI3_BLOCK_COPY, _copy(L.KRI3_BLOCK_IMAGE, ADDR.KRI3_BLOCK, ADDR.KRI3_BLOCK_SIZE))
     for i in range(L.VECTOR_PACKAGE_COUNT):
         put(
             L.VECTOR_PACKAGE_COPIES + 11 * i,
-            _copy(L.VECTOR_PACKAGE_IMAGES + 8 * i, L.RAM_VECTOR_PACKAGES + 8 * i, 8),
+            _copy(L.VECTOR_PACKAGE_IMAGES + VEC_SIZE * i, _vector_ram(i), VEC_SIZE),
         )
-    put(L.VECTOR_ADDRESS_COPY, _copy(L.VECTOR_ADDRESS_IMAGE, L.RAM_VECTOR_ADDRESS, 2))
-    put(L.SYSTEM_REGISTER_COPY, _copy(L.SYSTEM_REGISTER_IMAGE, 0x0000, 2))
+    put(L.VECTOR_ADDRESS_COPY, _copy(L.VECTOR_ADDRESS_IMAGE, ADDR.VECTOR_TABLE, 2))
+    put(L.SYSTEM_REGISTER_COPY, _copy(L.SYSTEM_REGISTER_IMAGE, ADDR.SYSTEM, 2))
     all_ics = range(L.SERVO_BLOCK_COPY_COUNT)
     put(L.ALL_FREE, _servo_frame(1, dict.fromkeys(all_ics, POSITION_FREE)))
-    t0 = 0x003C
+    t0 = ADDR.timer(0)
     wait = (
-        _lit(t0, desc.startup_wait)
+        _word(t0, desc.startup_wait)
         + encode_command(Sub(Ram(t0), Data(b"\x00\x80"), None, True))
         + encode_command(Jump(L.TIMER_WAIT + 9, Condition.if_not_zero()))
     )
@@ -395,7 +357,7 @@ def build_image(desc: ImageDescription) -> bytes:
     put(L.ALL_HOME, _servo_frame(desc.home_speed, homes))
     startup = L.STARTUP_STUB if desc.startup_motion is None else desc.startup_motion
     put(L.STARTUP_CALL, encode_command(Call(startup, ALWAYS)))
-    put(L.MAIN_LOOP, _lit(0x0000, sysreg))
+    put(L.MAIN_LOOP, _word(ADDR.SYSTEM, sysreg))
     put(L.PIO_SWITCHES, encode_command(Jump(L.PRIORITY_CHECKS, ALWAYS)))
     for i in range(L.PRIORITY_COUNT):
         pm = desc.priority_motions[i] if i < len(desc.priority_motions) else None
@@ -405,24 +367,25 @@ def build_image(desc: ImageDescription) -> bytes:
         put(L.PRIORITY_IMAGES + L.PRIORITY_SIZE * i, code)
     put(L.MAIN_LOOP_JUMP, encode_command(Jump(L.MAIN_LOOP, ALWAYS)))
 
-    put(L.SYSTEM_REGISTER_IMAGE, sysreg.to_bytes(2, "little"))
-    alloc = bytearray(b"\xff" * 72)
+    put(L.SYSTEM_REGISTER_IMAGE, u16_bytes(sysreg))
+    alloc: list[int | None] = [None] * ADDR.ICS_ALLOC_COUNT
     for s in desc.servos:
-        alloc[2 * s.ics : 2 * s.ics + 2] = (L.RAM_SERVO_BLOCKS + 20 * s.ics).to_bytes(2, "little")
-    kri_alloc = L.RAM_KRI3_BLOCK if desc.kri3 is not None else 0xFFFF
-    alloc[70:72] = kri_alloc.to_bytes(2, "little")
-    put(L.ALLOC_IMAGE, bytes(alloc))
+        alloc[s.ics] = ADDR.servo_block(s.ics)
+    kri_alloc = ADDR.KRI3_BLOCK if desc.kri3 is not None else NO_BLOCK
+    alloc[KRI3_ICS] = kri_alloc
+    put(L.ALLOC_IMAGE, pack_alloc(alloc))
     for n in range(L.SERVO_BLOCK_IMAGE_COUNT):
         s = desc.servo(n)
-        put(L.SERVO_BLOCK_IMAGES + 20 * n, s.block() if s else _empty_block(n))
-    put(L.AD_REFERENCE_IMAGE, b"".join(v.to_bytes(2, "little") for v in desc.ad_references))
-    put(L.KRI3_ALLOC_IMAGE, kri_alloc.to_bytes(2, "little"))
-    put(L.KRI3_BLOCK_IMAGE, desc.kri3.block if desc.kri3 is not None else bytes(11))
-    vaddr = L.RAM_VECTOR_PACKAGES if desc.vector_packages else 0xFFFF
-    put(L.VECTOR_ADDRESS_IMAGE, vaddr.to_bytes(2, "little"))
+        put(L.SERVO_BLOCK_IMAGES + size * n, s.block() if s else _empty_block(n))
+    put(L.AD_REFERENCE_IMAGE, b"".join(u16_bytes(v) for v in desc.ad_references))
+    put(L.KRI3_ALLOC_IMAGE, u16_bytes(kri_alloc))
+    kri3 = desc.kri3.block if desc.kri3 is not None else bytes(ADDR.KRI3_BLOCK_SIZE)
+    put(L.KRI3_BLOCK_IMAGE, kri3)
+    vaddr = ADDR.VECTOR_PACKAGES if desc.vector_packages else NO_BLOCK
+    put(L.VECTOR_ADDRESS_IMAGE, u16_bytes(vaddr))
     pk = desc.vector_packages
     for i, p in enumerate(pk):
-        put(L.VECTOR_PACKAGE_IMAGES + 8 * i, p.to_bytes(last=i == len(pk) - 1))
+        p.pack(rom, L.VECTOR_PACKAGE_IMAGES + VEC_SIZE * i, last=i == len(pk) - 1)
     put(L.TITLE, desc.title.encode("cp932").ljust(L.TITLE_SIZE, b"\x00"))
     for m in desc.motions:
         put(m.address, b"".join(m.frames))
@@ -440,50 +403,29 @@ def _literal_of(rom: bytes, addr: int) -> int:
     return int.from_bytes(cmd.src.data, "little")
 
 
-def _w(rom: bytes, addr: int) -> int:
-    return rom[addr] | rom[addr + 1] << 8
-
-
-def _s16(v: int) -> int:
-    return v - 0x10000 if v & 0x8000 else v
-
-
 def parse_image(rom: bytes | bytearray) -> ImageDescription:
     """Read a HeartToHeart4 2.2 image back into a description; ProtocolError if it is not one."""
     rom = bytes(rom)
     if len(rom) != L.ROM_SIZE:
         raise ValueError(f"a ROM image is {L.ROM_SIZE} bytes, not {len(rom)}")
-    sysreg = _w(rom, L.SYSTEM_REGISTER_IMAGE)
+    sysreg = read_u16(rom, L.SYSTEM_REGISTER_IMAGE)
     home_cmd = decode_command(frame_at(rom, L.ALL_HOME))
     if not isinstance(home_cmd, RunConstFrameServo):
         raise ProtocolError("no all-servos-home frame at 003F5h")
     homes = dict(home_cmd.positions)
-    servos: list[ServoConfig] = []
-    for n in range(35):
-        a = _w(rom, L.ALLOC_IMAGE + 2 * n)
-        if a == 0xFFFF:
+    servos: list[ImageServo] = []
+    for n in range(L.SERVO_BLOCK_COPY_COUNT):
+        if read_alloc(rom, n, at=L.ALLOC_IMAGE) == NO_BLOCK:
             continue
-        b = rom[L.SERVO_BLOCK_IMAGES + 20 * n : L.SERVO_BLOCK_IMAGES + 20 * n + 20]
-        servos.append(
-            ServoConfig(
-                ics=n,
-                servo_id=b[1],
-                trim=_s16(b[2] | b[3] << 8),
-                home=homes.get(n, 7500),
-                mix1_source=b[14] | b[15] << 8,
-                mix1_method=b[16],
-                mix2_source=b[17] | b[18] << 8,
-                mix2_method=b[19],
-            )
-        )
+        block = ServoBlock.unpack(rom, L.SERVO_BLOCK_IMAGES + SERVO.SIZE * n)
+        servos.append(ImageServo.from_block(n, block, homes.get(n, 7500)))
     kri3 = None
-    if _w(rom, L.ALLOC_IMAGE + 70) != 0xFFFF:
-        kri3 = Kri3Config(rom[L.KRI3_BLOCK_IMAGE : L.KRI3_BLOCK_IMAGE + L.KRI3_BLOCK_SIZE])
+    if read_alloc(rom, KRI3_ICS, at=L.ALLOC_IMAGE) != NO_BLOCK:
+        kri3 = Kri3Config(rom[L.KRI3_BLOCK_IMAGE : L.KRI3_BLOCK_IMAGE + ADDR.KRI3_BLOCK_SIZE])
     packages: list[VectorPackage] = []
-    if _w(rom, L.VECTOR_ADDRESS_IMAGE) != 0xFFFF:
+    if read_u16(rom, L.VECTOR_ADDRESS_IMAGE) != NO_BLOCK:
         for i in range(L.VECTOR_PACKAGE_COUNT):
-            a = L.VECTOR_PACKAGE_IMAGES + 8 * i
-            pkg, last = VectorPackage.from_bytes(rom[a : a + 8])
+            pkg, last = VectorPackage.unpack(rom, L.VECTOR_PACKAGE_IMAGES + VEC_SIZE * i)
             packages.append(pkg)
             if last:
                 break
@@ -492,7 +434,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
     if not isinstance(start, Call):
         raise ProtocolError("no startup CALL at 00444h")
     startup = None if start.address == L.STARTUP_STUB else start.address
-    priority: list[PriorityMotion | None] = []
+    priority: list[ImagePriorityMotion | None] = []
     for i in range(L.PRIORITY_COUNT):
         slot = L.PRIORITY_CHECKS + L.PRIORITY_SIZE * i
         first = decode_command(frame_at(rom, slot))
@@ -506,7 +448,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
             raise ProtocolError(f"unrecognised priority comparison at {slot:05X}h")
         compare = next(k for k, (c, _) in _COND.items() if c == call.condition)
         priority.append(
-            PriorityMotion(
+            ImagePriorityMotion(
                 first.dst.address,
                 compare,  # type: ignore[arg-type]
                 int.from_bytes(first.src.data, "little"),
@@ -514,7 +456,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
                 first.nbytes,
             )
         )
-    motions: list[Motion] = []
+    motions: list[ImageMotion] = []
     for n in range(1, L.MOTION_COUNT + 1):
         base = L.motion_address(n)
         end = base + L.MOTION_SIZE
@@ -530,8 +472,8 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
             frames.append(f)
             pc += len(f)
         if frames:
-            motions.append(Motion(n, frames))
-    ad = tuple(_w(rom, L.AD_REFERENCE_IMAGE + 2 * i) for i in range(11))
+            motions.append(ImageMotion(n, frames))
+    ad = AD_CHANNELS.unpack_from(rom, L.AD_REFERENCE_IMAGE)
     return ImageDescription(
         system_register=sysreg,
         pio_direction=_literal_of(rom, L.PIO_DIRECTION_WRITE),
@@ -547,3 +489,10 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
         priority_motions=tuple(priority),
         motions=tuple(motions),
     )
+
+
+# Old names, kept importable. rcb4hv.hth4 has its own ServoConfig / Motion / PriorityMotion
+# (the project file's entries); these are what a ROM image holds.
+ServoConfig = ImageServo
+Motion = ImageMotion
+PriorityMotion = ImagePriorityMotion

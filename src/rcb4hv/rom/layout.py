@@ -21,6 +21,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
+from rcb4hv.protocol.memory import ADDR
+
 ROM_SIZE: Final = 0x40000
 ERASED: Final = 0xFF
 
@@ -57,7 +59,7 @@ SERVO_BLOCK_IMAGE_COUNT: Final = 36
 AD_REFERENCE_IMAGE: Final = 0x008F6
 KRI3_ALLOC_IMAGE: Final = 0x0090C
 KRI3_BLOCK_IMAGE: Final = 0x0090E
-KRI3_BLOCK_SIZE: Final = 11
+KRI3_BLOCK_SIZE: Final = ADDR.KRI3_BLOCK_SIZE
 VECTOR_ADDRESS_IMAGE: Final = 0x00919
 VECTOR_PACKAGE_IMAGES: Final = 0x0091B
 TITLE: Final = 0x00A1B
@@ -137,15 +139,15 @@ MOTION_COUNT: Final = HTH4_22.motion_count
 STARTUP_STUB: Final = 0x3CB80
 assert HTH4_22.startup_stub == STARTUP_STUB
 
-# RAM targets of the copies (spec 10.1)
-RAM_SERVO_BLOCKS: Final = 0x0090
-SERVO_BLOCK_SIZE: Final = 20
-RAM_ALLOC: Final = 0x0044
-RAM_KRI3_ALLOC: Final = 0x008A
-RAM_KRI3_BLOCK: Final = 0x034C
-RAM_VECTOR_PACKAGES: Final = 0x0357
-RAM_VECTOR_ADDRESS: Final = 0x008C
-RAM_BUTTONS: Final = 0x0350
+# RAM targets of the copies: old names of rcb4hv.protocol.memory.ADDR entries
+RAM_SERVO_BLOCKS: Final = ADDR.SERVO_BLOCKS
+SERVO_BLOCK_SIZE: Final = ADDR.SERVO_BLOCK_SIZE
+RAM_ALLOC: Final = ADDR.ICS_ALLOC
+RAM_KRI3_ALLOC: Final = ADDR.KRI3_ALLOC
+RAM_KRI3_BLOCK: Final = ADDR.KRI3_BLOCK
+RAM_VECTOR_PACKAGES: Final = ADDR.VECTOR_PACKAGES
+RAM_VECTOR_ADDRESS: Final = ADDR.VECTOR_TABLE
+RAM_BUTTONS: Final = ADDR.BUTTONS
 TIMER_WAIT_COUNT: Final = 0x0010
 
 assert MAIN_LOOP_JUMP == PRIORITY_CHECKS + PRIORITY_COUNT * PRIORITY_SIZE

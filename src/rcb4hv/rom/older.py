@@ -34,9 +34,21 @@ from dataclasses import replace
 from typing import Final
 
 from rcb4hv.errors import LayoutError, ProtocolError
-from rcb4hv.protocol import ALWAYS, Call, Jump, Return, decode_command, encode_command, frame_at
+from rcb4hv.protocol import (
+    ALWAYS,
+    Call,
+    Data,
+    Jump,
+    Move,
+    Ram,
+    Return,
+    decode_command,
+    encode_command,
+    frame_at,
+)
+from rcb4hv.protocol.memory import ADDR
 from rcb4hv.rom import layout as L
-from rcb4hv.rom.image import ImageDescription, _lit, _priority_bytes, build_image, parse_image
+from rcb4hv.rom.image import ImageDescription, _priority_bytes, _word, build_image, parse_image
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 
 __all__ = [
@@ -75,7 +87,7 @@ def _check_fits(desc: ImageDescription, lay: MotionLayout) -> None:
 
 
 def build_image_for(desc: ImageDescription, lay: MotionLayout = HTH4_22) -> bytes:
-    """The 256 KB image of ``desc`` in layout ``lay``: motion ``Motion(n)`` goes to
+    """The 256 KB image of ``desc`` in layout ``lay``: motion ``ImageMotion(n)`` goes to
     ``lay.address(n)``; startup, priority and vector targets are taken as given (absolute)."""
     if not lay.older:
         if lay.motion_base != HTH4_22.motion_base or lay.motion_stride != HTH4_22.motion_stride:
@@ -93,7 +105,7 @@ def build_image_for(desc: ImageDescription, lay: MotionLayout = HTH4_22) -> byte
     put(L.STARTUP_STUB, _FF * 3)
     put(BOOT_JUMP, encode_command(Jump(BOOT_TAIL, ALWAYS)))
     sysreg = desc.system_register
-    put(MAIN_LOOP, _lit(0x0000, sysreg))
+    put(MAIN_LOOP, _word(ADDR.SYSTEM, sysreg))
     put(PIO_SWITCHES, encode_command(Jump(PRIORITY_CHECKS, ALWAYS)))
     for i in range(L.PRIORITY_COUNT):
         pm = desc.priority_motions[i] if i < len(desc.priority_motions) else None
@@ -128,7 +140,7 @@ def _slot_bytes(rom: bytes, start: int, size: int) -> bytes:
 
 
 def parse_image_for(rom: bytes | bytearray, lay: MotionLayout = HTH4_22) -> ImageDescription:
-    """Read an image in layout ``lay`` back into a description (``Motion(n)`` = slot n).
+    """Read an image in layout ``lay`` back into a description (``ImageMotion(n)`` = slot n).
 
     ProtocolError when the image does not have that layout's boot region."""
     rom = bytes(rom)
@@ -160,7 +172,10 @@ def parse_image_for(rom: bytes | bytearray, lay: MotionLayout = HTH4_22) -> Imag
 
 def _is_sysreg_write(frame: bytes) -> bool:
     """A 9-byte literal MOVE to RAM 0000h (the first instruction of every main loop)."""
-    return len(frame) == 9 and frame[1:6] == b"\x00\x02\x00\x00\x00"
+    if len(frame) != 9:
+        return False
+    cmd = decode_command(frame)
+    return isinstance(cmd, Move) and cmd.dst == Ram(ADDR.SYSTEM) and isinstance(cmd.src, Data)
 
 
 def main_loop_layout(at_03fd: bytes, at_044b: bytes) -> MotionLayout | None:

@@ -1,4 +1,5 @@
-"""The RCB-4HV memory map (spec section 10), the system register, servo blocks and helpers."""
+"""Addresses of the RCB-4HV memory map (spec section 10), the system register, buttons and
+unit conversions. The struct views over these addresses are in :mod:`.views`."""
 
 from __future__ import annotations
 
@@ -9,12 +10,12 @@ from typing import Final
 
 __all__ = [
     "ADDR",
-    "BAUD_RATES",
+    "CENTER",
     "COUNTS_PER_DEGREE",
     "FRAME_PERIODS_MS",
     "SYS",
+    "SYSTEM_BAUD_RATES",
     "Button",
-    "ServoBlock",
     "SystemRegister",
     "bitmap_from_ics",
     "degrees_to_position",
@@ -32,12 +33,15 @@ class ADDR:
     PC: Final = 0x0002
     CALL_DEPTH: Final = 0x0005
     UPDATE_FLAGS: Final = 0x0007
+    UPDATE_FLAGS_SIZE: Final = 5
     AD_REFERENCE: Final = 0x000C
     AD_VALUES: Final = 0x0022
     PIO_DIRECTION: Final = 0x0038
     PIO_DATA: Final = 0x003A
     TIMERS: Final = (0x003C, 0x003E, 0x0040, 0x0042)
     ICS_ALLOC: Final = 0x0044
+    ICS_ALLOC_COUNT: Final = 36
+    KRI3_ALLOC: Final = 0x008A  # alloc[35], the remote receiver's slot
     VECTOR_TABLE: Final = 0x008C
     USER: Final = 0x0090
     RAM_SIZE: Final = 0x0490
@@ -45,20 +49,31 @@ class ADDR:
     SERVO_BLOCKS: Final = 0x0090
     SERVO_BLOCK_SIZE: Final = 20
     KRI3_BLOCK: Final = 0x034C
+    KRI3_BLOCK_SIZE: Final = 11  # up to and including the checksum at 0356h
     BUTTONS: Final = 0x0350
     PA: Final = (0x0352, 0x0353, 0x0354, 0x0355)
     KRI3_CHECKSUM: Final = 0x0356
     VECTOR_PACKAGES: Final = 0x0357
+    VECTOR_PACKAGE_COUNT: Final = 32
     COUNTERS: Final = 0x0457
+    COUNTER_COUNT: Final = 11
     USER_VARIABLES: Final = 0x0462
     USER_VARIABLE_COUNT: Final = 20
     TEMPORARIES: Final = (0x048A, 0x048C)
+    AD_COUNT: Final = 11
+
+    @staticmethod
+    def servo_block(ics: int) -> int:
+        """Where HeartToHeart4 puts the servo block of ICS ``ics`` (0-35): 0090h + 20 ics."""
+        if not 0 <= ics <= 35:
+            raise ValueError("ICS numbers are 0-35")
+        return 0x0090 + 20 * ics
 
     @staticmethod
     def timer(n: int) -> int:
         if not 0 <= n <= 3:
             raise ValueError("timers are 0-3")
-        return 0x003C + 2 * n
+        return ADDR.TIMERS[n]
 
     @staticmethod
     def alloc(ics: int) -> int:
@@ -86,7 +101,9 @@ class ADDR:
 
 
 FRAME_PERIODS_MS: Final = (10, 15, 20, 25)
-BAUD_RATES: Final = (115200, 625000, 1250000, 115200)
+SYSTEM_BAUD_RATES: Final = (115200, 625000, 1250000, 115200)
+"""COM / ICS baud rate by the 2-bit code of system register bits 7-6 / 14-13 (spec 10.2).
+(:data:`rcb4hv.transport.BAUD_RATES` is the other list: the rates a host port can use.)"""
 COUNTS_PER_DEGREE: Final = 8000 / 270
 CENTER: Final = 7500
 
@@ -202,11 +219,11 @@ class SystemRegister:
 
     @property
     def baud_rate(self) -> int:
-        return BAUD_RATES[self.baud_code]
+        return SYSTEM_BAUD_RATES[self.baud_code]
 
     @property
     def ics_baud_rate(self) -> int:
-        return BAUD_RATES[self.ics_baud_code]
+        return SYSTEM_BAUD_RATES[self.ics_baud_code]
 
     @staticmethod
     def frame_code_for(period_ms: int) -> int:
@@ -216,9 +233,9 @@ class SystemRegister:
 
     @staticmethod
     def baud_code_for(baud: int) -> int:
-        if baud not in BAUD_RATES:
-            raise ValueError(f"baud must be one of {sorted(set(BAUD_RATES))}")
-        return BAUD_RATES.index(baud)
+        if baud not in SYSTEM_BAUD_RATES:
+            raise ValueError(f"baud must be one of {sorted(set(SYSTEM_BAUD_RATES))}")
+        return SYSTEM_BAUD_RATES.index(baud)
 
     def describe(self) -> dict[str, object]:
         """A JSON-friendly view."""
@@ -236,89 +253,6 @@ class SystemRegister:
             "ics_baud": self.ics_baud_rate,
             "led": self.led,
         }
-
-
-def _s16(v: int) -> int:
-    return v - 0x10000 if v & 0x8000 else v
-
-
-@dataclass(frozen=True, slots=True)
-class ServoBlock:
-    """The 20-byte servo block HeartToHeart4 puts at 0090h + 20n (spec section 9)."""
-
-    type: int = 0
-    ics_id: int = 0
-    base: int = 0
-    measured: int = 0
-    output: int = 0x8000
-    speed: int = 0
-    end: int = 0
-    remaining: int = 0
-    width: int = 0
-    mix1_source: int = 0xFFFF
-    mix1_method: int = 0
-    mix2_source: int = 0xFFFF
-    mix2_method: int = 0
-
-    SIZE = 20
-
-    @classmethod
-    def from_bytes(cls, data: bytes) -> ServoBlock:
-        if len(data) < 20:
-            raise ValueError("a servo block is 20 bytes")
-
-        def w(i: int) -> int:
-            return data[i] | data[i + 1] << 8
-
-        return cls(
-            type=data[0],
-            ics_id=data[1],
-            base=_s16(w(2)),
-            measured=w(4),
-            output=w(6),
-            speed=data[8],
-            end=w(9),
-            remaining=data[11],
-            width=_s16(w(12)),
-            mix1_source=w(14),
-            mix1_method=data[16],
-            mix2_source=w(17),
-            mix2_method=data[19],
-        )
-
-    def to_bytes(self) -> bytes:
-        out = bytearray(20)
-        out[0] = self.type & 0xFF
-        out[1] = self.ics_id & 0xFF
-        out[2:4] = (self.base & 0xFFFF).to_bytes(2, "little")
-        out[4:6] = (self.measured & 0xFFFF).to_bytes(2, "little")
-        out[6:8] = (self.output & 0xFFFF).to_bytes(2, "little")
-        out[8] = self.speed & 0xFF
-        out[9:11] = (self.end & 0xFFFF).to_bytes(2, "little")
-        out[11] = self.remaining & 0xFF
-        out[12:14] = (self.width & 0xFFFF).to_bytes(2, "little")
-        out[14:16] = (self.mix1_source & 0xFFFF).to_bytes(2, "little")
-        out[16] = self.mix1_method & 0xFF
-        out[17:19] = (self.mix2_source & 0xFFFF).to_bytes(2, "little")
-        out[19] = self.mix2_method & 0xFF
-        return bytes(out)
-
-
-# offsets inside a servo block
-class SERVO:
-    TYPE: Final = 0
-    ID: Final = 1
-    BASE: Final = 2
-    MEASURED: Final = 4
-    OUTPUT: Final = 6
-    SPEED: Final = 8
-    END: Final = 9
-    REMAINING: Final = 11
-    WIDTH: Final = 12
-    MIX1_SOURCE: Final = 14
-    MIX1_METHOD: Final = 16
-    MIX2_SOURCE: Final = 17
-    MIX2_METHOD: Final = 19
 
 
 def bitmap_from_ics(ics_numbers: Iterable[int], keep_update_flags: bool = False) -> bytes:

@@ -1,0 +1,123 @@
+"""The values the robot-level API returns (servo table, program and board state, host-side
+calibration)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+from rcb4hv.protocol import (
+    COUNTS_PER_DEGREE,
+    POSITION_FREE,
+    POSITION_HOLD,
+    ServoBlock,
+    SystemRegister,
+    ics_to_id_port,
+)
+from rcb4hv.protocol.memory import CENTER, TimerState
+
+__all__ = [
+    "BoardInfo",
+    "Calibration",
+    "MotionStatus",
+    "ServoInfo",
+    "TimerState",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class Calibration:
+    """Host-side angle calibration of one servo: ``trim`` in counts added to the centre
+    (7500) and ``direction`` (+1 or -1) of positive angles."""
+
+    trim: int = 0
+    direction: Literal[1, -1] = 1
+
+    def __post_init__(self) -> None:
+        if self.direction not in (1, -1):
+            raise ValueError("direction must be +1 or -1")
+
+    def to_position(self, degrees: float) -> int:
+        return round(CENTER + self.trim + self.direction * degrees * COUNTS_PER_DEGREE)
+
+    def to_degrees(self, position: int) -> float:
+        return self.direction * (position - CENTER - self.trim) / COUNTS_PER_DEGREE
+
+
+@dataclass(frozen=True, slots=True)
+class ServoInfo:
+    """One servo found through the ICS allocation table and its servo block."""
+
+    ics: int
+    block_address: int
+    block: ServoBlock
+
+    @property
+    def servo_id(self) -> int:
+        return ics_to_id_port(self.ics)[0]
+
+    @property
+    def port(self) -> str:
+        return ics_to_id_port(self.ics)[1]
+
+    @property
+    def trim(self) -> int:
+        """The board's base value (+2): HeartToHeart4's trim."""
+        return self.block.base
+
+    @property
+    def state(self) -> str:
+        out = self.block.output
+        if out == POSITION_FREE:
+            return "free"
+        if out == POSITION_HOLD:
+            return "hold"
+        return "moving" if self.block.speed else "on"
+
+    def describe(self) -> dict[str, object]:
+        b = self.block
+        return {
+            "ics": self.ics,
+            "id": self.servo_id,
+            "port": self.port,
+            "block": f"{self.block_address:04X}",
+            "trim": b.base,
+            "measured": b.measured,
+            "output": b.output,
+            "state": self.state,
+            "speed": b.speed,
+            "remaining": b.remaining,
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class MotionStatus:
+    """The ROM program's state: PC, call depth, update flags, and the motion it is in."""
+
+    pc: int
+    call_depth: int
+    update_flags: bytes
+    motion: int | None
+    running: bool
+
+
+@dataclass(frozen=True, slots=True)
+class BoardInfo:
+    """What :meth:`Robot.info` reports: version, system register, program state, servos."""
+
+    version: str
+    system: SystemRegister
+    pc: int
+    call_depth: int
+    update_flags: bytes
+    servos: list[ServoInfo] = field(default_factory=list)
+
+    def describe(self) -> dict[str, object]:
+        return {
+            "version": self.version,
+            "system_register": self.system.describe(),
+            "pc": f"{self.pc:06X}",
+            "call_depth": self.call_depth,
+            "update_flags": self.update_flags.hex(),
+            "servos": [s.describe() for s in self.servos],
+        }
