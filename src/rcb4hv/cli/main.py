@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "rcb4hv.cli.board_cmd",
     "rcb4hv.cli.project_cmd",
     "rcb4hv.cli.asm_cmd",
+    "rcb4hv.cli.ui_cmd",
 )
 
 
@@ -47,3 +48,7 @@ def main() -> None:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

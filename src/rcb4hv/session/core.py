@@ -116,6 +116,7 @@ class BoardSession:
         self._closed = False
         self._thread: threading.Thread | None = None
         self._state_lock = threading.Lock()
+        self._reopen = False
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -142,6 +143,14 @@ class BoardSession:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+    def reconnect(self, url: str | None = None) -> None:
+        """Close the link and open it again (to ``url`` when given) from the worker."""
+        with self._cond:
+            if url:
+                self.url = url
+            self._reopen = True
+            self._cond.notify_all()
 
     def wait_connected(self, timeout: float = 5.0) -> BoardState:
         """Block until the first successful poll (or raise TimeoutError with the link error)."""
@@ -296,6 +305,10 @@ class BoardSession:
             with self._cond:
                 if self._closed:
                     return
+                reopen, self._reopen = self._reopen, False
+            if reopen:
+                self._disconnect()
+                self.state = BoardState(url=self.url)
             if self.robot is None:
                 try:
                     self._connect()
@@ -320,7 +333,7 @@ class BoardSession:
 
     def _idle(self, next_poll: float) -> None:
         with self._cond:
-            if self._jobs or self._steps or self._closed:
+            if self._jobs or self._steps or self._closed or self._reopen:
                 return
             wake = next_poll if self.poll_hz else time.monotonic() + 1.0
             if self._targets:
