@@ -23,6 +23,11 @@ def _output(b: Board, ics: int) -> int:
     return _ram_word(b, blk + 6)
 
 
+def _field(page: Any, name: str) -> Any:
+    """The native <input> of a NiceGUI input (Quasar puts data-testid on the input itself)."""
+    return page.locator(f"input[data-testid={name}], [data-testid={name}] input").first
+
+
 def _wait(cond: Any, timeout: float = 10.0) -> None:
     deadline = time.monotonic() + timeout
     while not cond():
@@ -86,3 +91,98 @@ def test_stop_stops_the_motion_and_holds(page: Any, board: tuple[Board, str]) ->
     _wait(lambda: "current motion: -" in page.get_by_test_id("motion-current").inner_text())
     _wait(lambda: all(_output(b, k) == 0x7FFF for k in (0, 2, 3, 19)))
     shot(page, "motions")
+
+
+def _open_project(page: Any, path: str) -> None:
+    page.get_by_test_id("tab-project").click()
+    page.get_by_test_id("project-upload").locator("input[type=file]").set_input_files(path)
+    _wait(lambda: "65 motions" in page.get_by_test_id("project-summary").inner_text())
+
+
+def test_project_opens_shows_a_motion_and_simulates(page: Any, kxr_project_path: Any) -> None:
+    _open_project(page, str(kxr_project_path))
+    table = page.get_by_test_id("project-motions")
+    table.locator("tbody tr", has_text="XL2G_201").locator(".q-checkbox").click()
+    _wait(lambda: "M021" in page.get_by_test_id("project-motion-title").inner_text())
+    assert "RETURN" in page.get_by_test_id("project-disasm").inner_text()
+    svg = page.get_by_test_id("flowchart-svg")
+    assert svg.locator("rect.node").count() == 7
+    shot(page, "project")
+    page.get_by_text("Simulate / upload").click()
+    page.get_by_test_id("project-simulate").click()
+    _wait(lambda: "completed" in page.get_by_test_id("simulate-status").inner_text(), 30)
+    assert "motion 21" in page.get_by_test_id("simulate-status").inner_text()
+    shot(page, "simulate")
+
+
+def test_upload_writes_the_emulator_rom_with_progress(
+    page: Any, board: tuple[Board, str], kxr_project_path: Any
+) -> None:
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.project.image import build_project_image
+
+    b, _ = board
+    expected = build_project_image(load_project(kxr_project_path))
+    assert bytes(b.rom) != expected
+    page.get_by_test_id("tab-project").click()
+    page.get_by_text("Simulate / upload").click()
+    page.get_by_test_id("project-upload-rom").click()
+    page.get_by_test_id("upload-confirm").click()
+    bar = page.get_by_test_id("upload-progress")
+    seen: set[float] = set()
+    deadline = time.monotonic() + 120
+    status = page.get_by_test_id("upload-status")
+    while "upload done" not in status.inner_text():
+        assert time.monotonic() < deadline, "upload did not finish"
+        now = bar.get_attribute("aria-valuenow")
+        if now is not None:
+            seen.add(float(now))
+        time.sleep(0.05)
+    assert any(0 < v < 1 for v in seen), f"no intermediate progress seen: {sorted(seen)}"
+    assert "verified" in status.inner_text()
+    assert bytes(b.rom) == expected
+    shot(page, "upload")
+
+
+def test_teach_captures_poses_and_saves_a_motion_that_reloads(
+    page: Any, board: tuple[Board, str], tmp_path: Any
+) -> None:
+    from rcb4hv.hth4 import dump_project, load_project
+    from rcb4hv.project.image import build_project_image
+    from rcb4hv.project.simulate import Simulator
+
+    page.get_by_test_id("tab-teach").click()
+    page.get_by_test_id("teach-capture").click()
+    _wait(lambda: page.get_by_test_id("teach-count").inner_text() == "1 keyframes")
+    page.get_by_test_id("tab-servos").click()
+    slider = page.get_by_test_id("slider-2")
+    box = slider.bounding_box()
+    page.mouse.click(box["x"] + box["width"] * 0.75, box["y"] + box["height"] / 2)
+    b, _ = board
+    _wait(lambda: _output(b, 2) > 8500)
+    time.sleep(0.3)
+    page.get_by_test_id("tab-teach").click()
+    page.get_by_test_id("teach-capture").click()
+    _wait(lambda: page.get_by_test_id("teach-count").inner_text() == "2 keyframes")
+    time_box = _field(page, "teach-time-1")
+    time_box.fill("0.8")
+    time_box.press("Tab")
+    _field(page, "teach-name").fill("wave by hand")
+    page.get_by_test_id("teach-save").click()
+    _wait(lambda: "saved as motion" in page.get_by_test_id("teach-status").inner_text(), 30)
+    text = page.get_by_test_id("teach-status").inner_text()
+    slot = int(re.search(r"motion (\d+)", text).group(1))
+    shot(page, "teach")
+    with page.expect_download() as info:
+        page.get_by_test_id("teach-download").click()
+    path = tmp_path / "saved.h4p"
+    info.value.save_as(str(path))
+    project = load_project(path)
+    assert dump_project(project) == path.read_bytes()
+    m = project.motion(slot)
+    assert m.name == "wave by hand" and len(m.frames) == 4
+    sim = Simulator(build_project_image(project))
+    sim.boot()
+    result = sim.play(m.address, slot=slot)
+    assert result.status == "completed"
+    assert result.duration == pytest.approx(1.3, abs=0.1)

@@ -108,15 +108,16 @@ def build(ctx: UiContext) -> None:
             motions = tid(
                 ui.table(
                     columns=_columns("slot", "address", "name", "frames", "bytes", "button"),
-                    rows=[], row_key="slot", selection="single", pagination=12,
-                ).props("dense flat"),
+                    rows=[], row_key="slot", selection="single", pagination=0,
+                ).props("dense flat virtual-scroll").style("max-height: 600px"),
                 "project-motions",
             )
             with ui.column().classes("grow"):
                 detail_title = tid(ui.label("select a motion"), "project-motion-title")
                 with ui.row().classes("w-full no-wrap items-start"):
-                    detail_asm = tid(ui.code("", language="text").classes("w-1/2"), "project-disasm")
                     detail_svg = tid(ui.html("", sanitize=False), "project-flowchart")
+                    detail_asm = tid(ui.code("", language="text"), "project-disasm")
+                    detail_asm.style("max-width: 480px; overflow-x: auto")
         with ui.tab_panel(t_servos):
             servos = tid(
                 ui.table(columns=_columns("ics", "name", "id", "port", "trim", "home"),
