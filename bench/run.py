@@ -20,6 +20,7 @@ MODULES = (
     "bench.bench_emulator",
     "bench.bench_client",
     "bench.bench_project",
+    "bench.bench_ui",
 )
 
 RESULTS = Path(__file__).resolve().parent / "results.json"

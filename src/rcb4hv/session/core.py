@@ -395,7 +395,9 @@ class BoardSession:
     def _poll(self, robot: Robot) -> None:
         if not robot.servo_ids and self.state.polls % 10 == 0:
             robot.discover_servos()  # a freshly uploaded or booting program fills the table
-        state = poll_state(robot, self.state, time.monotonic())
+        state = poll_state(
+            robot, self.state, time.monotonic(), lambda: self._send_targets(robot)
+        )
         with self._state_lock:
             self.state = state
             self.history.add(state)

@@ -9,12 +9,12 @@ from rcb4hv.transport import Transport
 
 __all__ = ["MeteredTransport", "wire_seconds"]
 
-BITS_PER_BYTE = 10
-"""8N1 serial framing: one start bit, eight data bits, one stop bit."""
+BITS_PER_BYTE = 11
+"""The RCB-4HV link's 8E1 framing: start bit, eight data bits, even parity, stop bit."""
 
 
 def wire_seconds(n_bytes: int, baudrate: int) -> float:
-    """Seconds ``n_bytes`` occupy a serial line at ``baudrate`` (8N1)."""
+    """Seconds ``n_bytes`` occupy a serial line at ``baudrate`` (8E1, 11 bits a byte)."""
     if baudrate <= 0:
         raise ValueError("baudrate must be > 0")
     return n_bytes * BITS_PER_BYTE / baudrate

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
@@ -102,10 +102,18 @@ class BoardState:
         }
 
 
-def poll_state(robot: Robot, base: BoardState, t: float) -> BoardState:
-    """Read one snapshot through ``robot`` (whose servo table is already discovered)."""
+def poll_state(
+    robot: Robot, base: BoardState, t: float, between: Callable[[], None] = lambda: None
+) -> BoardState:
+    """Read one snapshot through ``robot`` (whose servo table is already discovered).
+
+    ``between()`` runs between the reads (the session sends pending servo moves there, so a
+    poll never delays a slider by more than one read).
+    """
     head = robot.read_ram(0, HEAD_SIZE)
+    between()
     remote = robot.read_ram(ADDR.BUTTONS, REMOTE_SIZE)
+    between()
     servos = robot.servo_states() if robot.servo_ids else []
     word = head[0] | head[1] << 8
     pc = int.from_bytes(head[2:5], "little")
