@@ -1,8 +1,8 @@
 """The dashboard's load on the link and its slider latency (``rcb4hv ui``'s BoardSession).
 
 * Polling load: a session polls the default board (17 servos) at 10 Hz against the in-process
-  emulator; the bytes it moves per second are converted to wire time at 1,250,000 baud (8E1, 11 bits a byte)
-  and compared with one second: the fraction of the link the live view takes.
+  emulator; the bytes it moves per second are converted to wire time at 1,250,000 baud
+  (8E1, 11 bits a byte) and compared with one second: the fraction of the link the live view takes.
 * Slider latency: slider events arrive at 60 Hz (a drag) while the session polls; each
   coalesced servo frame's latency is from the first event it carries to the moment the frame
   is written to the link. Compared with the servo output period (15 ms on the default board),

@@ -16,7 +16,11 @@ import pytest
 
 CHROMIUM = os.environ.get("RCB4HV_CHROMIUM", "/usr/bin/chromium")
 REQUIRE = os.environ.get("RCB4HV_REQUIRE_BROWSER") == "1"
-SHOTS = Path(os.environ.get("RCB4HV_SCREENSHOTS", Path(__file__).resolve().parents[2] / "build" / "screenshots"))
+SHOTS = Path(
+    os.environ.get(
+        "RCB4HV_SCREENSHOTS", Path(__file__).resolve().parents[2] / "build" / "screenshots"
+    )
+)
 LAUNCH_ARGS = [
     "--no-sandbox",
     "--disable-background-networking",
@@ -48,8 +52,17 @@ def browser_or_skip() -> str:
 def ui_server(board_url: str, *extra: str) -> Iterator[str]:
     """Run ``rcb4hv ui --port board_url --bind 127.0.0.1:0``; yield its http URL."""
     proc = subprocess.Popen(
-        [sys.executable, "-m", "rcb4hv.cli.main", "ui", "--port", board_url,
-         "--bind", "127.0.0.1:0", *extra],
+        [
+            sys.executable,
+            "-m",
+            "rcb4hv.cli.main",
+            "ui",
+            "--port",
+            board_url,
+            "--bind",
+            "127.0.0.1:0",
+            *extra,
+        ],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,

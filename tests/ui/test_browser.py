@@ -62,8 +62,7 @@ def test_slider_moves_a_servo(page: Any, board: tuple[Board, str]) -> None:
     _wait(lambda: int(re.split(r"\s+", row.inner_text())[4]) > 9000)
 
 
-def test_triangle_plays_motion_1_and_the_plot_moves(page: Any, board: tuple[Board, str]) -> None:
-    b, _ = board
+def test_triangle_plays_motion_1_and_the_plot_moves(page: Any) -> None:
     page.get_by_test_id("tab-remote").click()
     pad = page.get_by_test_id("pad-triangle")
     pad.hover()

@@ -6,20 +6,17 @@ import asyncio
 import json
 from pathlib import Path
 
+import httpx
 import pytest
 from click.testing import CliRunner
 
-pytest.importorskip("nicegui")
-
-import httpx  # noqa: E402
-
-from rcb4hv.cli.main import cli  # noqa: E402
-from rcb4hv.hth4 import load_project, parse_motion_xml  # noqa: E402
-from rcb4hv.project.image import build_project_image  # noqa: E402
-from rcb4hv.project.simulate import Simulator  # noqa: E402
-from rcb4hv.ui.app import parse_bind  # noqa: E402
-from rcb4hv.ui.flowsvg import canvas_svg, motion_graph, motion_svg  # noqa: E402
-from rcb4hv.ui.security import AccessPolicy, GuardMiddleware, new_token  # noqa: E402
+from rcb4hv.cli.main import cli
+from rcb4hv.hth4 import load_project, parse_motion_xml
+from rcb4hv.project.image import build_project_image
+from rcb4hv.project.simulate import Simulator
+from rcb4hv.ui.app import parse_bind
+from rcb4hv.ui.flowsvg import canvas_svg, motion_graph, motion_svg
+from rcb4hv.ui.security import AccessPolicy, GuardMiddleware, new_token
 
 
 async def _echo(scope: dict, receive: object, send: object) -> None:  # type: ignore[type-arg]
@@ -54,7 +51,9 @@ def test_guard_needs_the_token_when_remote() -> None:
     assert _get(policy, "/?token=wrong").status_code == 403
     r = _get(policy, f"/?token={token}")
     assert r.status_code == 200
-    assert f"rcb4hv_token={token}" in r.headers["set-cookie"] and "HttpOnly" in r.headers["set-cookie"]
+    assert (
+        f"rcb4hv_token={token}" in r.headers["set-cookie"] and "HttpOnly" in r.headers["set-cookie"]
+    )
     assert _get(policy, cookie=f"rcb4hv_token={token}").status_code == 200
     assert _get(policy, **{"x-rcb4hv-token": token}).status_code == 200
 
@@ -104,16 +103,32 @@ def test_canvas_svg_draws_boxes_and_lines(kxr_dir: Path) -> None:
 
 
 def test_cli_add_motion(kxr_project_path: Path, tmp_path: Path) -> None:
-    frames = {"keyframes": [
-        {"time": 0.3, "positions": {"2": 7500, "3": 7500}},
-        {"time": 0.6, "positions": {"2": 9000}, "name": "up"},
-    ]}
+    frames = {
+        "keyframes": [
+            {"time": 0.3, "positions": {"2": 7500, "3": 7500}},
+            {"time": 0.6, "positions": {"2": 9000}, "name": "up"},
+        ]
+    }
     kf = tmp_path / "kf.json"
     kf.write_text(json.dumps(frames))
     out, xml = tmp_path / "out.h4p", tmp_path / "m.xml"
-    r = CliRunner().invoke(cli, ["project", "add-motion", str(kxr_project_path), str(kf),
-                                 "--name", "cli motion", "--button", "SQUARE+S2",
-                                 "-o", str(out), "--flowchart", str(xml)])
+    r = CliRunner().invoke(
+        cli,
+        [
+            "project",
+            "add-motion",
+            str(kxr_project_path),
+            str(kf),
+            "--name",
+            "cli motion",
+            "--button",
+            "SQUARE+S2",
+            "-o",
+            str(out),
+            "--flowchart",
+            str(xml),
+        ],
+    )
     assert r.exit_code == 0, r.output
     project = load_project(out)
     m = next(m for m in project.used_motions if m.name == "cli motion")
@@ -124,6 +139,8 @@ def test_cli_add_motion(kxr_project_path: Path, tmp_path: Path) -> None:
     sim.boot()
     assert sim.play(m.address).status == "completed"
     kf.write_text(json.dumps({"keyframes": [{"time": 0.3}]}))
-    r = CliRunner().invoke(cli, ["project", "add-motion", str(kxr_project_path), str(kf),
-                                 "--name", "x", "-o", str(out)])
+    r = CliRunner().invoke(
+        cli,
+        ["project", "add-motion", str(kxr_project_path), str(kf), "--name", "x", "-o", str(out)],
+    )
     assert r.exit_code == 1 and "keyframe 1" in r.output

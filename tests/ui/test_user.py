@@ -10,26 +10,24 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from nicegui import ui
+from nicegui.testing.user import User
+from nicegui.testing.user_simulation import user_simulation
 
-pytest.importorskip("nicegui")
-
-from nicegui import ui  # noqa: E402
-from nicegui.testing.user import User  # noqa: E402
-from nicegui.testing.user_simulation import user_simulation  # noqa: E402
-
-from rcb4hv.emulator import Board, EmulatorConfig, RealClock  # noqa: E402
-from rcb4hv.rom.default import DEFAULT_ICS, default_image  # noqa: E402
-from rcb4hv.session import BoardSession  # noqa: E402
-from rcb4hv.transport import emulator_url  # noqa: E402
-from rcb4hv.ui.app import build_root  # noqa: E402
-from rcb4hv.ui.context import UiContext  # noqa: E402
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock
+from rcb4hv.rom.default import DEFAULT_ICS, default_image
+from rcb4hv.session import BoardSession
+from rcb4hv.transport import emulator_url
+from rcb4hv.ui.app import build_root
+from rcb4hv.ui.context import UiContext
 
 Scenario = Callable[[User, UiContext, Board], Awaitable[None]]
 
 
 def run(scenario: Scenario) -> None:
     board = Board(
-        EmulatorConfig(virtual_servos=DEFAULT_ICS), clock=RealClock(speed=2.0),
+        EmulatorConfig(virtual_servos=DEFAULT_ICS),
+        clock=RealClock(speed=2.0),
         rom_image=default_image(),
     )
     session = BoardSession(emulator_url(board), poll_hz=20)
@@ -76,8 +74,12 @@ def test_every_page_and_the_stop_button_are_there() -> None:
             await user.should_see(tab)
         await user.should_see(marker="stop")
         await until(lambda: len(one(user, "servo-table").rows) == 17)
-        await until(lambda: any(r["field"] == "version" and "CB-4" in r["value"]
-                                for r in one(user, "board-table").rows))
+        await until(
+            lambda: any(
+                r["field"] == "version" and "CB-4" in r["value"]
+                for r in one(user, "board-table").rows
+            )
+        )
         assert one(user, "link-status").text.startswith("rcb4emu://")
 
     run(scenario)

@@ -50,16 +50,34 @@ def parse_keyframes(data: Any) -> list[Keyframe]:
 @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.argument("keyframes", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--name", required=True, help="Motion name.")
-@click.option("--slot", type=click.IntRange(1, 120), default=None,
-              help="Motion slot (default: the first free one).")
+@click.option(
+    "--slot",
+    type=click.IntRange(1, 120),
+    default=None,
+    help="Motion slot (default: the first free one).",
+)
 @click.option("--button", default="", help="Bind to remote buttons, e.g. TRIANGLE or UP+S1.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True,
-              help="Where to write the new .h4p.")
-@click.option("--flowchart", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Also write the motion's HeartToHeart4 flowchart (.xml) here.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="Where to write the new .h4p.",
+)
+@click.option(
+    "--flowchart",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Also write the motion's HeartToHeart4 flowchart (.xml) here.",
+)
 @handle_errors
 def add_motion_command(
-    file: Path, keyframes: Path, name: str, slot: int | None, button: str, output: Path,
+    file: Path,
+    keyframes: Path,
+    name: str,
+    slot: int | None,
+    button: str,
+    output: Path,
     flowchart: Path | None,
 ) -> None:
     """Save KEYFRAMES (JSON: time in seconds and ICS -> position per pose) as a new motion of
@@ -82,5 +100,7 @@ def add_motion_command(
     output.write_bytes(data)
     if flowchart is not None:
         flowchart.write_bytes(dump_motion_xml(flowchart_from_keyframes(frames, period)))
-    click.echo(f"{output}: motion {slot} {name!r}, {len(frames)} keyframes, "
-               f"{len(motion.rom_bytes())} bytes at {motion.address:05X}h")
+    click.echo(
+        f"{output}: motion {slot} {name!r}, {len(frames)} keyframes, "
+        f"{len(motion.rom_bytes())} bytes at {motion.address:05X}h"
+    )

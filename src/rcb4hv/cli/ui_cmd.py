@@ -12,12 +12,24 @@ def register(cli: click.Group) -> None:
 
 
 @click.command("ui")
-@click.option("--port", "url", default=EMULATOR_URL, show_default=True,
-              help="Board URL: a serial device, socket://HOST:PORT or rcb4emu:// (emulator).")
-@click.option("--bind", default="127.0.0.1:8765", show_default=True,
-              help="HOST:PORT the web server listens on (port 0: any free port).")
-@click.option("--allow-remote", is_flag=True,
-              help="Allow a bind address other than loopback; every request then needs a token.")
+@click.option(
+    "--port",
+    "url",
+    default=EMULATOR_URL,
+    show_default=True,
+    help="Board URL: a serial device, socket://HOST:PORT or rcb4emu:// (emulator).",
+)
+@click.option(
+    "--bind",
+    default="127.0.0.1:8765",
+    show_default=True,
+    help="HOST:PORT the web server listens on (port 0: any free port).",
+)
+@click.option(
+    "--allow-remote",
+    is_flag=True,
+    help="Allow a bind address other than loopback; every request then needs a token.",
+)
 @click.option("--open", "open_browser", is_flag=True, help="Open the dashboard in a browser.")
 @click.option("--poll-hz", default=10.0, show_default=True, help="Board polling rate.")
 def ui_command(url: str, bind: str, allow_remote: bool, open_browser: bool, poll_hz: float) -> None:
@@ -43,5 +55,11 @@ def ui_command(url: str, bind: str, allow_remote: bool, open_browser: bool, poll
     token = None if loopback else new_token()
     if poll_hz <= 0:
         raise click.BadParameter("must be > 0", param_hint="--poll-hz")
-    serve(url, bind, token=token, open_browser=open_browser, poll_hz=poll_hz,
-          announce=lambda s: click.echo(s, nl=True))
+    serve(
+        url,
+        bind,
+        token=token,
+        open_browser=open_browser,
+        poll_hz=poll_hz,
+        announce=lambda s: click.echo(s, nl=True),
+    )

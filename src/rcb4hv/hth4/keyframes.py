@@ -154,9 +154,7 @@ def flowchart_from_keyframes(
 ) -> Flowchart:
     """The HeartToHeart4 flowchart of the motion: a chain of ``Pos`` boxes."""
     commands = _pose_commands(keyframes, period_ms)
-    boxes = [
-        Point(ORIGIN.x + STEP_X * i, ORIGIN.y) for i in range(len(commands))
-    ]
+    boxes = [Point(ORIGIN.x + STEP_X * i, ORIGIN.y) for i in range(len(commands))]
     centre = [Point(b.x + BOX.width // 2, b.y + BOX.height // 2) for b in boxes]
     lines = tuple(
         FlowchartLine(new_guid(), (centre[i], centre[i + 1]), "Normal")

@@ -193,6 +193,7 @@ class BoardSession:
                 self._steps.append(_Steps(make(robot), holder, label))
 
         started = self.submit(start, label=label)
+
         def forward(f: Future[None]) -> None:
             exc = f.exception()
             if exc is not None and not holder.done():
@@ -395,9 +396,7 @@ class BoardSession:
     def _poll(self, robot: Robot) -> None:
         if not robot.servo_ids and self.state.polls % 10 == 0:
             robot.discover_servos()  # a freshly uploaded or booting program fills the table
-        state = poll_state(
-            robot, self.state, time.monotonic(), lambda: self._send_targets(robot)
-        )
+        state = poll_state(robot, self.state, time.monotonic(), lambda: self._send_targets(robot))
         with self._state_lock:
             self.state = state
             self.history.add(state)

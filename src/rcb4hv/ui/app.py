@@ -19,7 +19,7 @@ from rcb4hv.ui import (
     servos_page,
     teach_page,
 )
-from rcb4hv.ui.context import UiContext, guarded, tid
+from rcb4hv.ui.context import UiContext, attempt, tid
 from rcb4hv.ui.security import AccessPolicy, GuardMiddleware
 
 __all__ = ["PAGES", "build_root", "create_app", "parse_bind", "serve"]
@@ -41,7 +41,7 @@ def build_root(ctx: UiContext) -> Callable[[], None]:
 
     def root() -> None:
         async def stop() -> None:
-            if await guarded(ctx.session.stop(), "STOP") is None:
+            if await attempt(ctx.session.stop(), "STOP"):  # type: ignore[arg-type]
                 ui.notify("STOP: motion stopped, all servos hold", type="warning")
 
         ui.page_title("rcb4hv")
@@ -64,10 +64,11 @@ def build_root(ctx: UiContext) -> Callable[[], None]:
         def refresh() -> None:
             st = ctx.session.state
             motion = "" if st.motion is None else f" - motion {st.motion}"
-            link.text = (f"{st.url} - {st.version}{motion}" if st.connected
-                         else f"{st.url} - not connected")
-            banner.text = "" if st.connected or st.error is None else (
-                f"Link error: {st.error}. Retrying..."
+            link.text = (
+                f"{st.url} - {st.version}{motion}" if st.connected else f"{st.url} - not connected"
+            )
+            banner.text = (
+                "" if st.connected or st.error is None else (f"Link error: {st.error}. Retrying...")
             )
             banner.set_visibility(bool(banner.text))
 

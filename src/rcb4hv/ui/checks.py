@@ -24,7 +24,7 @@ def check_rows(project: Project) -> tuple[list[dict[str, object]], str]:
     except ImportError:
         return [], "project check is not available in this version"
     findings = module.check_project(project)
-    rows = []
+    rows: list[dict[str, object]] = []
     for f in findings:
         d = f.to_dict()
         rows.append({k: ("" if v is None else str(v)) for k, v in d.items()})

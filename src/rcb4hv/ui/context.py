@@ -15,7 +15,7 @@ from nicegui.element import Element
 from rcb4hv.hth4 import Project
 from rcb4hv.session import BoardSession
 
-__all__ = ["MAX_UPLOAD", "UiContext", "guarded", "tid"]
+__all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
 
 log = logging.getLogger(__name__)
 
@@ -41,6 +41,17 @@ async def guarded(future: Future[T], what: str) -> T | None:
         log.info("%s failed: %s", what, exc)
         ui.notify(f"{what} failed: {exc}", type="negative", multi_line=True)
         return None
+
+
+async def attempt(future: Future[object], what: str) -> bool:
+    """Await a session job that returns nothing: True if it worked (failures are notified)."""
+    try:
+        await asyncio.wrap_future(future)
+    except Exception as exc:  # shown to the user
+        log.info("%s failed: %s", what, exc)
+        ui.notify(f"{what} failed: {exc}", type="negative", multi_line=True)
+        return False
+    return True
 
 
 @dataclass

@@ -11,7 +11,7 @@ from nicegui import ui
 from rcb4hv.client import Robot
 from rcb4hv.hth4 import button_label
 from rcb4hv.session import StepJob
-from rcb4hv.ui.context import UiContext, guarded, tid
+from rcb4hv.ui.context import UiContext, attempt, guarded, tid
 
 __all__ = ["build", "motion_rows", "scan_slots"]
 
@@ -52,8 +52,12 @@ def motion_rows(ctx: UiContext, used: list[int]) -> list[dict[str, object]]:
 def build(ctx: UiContext) -> None:
     session = ctx.session
     used: list[int] = []
+    current = tid(ui.label("current motion: -"), "motion-current")
+    status = tid(ui.label(""), "motion-status")
     with ui.row().classes("items-center"):
-        slot = tid(ui.number("Motion", value=1, min=1, max=120, step=1).classes("w-24"), "motion-slot")
+        slot = tid(
+            ui.number("Motion", value=1, min=1, max=120, step=1).classes("w-24"), "motion-slot"
+        )
         tid(ui.button("Play", icon="play_arrow"), "motion-play").on_click(
             lambda: _play(ctx, int(slot.value or 1), status, wait=False)
         )
@@ -70,8 +74,6 @@ def build(ctx: UiContext) -> None:
             lambda: guarded(session.submit(lambda r: r.resume_motion()), "resume")
         )
         tid(ui.button("Scan board", icon="search"), "motion-scan").on_click(lambda: scan())
-    current = tid(ui.label("current motion: -"), "motion-current")
-    status = tid(ui.label(""), "motion-status")
     table = tid(
         ui.table(
             columns=[
@@ -99,7 +101,9 @@ def build(ctx: UiContext) -> None:
 
     def refresh() -> None:
         st = session.state
-        paused = st.system is not None and not st.rom_running and st.pc >= session.layout.motion_base
+        paused = (
+            st.system is not None and not st.rom_running and st.pc >= session.layout.motion_base
+        )
         what = "-" if st.motion is None else f"{st.motion}"
         current.text = f"current motion: {what}" + (" (paused)" if paused else "")
 
@@ -112,9 +116,9 @@ async def _play(ctx: UiContext, slot: int, status: ui.label, *, wait: bool) -> N
     if not 1 <= slot <= session.layout.motion_count:
         ui.notify(f"motion slots are 1..{session.layout.motion_count}", type="warning")
         return
-    if await guarded(session.submit(lambda r: r.play_motion(slot)), f"play {slot}") is None and not wait:
-        status.text = f"motion {slot} started"
+    if not await attempt(session.submit(lambda r: r.play_motion(slot)), f"play {slot}"):
         return
+    status.text = f"motion {slot} started"
     if not wait:
         return
     status.text = f"waiting for motion {slot} to end..."

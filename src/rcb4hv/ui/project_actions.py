@@ -5,6 +5,7 @@ built image and of a dump of the board's ROM."""
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from nicegui import ui
@@ -22,6 +23,13 @@ __all__ = ["SimulationTrace", "build", "simulate_motion"]
 
 SAMPLE_EVERY = 2
 """Keep every 2nd output period of a simulation for the plot."""
+
+
+@dataclass
+class _Phase:
+    text: str = ""
+    done: int = 0
+    total: int = 0
 
 
 @dataclass
@@ -78,16 +86,16 @@ def build(ctx: UiContext, motions: ui.table) -> None:
     chart = tid(angle_chart(10.0, x_name="s from start"), "simulate-plot")
     progress = tid(ui.linear_progress(value=0, show_value=False), "upload-progress")
     upload_status = tid(ui.label(""), "upload-status")
-    phase = {"text": "", "done": 0, "total": 0}
+    phase = _Phase()
 
     def show_progress() -> None:
         p = session.progress
         if p.total:
             progress.set_value(p.fraction)
             upload_status.text = f"{p.label}: {p.done:,} / {p.total:,} bytes"
-        elif phase["total"]:
-            progress.set_value(phase["done"] / phase["total"])
-            upload_status.text = f"{phase['text']}: {phase['done']:,} / {phase['total']:,} bytes"
+        elif phase.total:
+            progress.set_value(phase.done / phase.total)
+            upload_status.text = f"{phase.text}: {phase.done:,} / {phase.total:,} bytes"
 
     ui.timer(0.1, show_progress)
 
@@ -132,31 +140,36 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             ui.label(f"Write the ROM of the board at {session.url}?")
             ui.label("The program on the board is replaced. Each chunk is read back to verify.")
             with ui.row():
-                tid(ui.button("Write ROM", color="red", on_click=lambda: dialog.submit(True)),
-                    "upload-confirm")
+                tid(
+                    ui.button("Write ROM", color="red", on_click=lambda: dialog.submit(True)),
+                    "upload-confirm",
+                )
                 ui.button("Cancel", on_click=lambda: dialog.submit(False))
         if not await dialog:
             return
         changed = bool(only_changed.value)
 
-        def set_phase(text: str) -> object:
+        def set_phase(text: str) -> Callable[[int, int], None]:
             def cb(done: int, total: int) -> None:
-                phase.update(text=text, done=done, total=total)
+                phase.text, phase.done, phase.total = text, done, total
 
             return cb
 
         def job(robot: Robot) -> UploadResult:
             result = upload_image(
-                robot, image, only_changed=changed, verify=True,
-                progress=set_phase("writing + verifying"),  # type: ignore[arg-type]
-                read_progress=set_phase("reading the board's ROM"),  # type: ignore[arg-type]
+                robot,
+                image,
+                only_changed=changed,
+                verify=True,
+                progress=set_phase("writing + verifying"),
+                read_progress=set_phase("reading the board's ROM"),
             )
             robot.wait_ready(timeout=5.0)
             robot.discover_servos()
             return result
 
         result = await guarded(session.submit(job, label="upload"), "upload")
-        phase.update(total=0)
+        phase.total = 0
         if result is not None:
             progress.set_value(1.0)
             upload_status.text = (

@@ -82,14 +82,18 @@ def build(ctx: UiContext) -> None:
     with ui.row().classes("items-start"):
         tid(
             ui.upload(
-                label="Open .h4p project", auto_upload=True, max_file_size=ctx.max_upload,
+                label="Open .h4p project",
+                auto_upload=True,
+                max_file_size=ctx.max_upload,
                 on_upload=uploaded,
             ).props('accept=".h4p,.xml"'),
             "project-upload",
         )
         tid(
             ui.upload(
-                label="Show a flowchart .xml", auto_upload=True, max_file_size=ctx.max_upload,
+                label="Show a flowchart .xml",
+                auto_upload=True,
+                max_file_size=ctx.max_upload,
                 on_upload=flowchart_uploaded,
             ).props('accept=".xml"'),
             "flowchart-upload",
@@ -108,8 +112,13 @@ def build(ctx: UiContext) -> None:
             motions = tid(
                 ui.table(
                     columns=_columns("slot", "address", "name", "frames", "bytes", "button"),
-                    rows=[], row_key="slot", selection="single", pagination=0,
-                ).props("dense flat virtual-scroll").style("max-height: 600px"),
+                    rows=[],
+                    row_key="slot",
+                    selection="single",
+                    pagination=0,
+                )
+                .props("dense flat virtual-scroll")
+                .style("max-height: 600px"),
                 "project-motions",
             )
             with ui.column().classes("grow"):
@@ -120,20 +129,27 @@ def build(ctx: UiContext) -> None:
                     detail_asm.style("max-width: 480px; overflow-x: auto")
         with ui.tab_panel(t_servos):
             servos = tid(
-                ui.table(columns=_columns("ics", "name", "id", "port", "trim", "home"),
-                         rows=[], row_key="ics").props("dense flat"),
+                ui.table(
+                    columns=_columns("ics", "name", "id", "port", "trim", "home"),
+                    rows=[],
+                    row_key="ics",
+                ).props("dense flat"),
                 "project-servos",
             )
         with ui.tab_panel(t_bind):
             bindings = tid(
-                ui.table(columns=_columns("button", "slot", "name", "compare"),
-                         rows=[], row_key="slot").props("dense flat"),
+                ui.table(
+                    columns=_columns("button", "slot", "name", "compare"), rows=[], row_key="slot"
+                ).props("dense flat"),
                 "project-bindings",
             )
         with ui.tab_panel(t_check):
             checks = tid(
-                ui.table(columns=_columns("severity", "code", "slot", "name", "address", "reason"),
-                         rows=[], row_key="reason").props("dense flat"),
+                ui.table(
+                    columns=_columns("severity", "code", "slot", "name", "address", "reason"),
+                    rows=[],
+                    row_key="reason",
+                ).props("dense flat"),
                 "project-checks",
             )
         with ui.tab_panel(t_actions):
@@ -163,9 +179,14 @@ def build(ctx: UiContext) -> None:
         motions.rows = motion_table(project)
         servos.rows = servo_table(project)
         bindings.rows = [
-            {"button": button_label(m.button_data), "slot": m.slot, "name": m.name or "",
-             "compare": m.compare_type}
-            for m in used if m.button_data
+            {
+                "button": button_label(m.button_data),
+                "slot": m.slot,
+                "name": m.name or "",
+                "compare": m.compare_type,
+            }
+            for m in used
+            if m.button_data
         ]
         try:
             rows, text = check_rows(project)

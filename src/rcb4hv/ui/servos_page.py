@@ -50,8 +50,10 @@ def build(ctx: UiContext) -> None:
         ics_all = [s.ics for s in session.state.servos]
         picked = tid(
             ui.select(
-                ics_all, value=[k for k in (2, 3, 4, 5) if k in ics_all] or ics_all[:2],
-                multiple=True, label="Plot ICS",
+                ics_all,
+                value=[k for k in (2, 3, 4, 5) if k in ics_all] or ics_all[:2],
+                multiple=True,
+                label="Plot ICS",
             ).classes("w-64"),
             "servos-plot-select",
         )
@@ -94,7 +96,9 @@ def build(ctx: UiContext) -> None:
     ui.timer(0.25, replot)
 
 
-def _servo_controls(ctx: UiContext, ics: int, degrees: float, sliders: dict[int, ui.slider]) -> None:
+def _servo_controls(
+    ctx: UiContext, ics: int, degrees: float, sliders: dict[int, ui.slider]
+) -> None:
     session = ctx.session
 
     def moved(value: float | None) -> None:
@@ -107,10 +111,14 @@ def _servo_controls(ctx: UiContext, ics: int, degrees: float, sliders: dict[int,
 
     with ui.row().classes("w-full items-center no-wrap"):
         ui.label(f"ICS {ics}").classes("w-14")
-        slider = tid(
-            ui.slider(min=-LIMIT_DEG, max=LIMIT_DEG, step=0.5, value=round(degrees, 1)),
-            f"slider-{ics}",
-        ).props("label").classes("grow")
+        slider = (
+            tid(
+                ui.slider(min=-LIMIT_DEG, max=LIMIT_DEG, step=0.5, value=round(degrees, 1)),
+                f"slider-{ics}",
+            )
+            .props("label")
+            .classes("grow")
+        )
         slider.on_value_change(lambda e: moved(e.value))
         sliders[ics] = slider
         tid(ui.button("hold").props("dense flat"), f"hold-{ics}").on_click(

@@ -54,14 +54,18 @@ def save_keyframes(
     sim.boot()
     result = sim.play(motion.address, slot=slot, name=name)
     if result.status != "completed":
-        raise ValueError(f"the new motion did not complete in simulation: {result.status} {result.detail}")
+        raise ValueError(
+            f"the new motion did not complete in simulation: {result.status} {result.detail}"
+        )
     return SavedMotion(again, data, slot, result)
 
 
 def capture(robot: Robot) -> dict[int, int]:
     """The pose now: measured positions of every servo inside the documented range."""
     return {
-        k: p for k, p in robot.positions(kind="measured").items() if POSITION_MIN <= p <= POSITION_MAX
+        k: p
+        for k, p in robot.positions(kind="measured").items()
+        if POSITION_MIN <= p <= POSITION_MAX
     }
 
 
@@ -88,17 +92,20 @@ def build(ctx: UiContext) -> None:
             "teach-free-select",
         )
         tid(ui.button("Free chosen", icon="lock_open"), "teach-free").on_click(
-            lambda: guarded(session.submit(lambda r: r.free([int(k) for k in chosen.value])),
-                            "free") if chosen.value else ui.notify("choose servos first")
+            lambda: (
+                guarded(session.submit(lambda r: r.free([int(k) for k in chosen.value])), "free")
+                if chosen.value
+                else ui.notify("choose servos first")
+            )
         )
         tid(ui.button("Hold all", icon="lock"), "teach-hold").on_click(
             lambda: guarded(session.submit(lambda r: r.hold()), "hold")
         )
-        tid(ui.button("Capture pose", icon="photo_camera", color="green"), "teach-capture").on_click(
-            lambda: do_capture()
-        )
+        tid(
+            ui.button("Capture pose", icon="photo_camera", color="green"), "teach-capture"
+        ).on_click(lambda: do_capture())
         tid(ui.button("Play on board", icon="play_arrow"), "teach-play").on_click(lambda: play())
-        tid(ui.button("Clear", icon="delete"), "teach-clear").on_click(lambda: (frames.clear(), keyframe_list.refresh()))
+        tid(ui.button("Clear", icon="delete"), "teach-clear").on_click(lambda: clear())
     count = tid(ui.label("0 keyframes"), "teach-count")
 
     @ui.refreshable
@@ -107,11 +114,16 @@ def build(ctx: UiContext) -> None:
         for i, kf in enumerate(frames):
             with ui.row().classes("items-center"):
                 ui.label(f"#{i + 1}").classes("w-10")
-                t = tid(ui.number("time s", value=kf.time, min=0.0, max=6.0, step=0.05, format="%.2f"),
-                        f"teach-time-{i}").classes("w-28")
+                t = tid(
+                    ui.number("time s", value=kf.time, min=0.0, max=6.0, step=0.05, format="%.2f"),
+                    f"teach-time-{i}",
+                ).classes("w-28")
                 t.on_value_change(lambda e, i=i: set_time(i, e.value))
-                ui.label(f"{len(kf.positions)} servos: " + ", ".join(
-                    f"{k}={p}" for k, p in list(kf.positions.items())[:6]) + " …")
+                ui.label(
+                    f"{len(kf.positions)} servos: "
+                    + ", ".join(f"{k}={p}" for k, p in list(kf.positions.items())[:6])
+                    + " …"
+                )
                 ui.button(icon="close", on_click=lambda i=i: remove(i)).props("dense flat")
 
     def set_time(i: int, value: float | None) -> None:
@@ -121,6 +133,10 @@ def build(ctx: UiContext) -> None:
             frames[i] = Keyframe(float(value), frames[i].positions, frames[i].name)
         except ValueError as exc:
             ui.notify(str(exc), type="negative")
+
+    def clear() -> None:
+        frames.clear()
+        keyframe_list.refresh()
 
     def remove(i: int) -> None:
         del frames[i]
@@ -147,12 +163,16 @@ def build(ctx: UiContext) -> None:
         name = tid(ui.input("Motion name", value="taught motion"), "teach-name")
         slot = tid(ui.select([], label="Free slot").classes("w-32"), "teach-slot")
         buttons = {"none": 0, **{f"{t} ({n})": int(b) for t, b, n in PAD}}
-        button = tid(ui.select(list(buttons), value="none", label="Button").classes("w-40"), "teach-button")
-        tid(ui.button("Save into project", icon="save"), "teach-save").on_click(lambda: save())
-        tid(ui.button("Download .h4p", icon="download"), "teach-download").on_click(lambda: download())
-        tid(ui.button("Download flowchart .xml", icon="account_tree"), "teach-download-xml").on_click(
-            lambda: download_xml()
+        button = tid(
+            ui.select(list(buttons), value="none", label="Button").classes("w-40"), "teach-button"
         )
+        tid(ui.button("Save into project", icon="save"), "teach-save").on_click(lambda: save())
+        tid(ui.button("Download .h4p", icon="download"), "teach-download").on_click(
+            lambda: download()
+        )
+        tid(
+            ui.button("Download flowchart .xml", icon="account_tree"), "teach-download-xml"
+        ).on_click(lambda: download_xml())
     status = tid(ui.label(""), "teach-status")
 
     def slots() -> None:
@@ -170,8 +190,13 @@ def build(ctx: UiContext) -> None:
             ui.notify("capture poses and pick a free slot first", type="warning")
             return
         try:
-            saved = save_keyframes(ctx.project, list(frames), slot=int(slot.value),
-                                   name=str(name.value or "taught motion"), button=buttons[button.value])
+            saved = save_keyframes(
+                ctx.project,
+                list(frames),
+                slot=int(slot.value),
+                name=str(name.value or "taught motion"),
+                button=buttons[button.value],
+            )
         except ValueError as exc:
             status.text = f"not saved: {exc}"
             ui.notify(f"not saved: {exc}", type="negative", multi_line=True)
