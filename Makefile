@@ -17,6 +17,10 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[dev,plot]'
 	touch $@ $(VENV)/.installed-plot
 
+$(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,bench]'
+	touch $@
+
 demo: $(VENV)/.installed-plot
 	$(BIN)/rcb4hv demo --output demo-servo-angles.png
 
@@ -25,7 +29,7 @@ test: $(VENV)/.installed-dev
 	$(BIN)/mypy --strict src
 	$(BIN)/pytest -q
 
-bench: $(VENV)/.installed-dev
+bench: $(VENV)/.installed-bench
 	$(BIN)/python -m bench.run
 
 # browser screenshots of every page (headless Chromium) copied to docs/ for the README

@@ -7,10 +7,10 @@ import threading
 import time
 from collections.abc import Callable, Iterable, Mapping
 from types import TracebackType
-from typing import Final
+from typing import Final, NoReturn
 
+from rcb4hv.client.exchange import RAM_READS, find_reply, ram_read_frame
 from rcb4hv.errors import (
-    ChecksumError,
     FrameError,
     NakError,
     ProtocolError,
@@ -20,8 +20,6 @@ from rcb4hv.errors import (
 from rcb4hv.protocol import (
     ALWAYS,
     MAX_REPLY_SIZE,
-    NEED_DATA,
-    Ack,
     AcknowledgeCheck,
     Add,
     And,
@@ -47,9 +45,7 @@ from rcb4hv.protocol import (
     Reply,
     Return,
     Rom,
-    RunConstFrameServo,
     RunSeriesServo,
-    RunSingleServo,
     SetSpeed,
     SetStretch,
     Shift,
@@ -61,6 +57,9 @@ from rcb4hv.protocol import (
     reply_length,
 )
 from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+from rcb4hv.protocol.frame import sum_ok
+from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
+from rcb4hv.protocol.servoframes import const_frame_servo_frame, single_servo_frame
 from rcb4hv.transport import (
     BAUD_RATES,
     DEFAULT_BAUD,
@@ -227,75 +226,73 @@ class Rcb4Client:
                 "create the client with allow_communicate_device=True to send it"
             )
         frame = command.encode()
-        reply = self._exchange(frame, command, self.timeout if timeout is None else timeout)
+        raw = self._roundtrip(
+            frame,
+            command.cmd,
+            reply_length(command),
+            _name(command),
+            self.timeout if timeout is None else timeout,
+        )
+        try:
+            reply = decode_reply(raw, command)
+        except ProtocolError as exc:
+            raise FrameError(f"bad reply to {_name(command)}: {exc}") from exc
         if isinstance(reply, Nak):
             raise NakError(f"board answered NAK to {_name(command)}", command.cmd)
         return reply
 
-    def _exchange(self, frame: bytes, command: Command, timeout: float) -> Reply:
-        cmd = command.cmd
-        expected = reply_length(command)
+    def _ack(self, frame: bytes, cmd: int, name: str, timeout: float | None = None) -> None:
+        """Send a command ``frame`` answered by an ACK (fast path of :meth:`transact`)."""
+        raw = self._roundtrip(frame, cmd, 4, name, self.timeout if timeout is None else timeout)
+        if raw[2] != ACK_BYTE:
+            if raw[2] == NAK_BYTE:
+                raise NakError(f"board answered NAK to {name}", cmd)
+            raise FrameError(f"bad reply to {name}: expected ACK or NAK, got {raw.hex(' ')}")
+
+    def _roundtrip(self, frame: bytes, cmd: int, expected: int, name: str, timeout: float) -> bytes:
+        """Send ``frame``; return the reply frame (whole, checksum checked, CMD byte ``cmd``).
+
+        ``expected`` is the length of the successful reply. Fast path: the first read brings
+        exactly that frame. Anything else (a NAK, a reply in pieces, stray bytes before it, a
+        damaged reply) goes through :func:`~rcb4hv.client.exchange.find_reply`.
+        """
         transport = self.transport
-        decoder = self._decoder
         with self._lock:
             deadline = time.monotonic() + timeout
-            decoder.reset()
             transport.reset_input()
             transport.write(frame)
-            corrupt: ChecksumError | None = None
-            need = 4
-            while True:
-                chunk = transport.read(need, deadline)
-                if not chunk:
-                    partial = decoder.reset()
-                    if corrupt is not None:
-                        raise corrupt
-                    got = f" (incomplete: {partial.hex(' ')})" if partial else ""
-                    raise Rcb4TimeoutError(
-                        f"no reply to {_name(command)} within {timeout:g} s{got}"
-                    )
-                decoder.receive_data(chunk)
-                while True:
-                    pending = decoder.pending
-                    skip = 0
-                    n = len(pending)
-                    while skip < n and not (
-                        (pending[skip] == expected or pending[skip] == 4)
-                        and (skip + 1 >= n or pending[skip + 1] == cmd)
-                    ):
-                        skip += 1
-                    if skip:
-                        log.warning(
-                            "discarded %d stray byte(s) before the reply to %s: %s",
-                            skip,
-                            _name(command),
-                            pending[:skip].hex(" "),
-                        )
-                        decoder.reset()
-                        decoder.receive_data(pending[skip:])
-                        pending = pending[skip:]
-                    if not pending:
-                        need = 4
-                        break
-                    try:
-                        got_frame = decoder.next_frame()
-                    except ChecksumError as exc:
-                        log.warning("reply to %s with a bad checksum: %s", _name(command), exc)
-                        corrupt = ChecksumError(
-                            f"reply to {_name(command)} has a bad checksum: "
-                            f"{exc.frame.hex(' ')}",
-                            exc.frame,
-                        )
-                        deadline = min(deadline, time.monotonic() + self.corrupt_grace)
-                        continue
-                    if got_frame is NEED_DATA:
-                        need = max(pending[0] - len(pending), 1)
-                        break
-                    assert isinstance(got_frame, bytes)
-                    try:
-                        return decode_reply(got_frame, command)
-                    except ProtocolError as exc:
-                        raise FrameError(f"bad reply to {_name(command)}: {exc}") from exc
+            chunk = transport.read_some(expected, deadline)
+            if (
+                len(chunk) == expected
+                and chunk[0] == expected
+                and chunk[1] == cmd
+                and sum_ok(chunk)
+            ):
+                return chunk
+            return find_reply(
+                transport,
+                self._decoder,
+                chunk,
+                cmd,
+                expected,
+                name,
+                deadline,
+                timeout,
+                self.corrupt_grace,
+            )
+
+    def _data_reply(self, frame: bytes, cmd: int, size: int, name: str) -> bytes:
+        """Send a command ``frame`` answered by ``size`` data bytes; return them."""
+        raw = self._roundtrip(frame, cmd, size + 3, name, self.timeout)
+        if len(raw) == size + 3:
+            return raw[2:-1]
+        return self._data_reply_error(raw, cmd, size, name)
+
+    @staticmethod
+    def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
+        if len(raw) == 4 and raw[2] == NAK_BYTE:
+            raise NakError(f"board answered NAK to {name}", cmd)
+        raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
 
     # ------------------------------------------------------------------ data commands
 
@@ -380,9 +377,7 @@ class Rcb4Client:
         """0Dh RETURN: pop the PC."""
         self.transact(Return())
 
-    def communicate_device(
-        self, ics: int, tx_count: int, tx_address: int, rx_address: int
-    ) -> None:
+    def communicate_device(self, ics: int, tx_count: int, tx_address: int, rx_address: int) -> None:
         """0Eh ICS communication. Refused (CommandNotAllowedError) unless the client was created
         with ``allow_communicate_device=True``: the reference says it must not be used."""
         self.transact(CommunicateDevice(ics, tx_count, tx_address, rx_address))
@@ -392,8 +387,9 @@ class Rcb4Client:
     def run_single_servo(
         self, ics: int, speed: int, position: int, set_update_flag: bool = True
     ) -> None:
-        """0Fh: one servo to ``position`` in ``speed`` output periods."""
-        self.transact(RunSingleServo(ics, speed, position, set_update_flag))
+        """0Fh: one servo to ``position`` in ``speed`` output periods (any 7-bit ICS number,
+        speed and 16-bit position: the wire layer takes what the board takes)."""
+        self._ack(single_servo_frame(ics, speed, position, set_update_flag), 0x0F, "RunSingleServo")
 
     def run_const_frame_servo(
         self,
@@ -402,7 +398,8 @@ class Rcb4Client:
         set_update_flag: bool = True,
     ) -> None:
         """10h: several servos, one speed; ``positions`` maps ICS number to position."""
-        self.transact(RunConstFrameServo(speed, positions, set_update_flag))
+        frame = const_frame_servo_frame(speed, positions, set_update_flag)
+        self._ack(frame, 0x10, "RunConstFrameServo")
 
     def run_series_servo(
         self, moves: Iterable[tuple[int, int, int]], set_update_flag: bool = True
@@ -412,11 +409,13 @@ class Rcb4Client:
         self.transact(RunSeriesServo(moves, set_update_flag))
 
     def set_speed(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 02: servo speed parameter 1-127 per ICS number."""
+        """12h sub 02: servo speed parameter per ICS number (any byte; documented 1-127,
+        which :meth:`Robot.set_speed` checks)."""
         self.transact(SetSpeed(values))
 
     def set_stretch(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 01: servo stretch (holding gain) 1-127 per ICS number."""
+        """12h sub 01: servo stretch (holding gain) per ICS number (any byte; documented
+        1-127, which :meth:`Robot.set_stretch` checks)."""
         self.transact(SetStretch(values))
 
     # ------------------------------------------------------------------ system
@@ -430,19 +429,29 @@ class Rcb4Client:
 
     def acknowledge_check(self, long_form: bool = False, timeout: float | None = None) -> None:
         """FEh: link check; returns when the board ACKs, raises otherwise."""
-        reply = self.transact(AcknowledgeCheck(long_form), timeout)
-        if not isinstance(reply, Ack):
-            raise FrameError(f"expected an ACK, got {reply}")
+        frame = _ACK_LONG if long_form else _ACK_SHORT
+        self._ack(frame, AcknowledgeCheck.cmd, "AcknowledgeCheck", timeout)
 
     # ------------------------------------------------------------------ memory helpers
 
     def read_ram(self, address: int, size: int) -> bytes:
         """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
+        if (
+            type(address) is int
+            and type(size) is int
+            and 0 < size <= MAX_READ
+            and 0 <= address <= RAM_SIZE - size
+        ):  # fast path: one frame, arguments known good
+            frame = RAM_READS.get((address, size)) or ram_read_frame(address, size)
+            raw = self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
+            if len(raw) == size + 3:
+                return raw[2:-1]
+            return self._data_reply_error(raw, 0x00, size, "Move")
         _check_span("RAM", address, size, RAM_SIZE)
         out = bytearray()
         for a in range(address, address + size, MAX_READ):
             n = min(MAX_READ, address + size - a)
-            out += self._data(Move(Com(), Ram(a), n))
+            out += self._data_reply(ram_read_frame(a, n), 0x00, n, "Move")
         return bytes(out)
 
     def write_ram(self, address: int, data: bytes) -> None:
@@ -493,6 +502,10 @@ class Rcb4Client:
             a += n
             if progress is not None:
                 progress(done, total)
+
+
+_ACK_SHORT: Final = AcknowledgeCheck().encode()
+_ACK_LONG: Final = AcknowledgeCheck(long_form=True).encode()
 
 
 def _check_span(kind: str, address: int, size: int, limit: int) -> None:

@@ -21,14 +21,19 @@ The mapping, field by field:
 * ``ButtonData`` / ``CompareType`` of each used motion -> a vector package (spec 11.3) that
   CALLs the motion when the button word (RAM 0350h) compares to the value (:data:`COMPARE`);
   in slot order, at most 32.
-* ``StartupMotionAddress`` (``-1`` = none) -> the CALL at 00444h.
-* ``PriorityMotionCollection`` keys ``0``-``12`` -> the 13 main-loop checks; ``Port``
+* ``StartupMotionAddress`` (``-1`` = none: the RETURN stub) -> the CALL at 00444h.
+* ``PriorityMotionCollection`` keys ``0``-``12`` -> the 13 main-loop checks (``Address`` ``-1``
+  = none, see :mod:`rcb4hv.project.options` for this and an empty startup slot); ``Port``
   ``Battery`` compares AD0 (RAM 0022h), ``AD<n>`` compares AD n, ``PA<n>`` the remote's
-  analogue value n (one byte). ``LowPowerMotionAddress`` (older projects), when set, becomes a
-  battery check ``AD0 <= LowPowerValue`` in the first free slot.
+  analogue value n (one byte). ``LowPowerMotionAddress`` (older projects), when not ``-1``
+  (none), becomes a battery check ``AD0 <= LowPowerValue`` in the first free slot.
 * ``ProjectTitle`` -> the 32-byte title (cp932; a longer title is cut at a character boundary).
 * ``MotionData`` -> the motion's bytes at 0B80h + 2048 (n - 1), copied exactly as stored,
   including HeartToHeart4's ``FF`` end-of-motion byte after the final RETURN.
+
+Every function takes ``motion_layout`` (default HeartToHeart4 2.2): an older project (motions
+at 0BB8h, main loop 003FDh) is laid out with :mod:`rcb4hv.rom.older`. Detecting a project's
+layout and moving a project to another layout is :mod:`rcb4hv.project.relocate`.
 """
 
 from __future__ import annotations
@@ -41,6 +46,7 @@ from typing import Final
 from rcb4hv.errors import FrameError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
+from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
 from rcb4hv.protocol import Button, frame_at
 from rcb4hv.rom import (
     Compare,
@@ -50,10 +56,10 @@ from rcb4hv.rom import (
     PriorityMotion,
     ServoConfig,
     VectorPackage,
-    build_image,
     layout,
-    parse_image,
 )
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import build_image_for, parse_image_for
 
 __all__ = [
     "COMPARE",
@@ -254,7 +260,12 @@ def _title(text: str | None) -> str:
 # ----------------------------------------------------------------------------- project -> image
 
 
-def project_description(project: Project) -> ImageDescription:
+def project_description(
+    project: Project,
+    motion_layout: MotionLayout = HTH4_22,
+    *,
+    options: BuildOptions = DEFAULT_OPTIONS,
+) -> ImageDescription:
     """The :class:`~rcb4hv.rom.ImageDescription` of ``project`` (see the module docstring).
 
     ValueError when the project cannot be laid out in the 2.2 image: a motion stored for
@@ -267,13 +278,15 @@ def project_description(project: Project) -> ImageDescription:
     motions: list[Motion] = []
     packages: list[VectorPackage] = []
     for m in sorted(project.used_motions, key=lambda m: m.slot):
-        if not 1 <= m.slot <= layout.MOTION_COUNT:
-            raise ValueError(f"motion {m.key}: slot {m.slot} outside 1..{layout.MOTION_COUNT}")
-        address = layout.motion_address(m.slot)
+        count = motion_layout.motion_count
+        if not 1 <= m.slot <= count:
+            raise ValueError(f"motion {m.key}: slot {m.slot} outside 1..{count}")
+        address = motion_layout.address(m.slot)
         if m.address != address:
             raise ValueError(
                 f"motion {m.key} ({m.name}) is stored for ROM {m.address:05X}h, but the "
-                f"HeartToHeart4 2.2 layout puts slot {m.slot} at {address:05X}h"
+                f"HeartToHeart4 {motion_layout.version} layout puts slot {m.slot} at "
+                f"{address:05X}h"
             )
         try:
             motions.append(Motion(m.slot, motion_image_frames(m.frames)))
@@ -296,7 +309,12 @@ def project_description(project: Project) -> ImageDescription:
             raise ValueError(
                 f"priority check {index}: unknown CompareType {pm.compare_type!r}"
             ) from None
-        priority[index] = PriorityMotion(source, compare, pm.value, pm.address, size)
+        target = pm.address
+        if target < 0:  # a check configured with no motion
+            if options.priority_none == "skip":
+                continue
+            target = layout.STARTUP_STUB
+        priority[index] = PriorityMotion(source, compare, pm.value, target, size)
     if project.low_power_motion_address >= 0:
         free = [i for i, p in enumerate(priority) if p is None]
         if not free:
@@ -305,6 +323,8 @@ def project_description(project: Project) -> ImageDescription:
             AD0, "le", project.low_power_value, project.low_power_motion_address
         )
     startup = project.startup_motion_address
+    if options.empty_startup == "stub" and all(m.address != startup for m in motions):
+        startup = -1
     return ImageDescription(
         system_register=project.system_register,
         ad_references=project.adc_reference_words,
@@ -318,13 +338,20 @@ def project_description(project: Project) -> ImageDescription:
     )
 
 
-def build_project_image(project: Project) -> bytes:
-    """The 256 KB HeartToHeart4 2.2 ROM image of ``project``.
+def build_project_image(
+    project: Project,
+    motion_layout: MotionLayout = HTH4_22,
+    *,
+    options: BuildOptions = DEFAULT_OPTIONS,
+) -> bytes:
+    """The 256 KB ROM image of ``project`` in ``motion_layout`` (default HeartToHeart4 2.2);
+    ``options``: settings that mean "none", :mod:`rcb4hv.project.options`.
 
     Each motion's bytes are copied exactly as the project stores them (FF end marker
     included) over the builder's output, which holds the same frames.
     """
-    image = bytearray(build_image(project_description(project)))
+    desc = project_description(project, motion_layout, options=options)
+    image = bytearray(build_image_for(desc, motion_layout))
     for m in project.used_motions:
         data = m.rom_bytes()
         a = m.address
@@ -413,13 +440,15 @@ class ImageContents:
         raise KeyError(f"no motion in slot {slot}")
 
 
-def read_image(rom: bytes | bytearray) -> ImageContents:
+def read_image(
+    rom: bytes | bytearray, motion_layout: MotionLayout = HTH4_22
+) -> ImageContents:
     """The motions and settings of a HeartToHeart4 2.2 image (via :func:`rom.parse_image`).
 
     :class:`~rcb4hv.errors.ProtocolError` if it is not such an image; ValueError for a wrong
     size.
     """
-    desc = parse_image(rom)
+    desc = parse_image_for(rom, motion_layout)
     bindings: list[ButtonBinding] = []
     others: list[VectorPackage] = []
     for p in desc.vector_packages:
@@ -439,7 +468,7 @@ def read_image(rom: bytes | bytearray) -> ImageContents:
             }
     slots: list[MotionSlot] = []
     for m in desc.motions:
-        a = m.address
+        a = motion_layout.address(m.slot)
         slots.append(
             MotionSlot(
                 slot=m.slot,

@@ -3,7 +3,8 @@
 :class:`Simulator` boots an image in an emulated :class:`~rcb4hv.emulator.Board` on a
 :class:`~rcb4hv.emulator.VirtualClock` and plays motions through :meth:`Board.feed` with real
 command frames (spec 11.4): suspend (system register without ICS_F/ROM_F/VEC_F), reset the
-program (PC = 044Bh, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F, VEC_F).
+program (PC = the main loop, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F,
+VEC_F). The image's layout (main loop 044Bh or 003FDh, motion slots) is detected from it.
 While a button is held for the motion (``hold``) VEC_F is left clear at the resume, so the
 held button does not also fire the package bound to it at once; the main loop re-arms VEC_F
 when it runs.
@@ -32,6 +33,10 @@ Each play ends in one of these states (:class:`MotionResult.status`):
     overflow (17th nested CALL) or underflow (RETURN on an empty stack). ``pc`` is the failing
     instruction's address and ``instruction`` its disassembly (the board leaves the PC on it).
 
+A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause in words
+(:func:`rcb4hv.project.instructions.boot_cause`, e.g. ``startup motion 0FB80h: slot 31 holds no
+motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
+
 The emulator exposes no "last program error" record, so the kind of error is derived from public
 state: the ROMERR bit, the instruction at the PC, the call depth and the allocation table.
 """
@@ -47,32 +52,18 @@ from typing import Any, Final, Literal
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError
+from rcb4hv.project.instructions import boot_cause, ics_operands, input_names
 from rcb4hv.protocol import (
     ALWAYS,
     Ack,
-    Add,
-    And,
     Call,
     Com,
     Command,
     Data,
     DataReply,
-    Div,
-    Ics,
-    Jump,
-    Mod,
     Move,
-    Mul,
-    Not,
-    Or,
     Ram,
     Return,
-    RunConstFrameServo,
-    RunSeriesServo,
-    RunSingleServo,
-    Shift,
-    Sub,
-    Xor,
     decode_command,
     decode_reply,
     encode_command,
@@ -80,6 +71,8 @@ from rcb4hv.protocol import (
 )
 from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import detect_image_layout
 
 __all__ = [
     "DEFAULT_LIMIT",
@@ -108,16 +101,6 @@ duration is within one step of the board's; 1 ms steps made simulation ~20% slow
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
 STACK_DEPTH: Final = 16
-
-# RAM that changes from outside the program: (first, last, name)
-_INPUTS: Final = (
-    (0x0022, 0x0037, "AD"),
-    (0x003A, 0x003B, "PIO"),
-    (0x003C, 0x0043, "timer"),
-    (0x0350, 0x0351, "buttons"),
-    (0x0352, 0x0355, "PA"),
-)
-
 
 class SimulationError(Exception):
     """The board did not accept a host frame, or the image does not boot."""
@@ -219,9 +202,11 @@ class Simulator:
         ics: Iterable[int] | None = None,
         config: EmulatorConfig | None = None,
         listener: SampleListener | None = None,
+        motion_layout: MotionLayout | None = None,
     ) -> None:
         if len(image) != layout.ROM_SIZE:
             raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
+        self.layout = motion_layout or detect_image_layout(image) or HTH4_22
         if ics is None:
             ics = [
                 n
@@ -265,7 +250,7 @@ class Simulator:
             SYS.ROM_ERROR | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
         )
         self._write_ram(0x0000, word.to_bytes(2, "little"))
-        self._write_ram(0x0002, layout.MAIN_LOOP.to_bytes(3, "little") + bytes(7))
+        self._write_ram(0x0002, self.layout.main_loop.to_bytes(3, "little") + bytes(7))
         self._send(Call(address, ALWAYS))
         flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
         self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
@@ -337,7 +322,7 @@ class Simulator:
             return "call-stack underflow (RETURN on an empty stack)", pc, text
         if isinstance(cmd, Call) and depth >= STACK_DEPTH:
             return "call-stack overflow (17th nested CALL)", pc, text
-        for ics in _ics_operands(cmd):
+        for ics in ics_operands(cmd):
             if b.alloc(ics) == 0xFFFF:
                 return f"command error: ICS {ics} is not allocated", pc, text
         return "command error (program stopped)", pc, text
@@ -355,10 +340,11 @@ class Simulator:
             n = b.instructions_executed - i0
             if not b.system_register & SYS.ROM_RUN:
                 kind, pc, text = self._error()
-                res = MotionResult(None, 0, "boot", "error", dur, n, kind, pc, text)
+                cause = boot_cause(b.rom, kind, pc)
+                res = MotionResult(None, 0, "boot", "error", dur, n, cause, pc, text)
                 break
             pc = b.pc
-            in_main = layout.MAIN_LOOP <= pc < layout.MAIN_LOOP_JUMP + 7 and b.ram[5] == 0
+            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not b.ram[5]
             if in_main and seen_main:
                 res = MotionResult(None, 0, "boot", "completed", dur, n)
                 break
@@ -399,7 +385,7 @@ class Simulator:
         if b.ram[5] != 1:
             return False
         cmd, _ = self._instruction_at(b.pc)
-        return isinstance(cmd, Return) and b.call_stack[0] < layout.MOTIONS
+        return isinstance(cmd, Return) and b.call_stack[0] < self.layout.motion_base
 
     def play(
         self,
@@ -422,7 +408,7 @@ class Simulator:
             raise ValueError(f"ROM address {address:#x} out of range")
         b = self.board
         if slot is None:
-            slot = layout.motion_number(address)
+            slot = self.layout.motion_at(address)
         self.start_motion(address, vector=not hold)
         t0, i0 = self._t_us, b.instructions_executed
         held = None
@@ -458,7 +444,7 @@ class Simulator:
                 kind, pc, text = self._error()
                 return result("error", error=kind, pc=pc, instruction=text)
             pc = b.pc
-            if b.ram[5] == 0 and pc < layout.MOTIONS:
+            if b.ram[5] == 0 and pc < self.layout.motion_base:
                 return result("completed")
             if elapsed >= limit_us:
                 return result("timeout", pc=pc)
@@ -504,7 +490,7 @@ class Simulator:
         for pc in sorted(pcs):
             cmd, _ = self._instruction_at(pc)
             if cmd is not None:
-                for name in _input_names(cmd):
+                for name in input_names(cmd):
                     if name not in inputs:
                         inputs.append(name)
         loop = (min(pcs), max(a + n - 1 for a, n in pcs.items())) if pcs else None
@@ -528,7 +514,7 @@ class Simulator:
         out = []
         for slot, name in motions:
             r = self.play(
-                layout.motion_address(slot),
+                self.layout.address(slot),
                 slot=slot,
                 name=name,
                 hold=hold,
@@ -539,50 +525,3 @@ class Simulator:
             if progress is not None:
                 progress(r)
         return out
-
-
-def _operands(cmd: Command) -> list[object]:
-    ops: list[object] = []
-    for attr in ("dst", "src"):
-        v = getattr(cmd, attr, None)
-        if v is not None:
-            ops.append(v)
-    return ops
-
-
-def _ics_operands(cmd: Command) -> list[int]:
-    if isinstance(cmd, RunSingleServo):
-        return []
-    if isinstance(cmd, (RunConstFrameServo, RunSeriesServo)):
-        return []
-    return [o.ics for o in _operands(cmd) if isinstance(o, Ics)]
-
-
-def _input_names(cmd: Command) -> list[str]:
-    """Inputs (RAM the program does not own) a data command reads."""
-    if not isinstance(cmd, (Move, And, Or, Xor, Add, Sub, Mul, Div, Mod, Not, Shift)):
-        return []
-    if isinstance(cmd, (Jump, Call)):  # pragma: no cover - not data commands
-        return []
-    size = cmd.nbytes
-    names: list[str] = []
-    for op in _operands(cmd):
-        if isinstance(op, Ics):
-            if op.offset in (4, 5):
-                names.append(f"ICS {op.ics} measured value")
-            continue
-        if not isinstance(op, Ram):
-            continue
-        a0, a1 = op.address, op.address + size - 1
-        for lo, hi, kind in _INPUTS:
-            if a0 > hi or a1 < lo:
-                continue
-            if kind == "AD":
-                first = max(0, (a0 - lo) // 2)
-                last = min(10, (a1 - lo) // 2)
-                names += [f"AD{n}" for n in range(first, last + 1)]
-            elif kind == "PA":
-                names += [f"PA{n - lo + 1}" for n in range(max(a0, lo), min(a1, hi) + 1)]
-            else:
-                names.append(kind)
-    return names
