@@ -93,7 +93,11 @@ def add_motion_command(
         slot = free[0]
     period = SystemRegister.from_word(project.system_register).frame_period_ms
     word = _parse_buttons(button) if button else 0
-    motion = motion_from_keyframes(frames, slot=slot, name=name, period_ms=period, button=word)
+    from rcb4hv.project.relocate import project_layout
+
+    motion = motion_from_keyframes(
+        frames, slot=slot, name=name, period_ms=period, button=word, layout=project_layout(project)
+    )
     data = dump_project(add_motion(project, motion))
     if dump_project(parse_project(data)) != data:
         raise ValueError("the new project does not round-trip; nothing written")

@@ -19,9 +19,9 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from rcb4hv.hth4.flowchart import Flowchart, FlowchartActivity, FlowchartLine, Size
-from rcb4hv.hth4.model import MAX_MOTIONS, Motion, Point, Project, motion_key, motion_rom_address
+from rcb4hv.hth4.model import Motion, Point, Project, motion_key
 from rcb4hv.protocol import FRAME_PERIODS_MS, POSITION_MAX, POSITION_MIN, Return, RunConstFrameServo
-from rcb4hv.rom.layout import MOTION_SIZE
+from rcb4hv.rom.layout import HTH4_22, MOTION_SIZE, MotionLayout
 
 __all__ = [
     "END_MARKER",
@@ -125,11 +125,13 @@ def motion_from_keyframes(
     button: int = 0,
     compare_type: str = "Equals",
     date: str | None = None,
+    layout: MotionLayout = HTH4_22,
 ) -> Motion:
-    """A project motion for ``slot`` (1-120) that plays ``keyframes``; ``button`` binds it
-    to a remote button word (0: none)."""
-    if not 1 <= slot <= MAX_MOTIONS:
-        raise ValueError(f"motion slot must be 1..{MAX_MOTIONS}, not {slot}")
+    """A project motion for ``slot`` that plays ``keyframes``, stored for ``layout`` (the
+    project's HeartToHeart4 version; 2.2 by default); ``button`` binds it to a remote button
+    word (0: none)."""
+    if not 1 <= slot <= layout.motion_count:
+        raise ValueError(f"motion slot must be 1..{layout.motion_count}, not {slot}")
     if not 0 <= button <= 0xFFFF:
         raise ValueError("the button word is 16 bits")
     if not name:
@@ -142,7 +144,7 @@ def motion_from_keyframes(
         button_data=button,
         compare_type=compare_type,
         frames=keyframe_frames(keyframes, period_ms),
-        address=motion_rom_address(slot),
+        address=layout.address(slot),
     )
 
 

@@ -1,32 +1,20 @@
-"""`project check` findings for the Project page, when :mod:`rcb4hv.project.check` exists.
-
-The lint lives in its own module (``check_project(project) -> list[Finding]``); this adapter
-turns findings into table rows and says plainly when the lint is not installed.
-"""
+"""`project check` findings (:func:`rcb4hv.project.check.check_project`) as table rows."""
 
 from __future__ import annotations
 
-import importlib
-import logging
-from typing import Any
-
 from rcb4hv.hth4 import Project
+from rcb4hv.project.check import check_project
 
 __all__ = ["check_rows"]
 
-log = logging.getLogger(__name__)
-
 
 def check_rows(project: Project) -> tuple[list[dict[str, object]], str]:
-    """(finding rows, a one-line summary)."""
-    try:
-        module: Any = importlib.import_module("rcb4hv.project.check")
-    except ImportError:
-        return [], "project check is not available in this version"
-    findings = module.check_project(project)
+    """(finding rows, a one-line summary such as ``0 errors, 3 warnings``)."""
+    findings = check_project(project)
     rows: list[dict[str, object]] = []
-    for f in findings:
-        d = f.to_dict()
-        rows.append({k: ("" if v is None else str(v)) for k, v in d.items()})
+    for i, f in enumerate(findings):
+        row: dict[str, object] = {"#": i + 1}
+        row.update({k: ("" if v is None else str(v)) for k, v in f.to_dict().items()})
+        rows.append(row)
     errors = sum(1 for f in findings if f.severity == "error")
     return rows, f"{errors} errors, {len(findings) - errors} warnings"

@@ -13,16 +13,22 @@ from nicegui import ui
 from rcb4hv.client import Robot
 from rcb4hv.hth4 import Project
 from rcb4hv.project.image import build_project_image
+from rcb4hv.project.relocate import project_layout
 from rcb4hv.project.simulate import MotionResult, Simulator
 from rcb4hv.project.upload import UploadResult, upload_image
 from rcb4hv.protocol import COUNTS_PER_DEGREE
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.plot import angle_chart, set_series
 
-__all__ = ["SimulationTrace", "build", "simulate_motion"]
+__all__ = ["SimulationTrace", "build", "project_image", "simulate_motion"]
 
 SAMPLE_EVERY = 2
 """Keep every 2nd output period of a simulation for the plot."""
+
+
+def project_image(project: Project) -> bytes:
+    """The ROM image of ``project`` in its own HeartToHeart4 layout."""
+    return build_project_image(project, project_layout(project))
 
 
 @dataclass
@@ -41,7 +47,7 @@ class SimulationTrace:
 def simulate_motion(project: Project, slot: int, *, limit: float = 60.0) -> SimulationTrace:
     """Boot the project's image in a virtual-time emulator and play ``slot``; record the
     angle of every servo each other output period."""
-    image = build_project_image(project)
+    image = project_image(project)
     series: dict[int, list[tuple[float, float]]] = {}
     count = [0]
     t0 = [0.0]
@@ -132,7 +138,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             ui.notify("open a project first", type="warning")
             return
         try:
-            image = build_project_image(ctx.project)
+            image = project_image(ctx.project)
         except ValueError as exc:
             ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
             return
@@ -182,7 +188,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             ui.notify("open a project first", type="warning")
             return
         try:
-            image = build_project_image(ctx.project)
+            image = project_image(ctx.project)
         except ValueError as exc:
             ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
             return

@@ -146,9 +146,9 @@ def build(ctx: UiContext) -> None:
         with ui.tab_panel(t_check):
             checks = tid(
                 ui.table(
-                    columns=_columns("severity", "code", "slot", "name", "address", "reason"),
+                    columns=_columns("#", "severity", "code", "slot", "name", "address", "reason"),
                     rows=[],
-                    row_key="reason",
+                    row_key="#",
                 ).props("dense flat"),
                 "project-checks",
             )

@@ -19,6 +19,7 @@ from rcb4hv.hth4.keyframes import (
     motion_from_keyframes,
 )
 from rcb4hv.project.image import build_project_image
+from rcb4hv.project.relocate import project_layout
 from rcb4hv.project.simulate import MotionResult, Simulator
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, SystemRegister
 from rcb4hv.session import StepJob
@@ -45,12 +46,15 @@ def save_keyframes(
     bytes reload and dump back identical, the image builds, and the motion simulates to its
     end."""
     period = SystemRegister.from_word(project.system_register).frame_period_ms
-    motion = motion_from_keyframes(keyframes, slot=slot, name=name, period_ms=period, button=button)
+    layout = project_layout(project)
+    motion = motion_from_keyframes(
+        keyframes, slot=slot, name=name, period_ms=period, button=button, layout=layout
+    )
     data = dump_project(add_motion(project, motion))
     again = parse_project(data)
     if dump_project(again) != data:
         raise ValueError("the saved project does not round-trip byte for byte")
-    sim = Simulator(build_project_image(again))
+    sim = Simulator(build_project_image(again, layout), motion_layout=layout)
     sim.boot()
     result = sim.play(motion.address, slot=slot, name=name)
     if result.status != "completed":
