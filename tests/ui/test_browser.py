@@ -28,6 +28,23 @@ def _field(page: Any, name: str) -> Any:
     return page.locator(f"input[data-testid={name}], [data-testid={name}] input").first
 
 
+def _click_slider(page: Any, name: str, fraction: float, done: Any) -> None:
+    """Click a slider's track at ``fraction`` until ``done()`` (a tab switch animates the
+    page, so a click during the transition may land beside the moving track)."""
+    slider = page.get_by_test_id(name)
+    deadline = time.monotonic() + 15
+    while True:
+        slider.wait_for(state="visible")
+        box = slider.bounding_box()
+        page.mouse.click(box["x"] + box["width"] * fraction, box["y"] + box["height"] / 2)
+        end = time.monotonic() + 2
+        while time.monotonic() < end:
+            if done():
+                return
+            time.sleep(0.05)
+        assert time.monotonic() < deadline, f"{name}: the click did not move the servo"
+
+
 def _wait(cond: Any, timeout: float = 10.0) -> None:
     deadline = time.monotonic() + timeout
     while not cond():
@@ -154,11 +171,8 @@ def test_teach_captures_poses_and_saves_a_motion_that_reloads(
     page.get_by_test_id("teach-capture").click()
     _wait(lambda: page.get_by_test_id("teach-count").inner_text() == "1 keyframes")
     page.get_by_test_id("tab-servos").click()
-    slider = page.get_by_test_id("slider-2")
-    box = slider.bounding_box()
-    page.mouse.click(box["x"] + box["width"] * 0.75, box["y"] + box["height"] / 2)
     b, _ = board
-    _wait(lambda: _output(b, 2) > 8500)
+    _click_slider(page, "slider-2", 0.75, lambda: _output(b, 2) > 8500)
     time.sleep(0.3)
     page.get_by_test_id("tab-teach").click()
     page.get_by_test_id("teach-capture").click()
