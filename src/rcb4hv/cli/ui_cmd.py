@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from rcb4hv.cli._util import _baud
 from rcb4hv.transport import EMULATOR_URL
 
 
@@ -20,6 +21,12 @@ def register(cli: click.Group) -> None:
     help="Board URL: a serial device, socket://HOST:PORT or rcb4emu:// (emulator).",
 )
 @click.option(
+    "--baud",
+    default="auto",
+    show_default=True,
+    help="Board baud rate (115200, 625000, 1250000) or 'auto' (an ACK check at each).",
+)
+@click.option(
     "--bind",
     default="127.0.0.1:8765",
     show_default=True,
@@ -32,7 +39,9 @@ def register(cli: click.Group) -> None:
 )
 @click.option("--open", "open_browser", is_flag=True, help="Open the dashboard in a browser.")
 @click.option("--poll-hz", default=10.0, show_default=True, help="Board polling rate.")
-def ui_command(url: str, bind: str, allow_remote: bool, open_browser: bool, poll_hz: float) -> None:
+def ui_command(
+    url: str, baud: str, bind: str, allow_remote: bool, open_browser: bool, poll_hz: float
+) -> None:
     """Browser dashboard for a board or the emulator (servos, remote, motions, projects,
     teaching). Needs the 'ui' extra: pip install 'rcb4hv[ui]'."""
     try:
@@ -42,6 +51,7 @@ def ui_command(url: str, bind: str, allow_remote: bool, open_browser: bool, poll
         raise click.ClickException(
             f"the dashboard needs the 'ui' extra (pip install 'rcb4hv[ui]'): {exc}"
         ) from None
+    baudrate = _baud(baud)
     try:
         host, _ = parse_bind(bind)
     except ValueError as exc:
@@ -58,6 +68,7 @@ def ui_command(url: str, bind: str, allow_remote: bool, open_browser: bool, poll
     serve(
         url,
         bind,
+        baudrate=baudrate,
         token=token,
         open_browser=open_browser,
         poll_hz=poll_hz,

@@ -109,12 +109,13 @@ def serve(
     url: str,
     bind: str = "127.0.0.1:8765",
     *,
+    baudrate: int | None = None,
     token: str | None = None,
     open_browser: bool = False,
     poll_hz: float = 10.0,
     announce: Callable[[str], None] = print,
 ) -> None:
-    """Run the dashboard until interrupted (SIGINT/SIGTERM)."""
+    """Run the dashboard until interrupted (SIGINT/SIGTERM); ``baudrate`` None detects it."""
     import uvicorn
 
     host, port = parse_bind(bind)
@@ -123,7 +124,7 @@ def serve(
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind((host, port))
     policy = AccessPolicy(bind_host=host, port=sock.getsockname()[1], token=token)
-    session = BoardSession(url, poll_hz=poll_hz).start()
+    session = BoardSession(url, baudrate=baudrate, poll_hz=poll_hz).start()
     try:
         try:
             session.wait_connected(timeout=8.0)
