@@ -60,6 +60,11 @@ def test_servo_table_fills(page: Any) -> None:
     assert rows.count() == 17
     assert "7500" in rows.nth(0).inner_text()
     shot(page, "servos")
+    page.get_by_test_id("tab-board").click()
+    board_rows = page.get_by_test_id("board-table").locator("tbody tr")
+    _wait(lambda: "CB-4" in board_rows.nth(3).inner_text())
+    assert "1,250,000" in page.get_by_test_id("board-table").inner_text()  # detected baud
+    shot(page, "board")
 
 
 def test_slider_moves_a_servo(page: Any, board: tuple[Board, str]) -> None:
