@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench fuzz reliability clean
+.PHONY: demo test bench fuzz reliability screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -32,6 +32,13 @@ test: $(VENV)/.installed-dev
 bench: $(VENV)/.installed-bench
 	$(BIN)/python -m bench.run
 
+# browser screenshots of every page (headless Chromium) copied to docs/ for the README
+screenshots: $(VENV)/.installed-dev
+	rm -rf build/screenshots
+	RCB4HV_REQUIRE_BROWSER=1 $(BIN)/pytest -q tests/ui/test_browser.py
+	mkdir -p docs
+	cp build/screenshots/servos.png build/screenshots/remote.png build/screenshots/project.png docs/
+
 fuzz: $(VENV)/.installed-dev
 	HYPOTHESIS_PROFILE=fuzz RCB4HV_FUZZ_EXAMPLES=20000 $(BIN)/pytest -q tests/reliability -k fuzz --timeout=0
 
@@ -39,4 +46,4 @@ reliability: $(VENV)/.installed-dev
 	$(BIN)/python -m bench.reliability
 
 clean:
-	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache
+	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache build/screenshots

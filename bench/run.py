@@ -24,6 +24,7 @@ MODULES = (
     "bench.bench_client",
     "bench.bench_project",
     "bench.bench_peer",
+    "bench.bench_ui",
 )
 
 RESULTS = Path(__file__).resolve().parent / "results.json"

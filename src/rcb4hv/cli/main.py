@@ -24,6 +24,8 @@ COMMAND_MODULES = (
     "rcb4hv.cli.board_cmd",
     "rcb4hv.cli.project_cmd",
     "rcb4hv.cli.asm_cmd",
+    "rcb4hv.cli.teach_cmd",
+    "rcb4hv.cli.ui_cmd",
 )
 
 
@@ -53,3 +55,7 @@ def main() -> None:
         # every rcb4hv error is one line, also from a command without @handle_errors
         click.echo(error_line(exc), err=True)
         sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

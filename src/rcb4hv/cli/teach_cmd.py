@@ -1,0 +1,110 @@
+"""``rcb4hv project add-motion``: save keyframes as a new motion of a HeartToHeart4 project
+(the Teach page of ``rcb4hv ui`` does the same), and ``rcb4hv servo capture``-style JSON."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+from rcb4hv.cli._util import handle_errors
+from rcb4hv.hth4 import dump_motion_xml, dump_project, load_project, parse_project
+from rcb4hv.hth4.keyframes import (
+    Keyframe,
+    add_motion,
+    flowchart_from_keyframes,
+    free_slots,
+    motion_from_keyframes,
+)
+from rcb4hv.protocol import SystemRegister
+
+
+def register(cli: click.Group) -> None:
+    group = cli.commands.get("project")
+    if not isinstance(group, click.Group):
+        raise RuntimeError("rcb4hv.cli.project_cmd must be registered before teach_cmd")
+    group.add_command(add_motion_command)
+
+
+def parse_keyframes(data: Any) -> list[Keyframe]:
+    """``{"keyframes": [{"time": 0.5, "positions": {"2": 7500, ...}, "name": "..."}]}``
+    (or just the list)."""
+    items = data.get("keyframes") if isinstance(data, dict) else data
+    if not isinstance(items, list):
+        raise ValueError('keyframes JSON: expected {"keyframes": [...]} or a list')
+    out = []
+    for i, item in enumerate(items, 1):
+        try:
+            positions = {int(k): int(v) for k, v in dict(item["positions"]).items()}
+            out.append(Keyframe(float(item["time"]), positions, str(item.get("name", ""))))
+        except (KeyError, TypeError, AttributeError) as exc:
+            raise ValueError(f"keyframe {i}: needs 'time' and 'positions' ({exc})") from None
+        except ValueError as exc:
+            raise ValueError(f"keyframe {i}: {exc}") from None
+    return out
+
+
+@click.command("add-motion")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("keyframes", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--name", required=True, help="Motion name.")
+@click.option(
+    "--slot",
+    type=click.IntRange(1, 120),
+    default=None,
+    help="Motion slot (default: the first free one).",
+)
+@click.option("--button", default="", help="Bind to remote buttons, e.g. TRIANGLE or UP+S1.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="Where to write the new .h4p.",
+)
+@click.option(
+    "--flowchart",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Also write the motion's HeartToHeart4 flowchart (.xml) here.",
+)
+@handle_errors
+def add_motion_command(
+    file: Path,
+    keyframes: Path,
+    name: str,
+    slot: int | None,
+    button: str,
+    output: Path,
+    flowchart: Path | None,
+) -> None:
+    """Save KEYFRAMES (JSON: time in seconds and ICS -> position per pose) as a new motion of
+    project FILE, in a free slot, as HeartToHeart4 compiles a chain of Pos boxes."""
+    from rcb4hv.cli.project_cmd import _parse_buttons
+
+    project = load_project(file)
+    frames = parse_keyframes(json.loads(keyframes.read_text(encoding="utf-8")))
+    free = free_slots(project)
+    if slot is None:
+        if not free:
+            raise ValueError(f"{file} has no free motion slot")
+        slot = free[0]
+    period = SystemRegister.from_word(project.system_register).frame_period_ms
+    word = _parse_buttons(button) if button else 0
+    from rcb4hv.project.relocate import project_layout
+
+    motion = motion_from_keyframes(
+        frames, slot=slot, name=name, period_ms=period, button=word, layout=project_layout(project)
+    )
+    data = dump_project(add_motion(project, motion))
+    if dump_project(parse_project(data)) != data:
+        raise ValueError("the new project does not round-trip; nothing written")
+    output.write_bytes(data)
+    if flowchart is not None:
+        flowchart.write_bytes(dump_motion_xml(flowchart_from_keyframes(frames, period)))
+    click.echo(
+        f"{output}: motion {slot} {name!r}, {len(frames)} keyframes, "
+        f"{len(motion.rom_bytes())} bytes at {motion.address:05X}h"
+    )

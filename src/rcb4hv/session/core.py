@@ -1,0 +1,409 @@
+"""The one owner of a board link: :class:`BoardSession`.
+
+A session holds the :class:`~rcb4hv.client.Robot`, runs one worker thread that polls the
+board at a set rate and executes every command (UI clicks, teach, uploads, ROM dumps) from one
+queue, so nothing ever talks to the link concurrently and no caller's event loop blocks:
+
+* :meth:`BoardSession.submit` queues ``fn(robot)`` and returns a
+  :class:`concurrent.futures.Future`; :meth:`BoardSession.run` awaits the same from asyncio.
+* :meth:`BoardSession.submit_steps` queues a long job written as a generator: the worker runs
+  one step at a time and polls, moves and other commands run between the steps (a 256 KB ROM
+  dump keeps the live view moving).
+* :meth:`BoardSession.set_target` records a servo target; targets are coalesced and sent in one
+  frame at most once per servo output period, so a dragged slider cannot flood the link.
+* :meth:`BoardSession.stop` jumps the queue: stop the motion, then hold every servo.
+
+A link failure marks the state disconnected with the error text; the worker reopens the link
+every ``retry`` seconds until it answers again.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import collections
+import logging
+import threading
+import time
+from collections.abc import Callable, Generator
+from concurrent.futures import Future
+from dataclasses import dataclass, replace
+from typing import Any, TypeVar
+
+from rcb4hv.client import HTH4_22, MotionLayout, Rcb4Client, Robot
+from rcb4hv.errors import Rcb4Error
+from rcb4hv.session.meter import MeteredTransport
+from rcb4hv.session.state import AngleHistory, BoardState, poll_state
+from rcb4hv.transport import DEFAULT_BAUD, EMULATOR_URL, open_transport
+
+__all__ = ["BoardSession", "Progress", "StepJob"]
+
+log = logging.getLogger(__name__)
+
+T = TypeVar("T")
+
+StepJob = Generator[tuple[int, int], None, T]
+"""A long job: yields ``(done, total)`` after each short step and returns its result."""
+
+
+@dataclass(frozen=True, slots=True)
+class Progress:
+    """How far the current long job is (``total`` 0: none running)."""
+
+    label: str = ""
+    done: int = 0
+    total: int = 0
+
+    @property
+    def fraction(self) -> float:
+        return self.done / self.total if self.total else 0.0
+
+
+@dataclass
+class _Job:
+    fn: Callable[[Robot], Any]
+    future: Future[Any]
+    label: str = ""
+
+
+@dataclass
+class _Steps:
+    gen: Generator[tuple[int, int], None, Any]
+    future: Future[Any]
+    label: str
+
+
+class BoardSession:
+    """``with BoardSession("rcb4emu://") as s: s.submit(lambda r: r.ping()).result()``.
+
+    ``baudrate`` None detects the board's rate (serial ports only). ``poll_hz`` 0 disables
+    polling. ``robot`` passes a ready Robot instead of opening ``url`` (the session then owns
+    and closes it).
+    """
+
+    def __init__(
+        self,
+        url: str = EMULATOR_URL,
+        *,
+        baudrate: int | None = DEFAULT_BAUD,
+        poll_hz: float = 10.0,
+        layout: MotionLayout = HTH4_22,
+        history_seconds: float = 10.0,
+        retry: float = 1.0,
+        timeout: float = 0.5,
+    ) -> None:
+        if poll_hz < 0:
+            raise ValueError("poll_hz must be >= 0")
+        self.url = url
+        self.baudrate = baudrate
+        self.poll_hz = poll_hz
+        self.layout = layout
+        self.retry = retry
+        self.timeout = timeout
+        self.history = AngleHistory(history_seconds)
+        self.state = BoardState(url=url)
+        self.progress = Progress()
+        self.meter: MeteredTransport | None = None
+        self.robot: Robot | None = None
+        self.latencies: collections.deque[float] = collections.deque(maxlen=10_000)
+        self.moves_sent = 0
+        self._jobs: collections.deque[_Job] = collections.deque()
+        self._steps: collections.deque[_Steps] = collections.deque()
+        self._targets: dict[int, int] = {}
+        self._target_t: float | None = None
+        self._last_move = 0.0
+        self._period = 0.015
+        self._cond = threading.Condition()
+        self._closed = False
+        self._thread: threading.Thread | None = None
+        self._state_lock = threading.Lock()
+        self._reopen = False
+
+    # ------------------------------------------------------------------ lifecycle
+
+    def start(self) -> BoardSession:
+        """Start the worker (it opens the link); idempotent."""
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._worker, name="rcb4hv-session", daemon=True)
+            self._thread.start()
+        return self
+
+    def close(self) -> None:
+        """Stop the worker, fail queued jobs, close the link."""
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
+        if self._thread is not None:
+            self._thread.join(timeout=10)
+            self._thread = None
+        self._fail_pending(RuntimeError("the board session is closed"))
+        self._disconnect()
+
+    def __enter__(self) -> BoardSession:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def reconnect(self, url: str | None = None) -> None:
+        """Close the link and open it again (to ``url`` when given) from the worker."""
+        with self._cond:
+            if url:
+                self.url = url
+            self._reopen = True
+            self._cond.notify_all()
+
+    def wait_connected(self, timeout: float = 5.0) -> BoardState:
+        """Block until the first successful poll (or raise TimeoutError with the link error)."""
+        deadline = time.monotonic() + timeout
+        while not (self.state.connected and self.state.polls):
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"no board at {self.url}: {self.state.error or 'no answer'}")
+            time.sleep(0.01)
+        return self.state
+
+    # ------------------------------------------------------------------ commands
+
+    def submit(
+        self, fn: Callable[[Robot], T], *, urgent: bool = False, label: str = ""
+    ) -> Future[T]:
+        """Queue ``fn(robot)``; ``urgent`` puts it first. The future carries its result."""
+        fut: Future[T] = Future()
+        with self._cond:
+            if self._closed:
+                fut.set_exception(RuntimeError("the board session is closed"))
+                return fut
+            job = _Job(fn, fut, label)
+            if urgent:
+                self._jobs.appendleft(job)
+            else:
+                self._jobs.append(job)
+            self._cond.notify_all()
+        return fut
+
+    async def run(self, fn: Callable[[Robot], T], *, urgent: bool = False) -> T:
+        """``await`` :meth:`submit` without blocking the event loop."""
+        return await asyncio.wrap_future(self.submit(fn, urgent=urgent))
+
+    def submit_steps(self, make: Callable[[Robot], StepJob[T]], label: str) -> Future[T]:
+        """Queue a long job: ``make(robot)`` returns a generator of ``(done, total)`` steps."""
+        holder: Future[T] = Future()
+
+        def start(robot: Robot) -> None:
+            with self._cond:
+                self._steps.append(_Steps(make(robot), holder, label))
+
+        started = self.submit(start, label=label)
+
+        def forward(f: Future[None]) -> None:
+            exc = f.exception()
+            if exc is not None and not holder.done():
+                holder.set_exception(exc)
+
+        started.add_done_callback(forward)
+        return holder
+
+    def set_target(self, ics: int, position: int) -> None:
+        """Move servo ``ics`` to raw ``position`` at the next output period (coalesced)."""
+        Robot.check_position(ics, position)
+        with self._cond:
+            self._targets[ics] = position
+            if self._target_t is None:
+                self._target_t = time.perf_counter()
+            self._cond.notify_all()
+
+    def set_angle(self, ics: int, degrees: float) -> None:
+        """Like :meth:`set_target` in degrees (the robot's host calibration applied)."""
+        robot = self.robot
+        if robot is None:
+            raise RuntimeError(f"no board connected at {self.url}")
+        self.set_target(ics, robot.to_position(ics, degrees))
+
+    def stop(self) -> Future[None]:
+        """STOP: drop pending moves, stop the ROM motion, then hold every servo (urgent)."""
+        with self._cond:
+            self._targets.clear()
+            self._target_t = None
+
+        def do(robot: Robot) -> None:
+            robot.stop_motion(reset=True)
+            robot.set_buttons(0)
+            if robot.servo_ids:
+                robot.hold()
+
+        return self.submit(do, urgent=True, label="stop")
+
+    def rom_dump(self, chunk: int = 1024) -> Future[bytes]:
+        """Read the whole 256 KB ROM as a long job (1 KB per step)."""
+        from rcb4hv.rom.layout import ROM_SIZE
+
+        def job(robot: Robot) -> StepJob[bytes]:
+            out = bytearray()
+            while len(out) < ROM_SIZE:
+                out += robot.read_rom(len(out), min(chunk, ROM_SIZE - len(out)))
+                yield len(out), ROM_SIZE
+            return bytes(out)
+
+        return self.submit_steps(job, "ROM dump")
+
+    # ------------------------------------------------------------------ worker
+
+    def _fail_pending(self, exc: BaseException) -> None:
+        with self._cond:
+            jobs, steps = list(self._jobs), list(self._steps)
+            self._jobs.clear()
+            self._steps.clear()
+        for j in jobs:
+            if not j.future.done():
+                j.future.set_exception(exc)
+        for s in steps:
+            s.gen.close()
+            if not s.future.done():
+                s.future.set_exception(exc)
+        self.progress = Progress()
+
+    def _connect(self) -> None:
+        transport = MeteredTransport(open_transport(self.url, self.baudrate or DEFAULT_BAUD))
+        client = Rcb4Client(transport, timeout=self.timeout)
+        try:
+            if self.baudrate is None:
+                client.detect_baudrate()
+            robot = Robot(client, layout=self.layout)
+            version = client.get_version_info().text
+            try:
+                robot.wait_ready(timeout=3.0)
+            except Rcb4Error as exc:  # a program that never reaches its main loop
+                log.warning("%s: %s", self.url, exc)
+            robot.discover_servos()
+            self._period = robot.output_period(refresh=True)
+        except BaseException:
+            client.close()
+            raise
+        inner: Any = getattr(transport.inner, "baudrate", 0)
+        self.meter, self.robot = transport, robot
+        self.state = replace(
+            self.state, connected=True, error=None, version=version, baudrate=int(inner or 0)
+        )
+        log.info("connected to %s (%s)", self.url, version)
+
+    def _disconnect(self, error: str | None = None) -> None:
+        robot, self.robot = self.robot, None
+        if robot is not None:
+            try:
+                robot.close()
+            except Exception:  # closing a broken link must not stop the worker
+                log.debug("close failed", exc_info=True)
+        if error is not None:
+            self.state = replace(self.state, connected=False, error=error)
+
+    def _link_failed(self, exc: BaseException) -> None:
+        msg = f"{type(exc).__name__}: {exc}"
+        log.warning("link to %s failed: %s", self.url, msg)
+        self._disconnect(msg)
+
+    def _worker(self) -> None:
+        next_poll = 0.0
+        while True:
+            with self._cond:
+                if self._closed:
+                    return
+                reopen, self._reopen = self._reopen, False
+            if reopen:
+                self._disconnect()
+                self.state = BoardState(url=self.url)
+            if self.robot is None:
+                try:
+                    self._connect()
+                    next_poll = 0.0
+                except (Rcb4Error, OSError, ValueError) as exc:
+                    self._link_failed(exc)
+                    with self._cond:
+                        self._cond.wait(self.retry)
+                    continue
+            robot = self.robot
+            assert robot is not None
+            try:
+                self._work_once(robot)
+                now = time.monotonic()
+                if self.poll_hz and now >= next_poll:
+                    self._poll(robot)
+                    next_poll = max(next_poll + 1 / self.poll_hz, now)
+            except (Rcb4Error, OSError) as exc:
+                self._link_failed(exc)
+                continue
+            self._idle(next_poll)
+
+    def _idle(self, next_poll: float) -> None:
+        with self._cond:
+            if self._jobs or self._steps or self._closed or self._reopen:
+                return
+            wake = next_poll if self.poll_hz else time.monotonic() + 1.0
+            if self._targets:
+                wake = min(wake, self._last_move + self._period)
+            self._cond.wait(max(0.0, wake - time.monotonic()))
+
+    def _work_once(self, robot: Robot) -> None:
+        """One queued job, then the coalesced move, then one step of a long job."""
+        with self._cond:
+            job = self._jobs.popleft() if self._jobs else None
+        if job is not None and job.future.set_running_or_notify_cancel():
+            try:
+                job.future.set_result(job.fn(robot))
+            except (Rcb4Error, OSError) as exc:
+                job.future.set_exception(exc)
+                if not isinstance(exc, Rcb4Error) or _is_link_error(exc):
+                    raise
+            except Exception as exc:
+                job.future.set_exception(exc)
+        self._send_targets(robot)
+        with self._cond:
+            steps = self._steps[0] if self._steps else None
+        if steps is not None:
+            self._step(steps)
+
+    def _step(self, s: _Steps) -> None:
+        try:
+            done, total = next(s.gen)
+            self.progress = Progress(s.label, done, total)
+        except StopIteration as stop:
+            self._end_steps(s)
+            s.future.set_result(stop.value)
+        except Exception as exc:
+            self._end_steps(s)
+            s.future.set_exception(exc)
+            if isinstance(exc, (Rcb4Error, OSError)) and _is_link_error(exc):
+                raise
+
+    def _end_steps(self, s: _Steps) -> None:
+        with self._cond:
+            if self._steps and self._steps[0] is s:
+                self._steps.popleft()
+        self.progress = Progress()
+
+    def _send_targets(self, robot: Robot) -> None:
+        now = time.perf_counter()
+        with self._cond:
+            if not self._targets or now < self._last_move + self._period:
+                return
+            targets, t0 = dict(self._targets), self._target_t
+            self._targets.clear()
+            self._target_t = None
+        robot.client.run_const_frame_servo(1, targets)
+        self._last_move = time.perf_counter()
+        self.moves_sent += 1
+        if t0 is not None and self.meter is not None:
+            self.latencies.append(self.meter.last_write - t0)
+
+    def _poll(self, robot: Robot) -> None:
+        if not robot.servo_ids and self.state.polls % 10 == 0:
+            robot.discover_servos()  # a freshly uploaded or booting program fills the table
+        state = poll_state(robot, self.state, time.monotonic(), lambda: self._send_targets(robot))
+        with self._state_lock:
+            self.state = state
+            self.history.add(state)
+
+
+def _is_link_error(exc: BaseException) -> bool:
+    """A failure of the link itself (not a NAK or a bad argument)."""
+    from rcb4hv.errors import NakError
+
+    return not isinstance(exc, NakError)

@@ -1,0 +1,77 @@
+"""What every page of the dashboard shares: the board session and the open project."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Callable
+from concurrent.futures import Future
+from dataclasses import dataclass, field
+from typing import TypeVar
+
+from nicegui import ui
+from nicegui.element import Element
+
+from rcb4hv.hth4 import Project
+from rcb4hv.session import BoardSession
+
+__all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
+
+log = logging.getLogger(__name__)
+
+MAX_UPLOAD = 4 * 1024 * 1024
+"""Largest file the pages accept (a HeartToHeart4 project is ~200 KB, a ROM image 256 KB)."""
+
+E = TypeVar("E", bound=Element)
+T = TypeVar("T")
+
+
+def tid(element: E, name: str) -> E:
+    """Name ``element`` for tests: a NiceGUI marker (User tests) and ``data-testid`` (browser)."""
+    element.mark(name)
+    element.props(f"data-testid={name}")
+    return element
+
+
+async def guarded(future: Future[T], what: str) -> T | None:
+    """Await a session job; a failure becomes a notification, not a stack trace."""
+    try:
+        return await asyncio.wrap_future(future)
+    except Exception as exc:  # shown to the user; the session already logged link errors
+        log.info("%s failed: %s", what, exc)
+        ui.notify(f"{what} failed: {exc}", type="negative", multi_line=True)
+        return None
+
+
+async def attempt(future: Future[object], what: str) -> bool:
+    """Await a session job that returns nothing: True if it worked (failures are notified)."""
+    try:
+        await asyncio.wrap_future(future)
+    except Exception as exc:  # shown to the user
+        log.info("%s failed: %s", what, exc)
+        ui.notify(f"{what} failed: {exc}", type="negative", multi_line=True)
+        return False
+    return True
+
+
+@dataclass
+class UiContext:
+    """State shared by all pages and browser tabs (one user, one board)."""
+
+    session: BoardSession
+    project: Project | None = None
+    project_name: str = ""
+    max_upload: int = MAX_UPLOAD
+    _listeners: list[Callable[[], None]] = field(default_factory=list)
+
+    def set_project(self, project: Project | None, name: str = "") -> None:
+        self.project, self.project_name = project, name
+        for fn in list(self._listeners):
+            try:
+                fn()
+            except Exception:  # a listener of a closed browser tab
+                log.debug("project listener failed", exc_info=True)
+                self._listeners.remove(fn)
+
+    def on_project(self, fn: Callable[[], None]) -> None:
+        self._listeners.append(fn)

@@ -1,0 +1,121 @@
+"""Flowcharts drawn as SVG: a motion's control flow from its frames, and a HeartToHeart4
+``CanvasData`` flowchart from its boxes and lines."""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+
+from rcb4hv.asm import format_command
+from rcb4hv.errors import ProtocolError
+from rcb4hv.hth4 import Flowchart
+from rcb4hv.protocol import ALWAYS, Call, Jump, Return, RunConstFrameServo, decode_command
+
+__all__ = ["canvas_svg", "motion_graph", "motion_svg"]
+
+BOX_W, BOX_H, GAP = 300, 30, 16
+LABEL_MAX = 44
+
+
+def _short(text: str) -> str:
+    return text if len(text) <= LABEL_MAX else text[: LABEL_MAX - 1] + "…"
+
+
+def motion_graph(
+    frames: Sequence[bytes], origin: int
+) -> tuple[list[tuple[int, str]], list[tuple[int, int, str]]]:
+    """Nodes ``(address, label)`` and edges ``(from index, to index or -1, kind)`` of a motion.
+
+    kind: ``next`` (falls through), ``jump`` (taken branch), ``call`` (to a subroutine; the
+    callee is outside the motion when the index is -1) and ``end`` for RETURN.
+    """
+    nodes: list[tuple[int, str]] = []
+    cmds = []
+    a = origin
+    for f in frames:
+        try:
+            cmd = decode_command(f[: f[0]] if f else f)
+            text = format_command(cmd)
+            if isinstance(cmd, RunConstFrameServo):
+                text = f"POSE {len(cmd.positions)} servos, {cmd.speed} frames"
+        except (ProtocolError, ValueError, IndexError):
+            cmd, text = None, f"DATA {f[:6].hex(' ')}"
+        nodes.append((a, _short(text)))
+        cmds.append(cmd)
+        a += len(f)
+    index = {addr: i for i, (addr, _) in enumerate(nodes)}
+    edges: list[tuple[int, int, str]] = []
+    for i, cmd in enumerate(cmds):
+        last = i == len(nodes) - 1
+        if isinstance(cmd, Return):
+            edges.append((i, -1, "end"))
+            continue
+        if isinstance(cmd, (Jump, Call)):
+            kind = "jump" if isinstance(cmd, Jump) else "call"
+            edges.append((i, index.get(cmd.address, -1), kind))
+            if isinstance(cmd, Jump) and cmd.condition == ALWAYS:
+                continue
+        if not last:
+            edges.append((i, i + 1, "next"))
+    return nodes, edges
+
+
+def motion_svg(frames: Sequence[bytes], origin: int) -> str:
+    """The motion's control flow: one box per frame, top to bottom, branches on the right."""
+    nodes, edges = motion_graph(frames, origin)
+    height = len(nodes) * (BOX_H + GAP) + GAP
+    parts = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{BOX_W + 200}" height="{height}" '
+        f'font-family="monospace" font-size="11" data-testid="flowchart-svg">',
+        '<defs><marker id="arr" markerWidth="8" markerHeight="8" refX="7" refY="4" '
+        'orient="auto"><path d="M0,0 L8,4 L0,8 z" fill="#555"/></marker></defs>',
+    ]
+
+    def y(i: int) -> int:
+        return GAP + i * (BOX_H + GAP)
+
+    for n, (i, j, kind) in enumerate(edges):
+        if kind == "next":
+            parts.append(
+                f'<line x1="{BOX_W // 2}" y1="{y(i) + BOX_H}" x2="{BOX_W // 2}" y2="{y(j)}" '
+                'stroke="#555" marker-end="url(#arr)"/>'
+            )
+        elif j >= 0:
+            bend = BOX_W + 20 + 14 * (n % 8)
+            color = "#c62828" if kind == "jump" else "#1565c0"
+            parts.append(
+                f'<path d="M{BOX_W},{y(i) + BOX_H // 2} C{bend},{y(i) + BOX_H // 2} '
+                f'{bend},{y(j) + BOX_H // 2} {BOX_W},{y(j) + BOX_H // 2}" fill="none" '
+                f'stroke="{color}" marker-end="url(#arr)" class="edge-{kind}"/>'
+            )
+    for i, (addr, label) in enumerate(nodes):
+        fill = "#fff3e0" if label.startswith(("JUMP", "CALL", "RETURN")) else "#f5f5f5"
+        parts.append(
+            f'<rect x="0" y="{y(i)}" width="{BOX_W}" height="{BOX_H}" rx="4" fill="{fill}" '
+            'stroke="#777" class="node"/>'
+            f'<text x="6" y="{y(i) + 19}">{addr:05X} {html.escape(label)}</text>'
+        )
+    parts.append("</svg>")
+    return "".join(parts)
+
+
+def canvas_svg(chart: Flowchart) -> str:
+    """A HeartToHeart4 flowchart as the editor draws it: its boxes and line paths."""
+    w, h = chart.size.width or 640, chart.size.height or 480
+    parts = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-size="11" '
+        'data-testid="canvas-svg">'
+    ]
+    for line in chart.lines:
+        pts = " ".join(f"{p.x},{p.y}" for p in line.path)
+        parts.append(f'<polyline points="{pts}" fill="none" stroke="#555"/>')
+    for a in chart.activities:
+        stroke = "#2e7d32" if a.motion_flag == "Start" else "#777"
+        parts.append(
+            f'<rect x="{a.location.x}" y="{a.location.y}" width="{a.size.width}" '
+            f'height="{a.size.height}" fill="#f5f5f5" stroke="{stroke}" class="node"/>'
+            f'<text x="{a.location.x + 4}" y="{a.location.y + 16}">'
+            f"{html.escape(a.text or a.name or '')}</text>"
+        )
+    parts.append("</svg>")
+    return "".join(parts)

@@ -1,0 +1,201 @@
+"""Project page: open a HeartToHeart4 project (.h4p) and look inside it: motions, servo
+table, button bindings, `project check` findings, and one motion's disassembly and
+flowchart. Simulation, build, upload and downloads are in :mod:`rcb4hv.ui.project_actions`."""
+
+from __future__ import annotations
+
+from nicegui import events, ui
+
+from rcb4hv.asm import disassemble_frames
+from rcb4hv.errors import Rcb4Error
+from rcb4hv.hth4 import Project, button_label, parse_motion_xml, parse_project
+from rcb4hv.ui import project_actions
+from rcb4hv.ui.checks import check_rows
+from rcb4hv.ui.context import UiContext, tid
+from rcb4hv.ui.flowsvg import canvas_svg, motion_svg
+
+__all__ = ["build", "load_upload", "motion_table", "servo_table"]
+
+
+def motion_table(project: Project) -> list[dict[str, object]]:
+    return [
+        {
+            "slot": m.slot,
+            "address": f"{m.address:05X}",
+            "name": m.name or "",
+            "frames": len(m.frames),
+            "bytes": len(m.rom_bytes()),
+            "button": button_label(m.button_data) if m.button_data else "",
+        }
+        for m in project.used_motions
+    ]
+
+
+def servo_table(project: Project) -> list[dict[str, object]]:
+    return [
+        {
+            "ics": s.device_number,
+            "name": s.name or s.key,
+            "id": s.id,
+            "port": s.port,
+            "trim": s.trim,
+            "home": s.position,
+        }
+        for s in project.servos
+        if s.in_use
+    ]
+
+
+def load_upload(ctx: UiContext, name: str, data: bytes) -> Project:
+    """Parse an uploaded file (size-checked) and make it the open project."""
+    if len(data) > ctx.max_upload:
+        raise ValueError(f"{name}: {len(data):,} bytes; the limit is {ctx.max_upload:,}")
+    project = parse_project(data)
+    ctx.set_project(project, name)
+    return project
+
+
+def _columns(*names: str) -> list[dict[str, str]]:
+    return [{"name": n, "label": n, "field": n, "align": "left"} for n in names]
+
+
+def build(ctx: UiContext) -> None:
+    async def uploaded(e: events.UploadEventArguments) -> None:
+        if e.file.size() > ctx.max_upload:
+            ui.notify(f"{e.file.name}: over the {ctx.max_upload:,}-byte limit", type="negative")
+            return
+        try:
+            load_upload(ctx, e.file.name, await e.file.read())
+        except (Rcb4Error, ValueError) as exc:
+            ui.notify(f"cannot open {e.file.name}: {exc}", type="negative", multi_line=True)
+            return
+        ui.notify(f"opened {e.file.name}")
+
+    async def flowchart_uploaded(e: events.UploadEventArguments) -> None:
+        try:
+            chart = parse_motion_xml(await e.file.read())
+        except (Rcb4Error, ValueError) as exc:
+            ui.notify(f"cannot open {e.file.name}: {exc}", type="negative", multi_line=True)
+            return
+        detail_svg.set_content(canvas_svg(chart))
+
+    with ui.row().classes("items-start"):
+        tid(
+            ui.upload(
+                label="Open .h4p project",
+                auto_upload=True,
+                max_file_size=ctx.max_upload,
+                on_upload=uploaded,
+            ).props('accept=".h4p,.xml"'),
+            "project-upload",
+        )
+        tid(
+            ui.upload(
+                label="Show a flowchart .xml",
+                auto_upload=True,
+                max_file_size=ctx.max_upload,
+                on_upload=flowchart_uploaded,
+            ).props('accept=".xml"'),
+            "flowchart-upload",
+        )
+        with ui.column():
+            summary = tid(ui.label("no project open"), "project-summary")
+            findings_summary = tid(ui.label(""), "project-check-summary")
+    with ui.tabs() as tabs:
+        t_motions = ui.tab("Motions")
+        t_servos = ui.tab("Servos")
+        t_bind = ui.tab("Bindings")
+        t_check = ui.tab("Check")
+        t_actions = ui.tab("Simulate / upload")
+    with ui.tab_panels(tabs, value=t_motions).classes("w-full"):
+        with ui.tab_panel(t_motions), ui.row().classes("w-full no-wrap items-start"):
+            motions = tid(
+                ui.table(
+                    columns=_columns("slot", "address", "name", "frames", "bytes", "button"),
+                    rows=[],
+                    row_key="slot",
+                    selection="single",
+                    pagination=0,
+                )
+                .props("dense flat virtual-scroll")
+                .style("max-height: 600px"),
+                "project-motions",
+            )
+            with ui.column().classes("grow"):
+                detail_title = tid(ui.label("select a motion"), "project-motion-title")
+                with ui.row().classes("w-full no-wrap items-start"):
+                    detail_svg = tid(ui.html("", sanitize=False), "project-flowchart")
+                    detail_asm = tid(ui.code("", language="text"), "project-disasm")
+                    detail_asm.style("max-width: 480px; overflow-x: auto")
+        with ui.tab_panel(t_servos):
+            servos = tid(
+                ui.table(
+                    columns=_columns("ics", "name", "id", "port", "trim", "home"),
+                    rows=[],
+                    row_key="ics",
+                ).props("dense flat"),
+                "project-servos",
+            )
+        with ui.tab_panel(t_bind):
+            bindings = tid(
+                ui.table(
+                    columns=_columns("button", "slot", "name", "compare"), rows=[], row_key="slot"
+                ).props("dense flat"),
+                "project-bindings",
+            )
+        with ui.tab_panel(t_check):
+            checks = tid(
+                ui.table(
+                    columns=_columns("#", "severity", "code", "slot", "name", "address", "reason"),
+                    rows=[],
+                    row_key="#",
+                ).props("dense flat"),
+                "project-checks",
+            )
+        with ui.tab_panel(t_actions):
+            project_actions.build(ctx, motions)
+
+    def show_motion(slot: int) -> None:
+        project = ctx.project
+        if project is None:
+            return
+        m = project.motion(slot)
+        detail_title.text = f"M{slot:03d} {m.name} - {len(m.frames)} frames at {m.address:05X}h"
+        detail_asm.content = disassemble_frames(m.frames, m.address)
+        detail_svg.set_content(motion_svg(m.frames, m.address))
+
+    motions.on_select(lambda e: show_motion(int(e.selection[0]["slot"])) if e.selection else None)
+
+    def redraw() -> None:
+        project = ctx.project
+        if project is None:
+            return
+        used = project.used_motions
+        summary.text = (
+            f"{ctx.project_name}: {project.project_title or project.name or ''} - "
+            f"{len(used)} motions, {len(servo_table(project))} servos, "
+            f"system register {project.system_register:04X}h"
+        )
+        motions.rows = motion_table(project)
+        servos.rows = servo_table(project)
+        bindings.rows = [
+            {
+                "button": button_label(m.button_data),
+                "slot": m.slot,
+                "name": m.name or "",
+                "compare": m.compare_type,
+            }
+            for m in used
+            if m.button_data
+        ]
+        try:
+            rows, text = check_rows(project)
+        except Exception as exc:  # a lint crash must not hide the project
+            rows, text = [], f"project check failed: {exc}"
+        checks.rows = rows
+        findings_summary.text = f"project check: {text}"
+        for t in (motions, servos, bindings, checks):
+            t.update()
+
+    ctx.on_project(redraw)
+    redraw()

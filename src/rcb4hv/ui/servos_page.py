@@ -1,0 +1,135 @@
+"""Servos page: the live servo table, a degree slider with hold/free per servo, all
+hold/free/neutral, and a live angle plot of the selected servos over the last 10 s."""
+
+from __future__ import annotations
+
+import math
+import time
+
+from nicegui import ui
+
+from rcb4hv.session import BoardState
+from rcb4hv.ui.context import UiContext, guarded, tid
+from rcb4hv.ui.plot import angle_chart, set_series
+
+__all__ = ["COLUMNS", "build", "servo_rows"]
+
+COLUMNS = ("ics", "id", "port", "trim", "measured", "degrees", "output", "state")
+LIMIT_DEG = 135.0
+"""Slider range: positions 3500..11500 are about -135..+135 degrees."""
+
+
+def servo_rows(state: BoardState) -> list[dict[str, object]]:
+    return [
+        {
+            "ics": s.ics,
+            "id": s.id,
+            "port": s.port,
+            "trim": s.trim,
+            "measured": s.measured,
+            "degrees": "-" if math.isnan(s.degrees) else f"{s.degrees:.1f}",
+            "output": {0x7FFF: "hold", 0x8000: "free"}.get(s.output, s.output),
+            "state": s.state,
+        }
+        for s in state.servos
+    ]
+
+
+def build(ctx: UiContext) -> None:
+    session = ctx.session
+    with ui.row().classes("items-center"):
+        tid(ui.button("Hold all", icon="lock"), "servos-hold-all").on_click(
+            lambda: guarded(session.submit(lambda r: r.hold()), "hold all")
+        )
+        tid(ui.button("Free all", icon="lock_open"), "servos-free-all").on_click(
+            lambda: guarded(session.submit(lambda r: r.free()), "free all")
+        )
+        tid(ui.button("Neutral", icon="center_focus_strong"), "servos-neutral").on_click(
+            lambda: _neutral(ctx, sliders)
+        )
+        ics_all = [s.ics for s in session.state.servos]
+        picked = tid(
+            ui.select(
+                ics_all,
+                value=[k for k in (2, 3, 4, 5) if k in ics_all] or ics_all[:2],
+                multiple=True,
+                label="Plot ICS",
+            ).classes("w-64"),
+            "servos-plot-select",
+        )
+    with ui.row().classes("w-full no-wrap items-start"):
+        table = tid(
+            ui.table(
+                columns=[{"name": c, "label": c, "field": c} for c in COLUMNS],
+                rows=servo_rows(session.state),
+                row_key="ics",
+            ).props("dense flat"),
+            "servo-table",
+        )
+        with ui.column().classes("grow"):
+            chart = tid(angle_chart(session.history.seconds), "servo-plot")
+            sliders: dict[int, ui.slider] = {}
+            shown: list[int] = []
+
+            @ui.refreshable
+            def controls() -> None:
+                sliders.clear()
+                shown[:] = [s.ics for s in session.state.servos]
+                picked.set_options(shown, value=[k for k in (picked.value or []) if k in shown])
+                for s in session.state.servos:
+                    deg = 0.0 if math.isnan(s.degrees) else s.degrees
+                    _servo_controls(ctx, s.ics, deg, sliders)
+
+            controls()
+
+    def refresh() -> None:
+        table.rows = servo_rows(session.state)
+        table.update()
+        if [s.ics for s in session.state.servos] != shown:
+            controls.refresh()
+
+    def replot() -> None:
+        sel = [int(k) for k in (picked.value or [])]
+        set_series(chart, session.history.series(sel, time.monotonic()))
+
+    ui.timer(0.1, refresh)
+    ui.timer(0.25, replot)
+
+
+def _servo_controls(
+    ctx: UiContext, ics: int, degrees: float, sliders: dict[int, ui.slider]
+) -> None:
+    session = ctx.session
+
+    def moved(value: float | None) -> None:
+        if value is None:
+            return
+        try:
+            session.set_angle(ics, float(value))
+        except (ValueError, RuntimeError) as exc:
+            ui.notify(str(exc), type="negative")
+
+    with ui.row().classes("w-full items-center no-wrap"):
+        ui.label(f"ICS {ics}").classes("w-14")
+        slider = (
+            tid(
+                ui.slider(min=-LIMIT_DEG, max=LIMIT_DEG, step=0.5, value=round(degrees, 1)),
+                f"slider-{ics}",
+            )
+            .props("label")
+            .classes("grow")
+        )
+        slider.on_value_change(lambda e: moved(e.value))
+        sliders[ics] = slider
+        tid(ui.button("hold").props("dense flat"), f"hold-{ics}").on_click(
+            lambda: guarded(session.submit(lambda r: r.hold([ics])), f"hold ICS {ics}")
+        )
+        tid(ui.button("free").props("dense flat"), f"free-{ics}").on_click(
+            lambda: guarded(session.submit(lambda r: r.free([ics])), f"free ICS {ics}")
+        )
+
+
+async def _neutral(ctx: UiContext, sliders: dict[int, ui.slider]) -> None:
+    await guarded(ctx.session.submit(lambda r: r.neutral(duration=0.5)), "neutral")
+    for s in sliders.values():
+        s.set_value(0.0)

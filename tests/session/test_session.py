@@ -1,0 +1,117 @@
+"""BoardSession: one owner of the link, polling, coalesced moves, STOP, long jobs."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock
+from rcb4hv.rom.default import DEFAULT_ICS, default_image
+from rcb4hv.session import BoardSession, MeteredTransport, wire_seconds
+from rcb4hv.transport import emulator_url
+
+
+@pytest.fixture
+def board() -> Iterator[Board]:
+    b = Board(
+        EmulatorConfig(virtual_servos=DEFAULT_ICS), clock=RealClock(), rom_image=default_image()
+    )
+    yield b
+    b.close()
+
+
+@pytest.fixture
+def session(board: Board) -> Iterator[BoardSession]:
+    with BoardSession(emulator_url(board), poll_hz=20) as s:
+        s.wait_connected()
+        yield s
+
+
+def _until(cond: object, timeout: float = 3.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not cond():  # type: ignore[operator]
+        assert time.monotonic() < deadline, "condition not met in time"
+        time.sleep(0.01)
+
+
+def test_polls_fill_the_servo_table(session: BoardSession) -> None:
+    state = session.state
+    assert [s.ics for s in state.servos] == list(DEFAULT_ICS)
+    assert state.version and state.rom_running
+    first = state.polls
+    _until(lambda: session.state.polls >= first + 3)
+    assert session.history.samples
+
+
+def test_targets_are_coalesced_into_one_frame_per_period(
+    session: BoardSession, board: Board
+) -> None:
+    sent = session.moves_sent
+    for p in range(7600, 8600, 10):  # 100 slider events in a burst
+        session.set_target(2, p)
+    session.set_target(3, 7000)
+    _until(lambda: session.state.servo(2) is not None and session.state.servo(2).output == 8590)
+    assert session.moves_sent - sent <= 3
+    assert bytes(board.ram[0x90 + 20 * 2 + 6 : 0x90 + 20 * 2 + 8]) == (8590).to_bytes(2, "little")
+    assert session.latencies and min(session.latencies) >= 0
+
+
+def test_range_checked_before_queueing(session: BoardSession) -> None:
+    with pytest.raises(ValueError, match="outside 3500"):
+        session.set_target(2, 20000)
+
+
+def test_stop_stops_motion_then_holds(session: BoardSession) -> None:
+    session.submit(lambda r: r.play_motion(1)).result(timeout=5)
+    _until(lambda: session.state.motion == 1)
+    session.stop().result(timeout=5)
+    _until(lambda: session.state.motion is None)
+    assert all(s.state == "hold" for s in session.state.servos)
+
+
+def test_rom_dump_runs_in_steps_while_polling(session: BoardSession, board: Board) -> None:
+    polls = session.state.polls
+    fut = session.rom_dump(chunk=4096)
+    seen = []
+    while not fut.done():
+        seen.append(session.progress.fraction)
+        time.sleep(0.02)
+    assert fut.result() == bytes(board.rom)
+    assert session.state.polls > polls + 1  # the view kept updating during the dump
+    assert any(0 < f < 1 for f in seen)
+
+
+def test_errors_reach_the_caller_and_the_worker_survives(session: BoardSession) -> None:
+    def boom(_robot: object) -> None:
+        raise ValueError("bad argument")
+
+    with pytest.raises(ValueError, match="bad argument"):
+        session.submit(boom).result(timeout=5)
+    assert session.submit(lambda r: r.ping()).result(timeout=5) >= 0
+
+
+def test_unreachable_board_reports_and_retries() -> None:
+    with BoardSession("socket://127.0.0.1:9", poll_hz=10, retry=0.05) as s:
+        _until(lambda: s.state.error is not None)
+        assert not s.state.connected
+        with pytest.raises(TimeoutError, match="no board"):
+            s.wait_connected(timeout=0.2)
+    assert threading.active_count() >= 1
+
+
+def test_close_fails_pending_jobs() -> None:
+    s = BoardSession("socket://127.0.0.1:9", retry=10)
+    fut = s.submit(lambda r: r.ping())
+    s.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        fut.result(timeout=1)
+
+
+def test_meter_counts_wire_time(session: BoardSession) -> None:
+    assert isinstance(session.meter, MeteredTransport)
+    w, r = session.meter.snapshot()
+    assert w > 0 and r > 0
+    assert wire_seconds(125_000, 1_375_000) == pytest.approx(1.0)

@@ -1,0 +1,62 @@
+"""Fixtures of the UI tests: an emulated board served over TCP (so the test can look at its
+RAM and ROM), `rcb4hv ui` against it, and headless Chromium driven by Playwright."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock, TcpServer
+from rcb4hv.rom.default import DEFAULT_ICS, default_image
+from tests.ui.browser import LAUNCH_ARGS, SHOTS, browser_or_skip, ui_server
+
+
+@pytest.fixture(scope="module")
+def board() -> Iterator[tuple[Board, str]]:
+    b = Board(
+        EmulatorConfig(virtual_servos=DEFAULT_ICS), clock=RealClock(), rom_image=default_image()
+    )
+    with TcpServer(b, "127.0.0.1", 0) as srv:
+        host, port = srv.address
+        yield b, f"socket://{host}:{port}"
+    b.close()
+
+
+@pytest.fixture(scope="module")
+def chromium_path() -> str:
+    return browser_or_skip()
+
+
+@pytest.fixture(scope="module")
+def app_url(chromium_path: str, board: tuple[Board, str]) -> Iterator[str]:
+    with ui_server(board[1]) as url:
+        yield url
+
+
+@pytest.fixture(scope="module")
+def browser(chromium_path: str) -> Iterator[Any]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        b = pw.chromium.launch(executable_path=chromium_path, headless=True, args=LAUNCH_ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def page(browser: Any, app_url: str) -> Iterator[Any]:
+    context = browser.new_context(viewport={"width": 1400, "height": 900}, accept_downloads=True)
+    pg = context.new_page()
+    pg.set_default_timeout(15_000)
+    pg.goto(app_url)
+    pg.get_by_test_id("stop").wait_for()
+    yield pg
+    context.close()
+
+
+def shot(page: Any, name: str) -> None:
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.evaluate("window.scrollTo(0, 0)")
+    page.screenshot(path=str(SHOTS / f"{name}.png"), full_page=False)
