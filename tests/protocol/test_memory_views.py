@@ -180,3 +180,24 @@ def test_word_and_address_accessors(value: int, at: int) -> None:
     m.write_u24(buf, at, value)
     assert m.read_u24(buf, at) == value & 0xFFFFFF
     assert m.u24_bytes(value) == bytes(buf[at : at + 3])
+
+
+def test_field_decode_and_run_state_of_a_span_read_from_a_board() -> None:
+    # what a host reads: the field's own bytes, and the 10 bytes from the PC on
+    assert m.SERVO.F_OUTPUT.decode(b"\x4c\x1d") == 7500
+    assert m.SERVO.F_WIDTH.decode(b"\xff\xff") == -1
+    raw = m.program_reset(0x000B80)[:3] + bytes((2, 0)) + b"\x01\x00\x00\x00\x80"
+    assert m.read_run_state(raw, 0) == (0x000B80, 2, b"\x01\x00\x00\x00\x80")
+    assert m.RUN_STATE_SIZE == m.ProgramState.SIZE - m.ADDR.PC == 10
+    # HeartToHeart4's block of ICS 35 is where the KRI-3 block lives
+    assert m.ADDR.servo_block(35) == m.ADDR.KRI3_BLOCK
+
+
+def test_one_meaning_per_baud_name() -> None:
+    from rcb4hv import protocol, transport
+
+    # the system register's 2-bit codes (spec 10.2) vs the rates a host port can use
+    assert m.SYSTEM_BAUD_RATES == (115200, 625000, 1250000, 115200)
+    assert m.SystemRegister(baud_code=2).baud_rate == 1250000
+    assert sorted(transport.BAUD_RATES) == [115200, 625000, 1250000]
+    assert not hasattr(protocol, "BAUD_RATES") and not hasattr(m, "BAUD_RATES")

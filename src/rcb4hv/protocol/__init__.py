@@ -1,7 +1,8 @@
 """The RCB-4HV protocol core: pure, sans-I/O (no serial, socket, threading or time imports).
 
 Frames (:mod:`.frame`), one dataclass per command with ``encode_command`` / ``decode_command``
-(:mod:`.commands`), replies (:mod:`.replies`) and the memory map (:mod:`.memory`).
+(:mod:`.commands`), replies (:mod:`.replies`), the memory map and its struct views
+(:mod:`.memory`) and the host sequences that drive the ROM program (:mod:`.sequences`).
 """
 
 from __future__ import annotations
@@ -90,10 +91,6 @@ from rcb4hv.protocol.replies import (
     encode_reply,
     reply_length,
 )
-
-BAUD_RATES = SYSTEM_BAUD_RATES
-"""Old name of :data:`SYSTEM_BAUD_RATES` (kept importable; :data:`rcb4hv.transport.BAUD_RATES`
-is the list of host port rates)."""
 
 __all__ = [
     "ADDR",

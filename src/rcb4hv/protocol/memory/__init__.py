@@ -97,9 +97,6 @@ from rcb4hv.protocol.memory.regions import (
     write_system,
 )
 
-BAUD_RATES = SYSTEM_BAUD_RATES
-"""Old name of :data:`SYSTEM_BAUD_RATES` (kept for existing imports; not exported)."""
-
 __all__ = [
     "ADDR",
     "AD_CHANNELS",
