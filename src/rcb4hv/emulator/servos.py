@@ -211,7 +211,8 @@ class Servos:
 
     def command(self, cmd: ServoCommand) -> None:
         """Run a servo command (0Fh, 10h, 11h) and update the update flags."""
-        flags = update_flags(self.ram)
+        r = self.ram
+        flags = int.from_bytes(r[UPDATE_FLAGS:UPDATE_FLAGS_END], "little")
         if isinstance(cmd, RunSingleServo):
             # ICS 36-127 (bits 6-0 of the ICS byte) have no allocation entry: skipped like an
             # unallocated slot
@@ -235,7 +236,7 @@ class Servos:
                     flags |= 1 << ics
                 elif not moving:
                     flags &= ~(1 << ics)
-        set_update_flags(self.ram, flags)
+        r[UPDATE_FLAGS:UPDATE_FLAGS_END] = flags.to_bytes(5, "little")
 
     # ------------------------------------------------------------------ mixing
 
