@@ -313,7 +313,7 @@ def _run_both(
         assert _state(fast) == _state(plain), f"step {i} ({seconds} s, {frame!r}): state differs"
 
 
-@settings(max_examples=60)
+@settings(max_examples=100)
 @given(configs, programs(), st.booleans(), steps)
 def test_random_programs_run_the_same_accelerated_and_plain(
     config: EmulatorConfig,

@@ -178,8 +178,9 @@ class Board:
         """Bring the model up to ``clock.now()``; may queue a NAK for a timed-out frame."""
         now = self.clock.now()
         self._advance(int(now * 1_000_000))
-        if self._link.pending:
-            self._link.check_timeout(now)
+        link = self._link
+        if link.decoder.pending or link.discard_left:
+            link.check_timeout(now)
         if self._store is not None:
             self._store.maybe_flush(self.rom)
 

@@ -360,7 +360,7 @@ class Interpreter:
                 memo = vectors.memo
                 if (
                     memo is None
-                    or memo[0] != read_u16(r, VECTOR_TABLE)
+                    or memo[0] != r[_VT0] | r[_VT1] << 8
                     or len(memo[1]) != 1
                     or r[memo[1][0][0] : memo[1][0][1]] != memo[2]
                 ):

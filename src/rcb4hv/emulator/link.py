@@ -33,7 +33,7 @@ class Link:
         self.config = config
         self.clock = clock
         self.decoder = FrameDecoder(resync="frame")
-        self._discard = 0
+        self.discard_left = 0  # bytes of an oversize frame still to swallow
         self._discard_cmd: int | None = None
         self.last_rx = 0.0
         self._output = bytearray()
@@ -41,11 +41,11 @@ class Link:
     @property
     def pending(self) -> bool:
         """True while a partial frame (or an oversize frame being swallowed) is held."""
-        return bool(self._discard or self.decoder.pending)
+        return bool(self.discard_left or self.decoder.pending)
 
     def reset(self) -> bytes:
         """Drop partial input silently; return the bytes the decoder held."""
-        self._discard = 0
+        self.discard_left = 0
         self._discard_cmd = None
         return self.decoder.reset()
 
@@ -66,13 +66,13 @@ class Link:
         self.last_rx = self.clock.now()
         dec = self.decoder
         while data:
-            if self._discard:
-                take = data[: self._discard]
+            if self.discard_left:
+                take = data[: self.discard_left]
                 if self._discard_cmd is None:
                     self._discard_cmd = take[0]
-                self._discard -= len(take)
+                self.discard_left -= len(take)
                 data = data[len(take) :]
-                if not self._discard:
+                if not self.discard_left:
                     if self.config.oversize_frame == "nak":
                         out += nak(self._discard_cmd)
                     self._discard_cmd = None
@@ -92,7 +92,7 @@ class Link:
                     if size > MAX_FRAME:
                         log.debug("oversize frame (SIZE %d): swallowed", size)
                         data = dec.reset()
-                        self._discard = size - 1
+                        self.discard_left = size - 1
                         self._discard_cmd = None
                         break
                     log.debug("dropped byte %02X that cannot start a frame", size)
@@ -117,7 +117,7 @@ class Link:
             return
         partial = self.decoder.reset()
         cmd = partial[1] if len(partial) >= 2 else self._discard_cmd
-        self._discard = 0
+        self.discard_left = 0
         self._discard_cmd = None
         log.debug("frame timeout with %d partial bytes", len(partial))
         if cmd is not None and self.config.partial_frame_reply == "nak":

@@ -15,6 +15,7 @@ from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, RAM_SIZE, ROM_SIZE
 from rcb4hv.protocol.memory import (
     ADDR,
     NO_BLOCK,
+    S16,
     SERVO,
     SYS,
     TIMER_STOPPED,
@@ -35,6 +36,7 @@ __all__ = [
     "NO_BLOCK",
     "RAM_SIZE",
     "ROM_SIZE",
+    "S16",
     "SERVO",
     "TIMERS",
     "TIMER_STOPPED",

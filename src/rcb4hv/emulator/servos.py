@@ -39,14 +39,13 @@ from rcb4hv.emulator.memmap import (
     HOLD,
     NO_BLOCK,
     RAM_SIZE,
+    S16,
     SERVO,
     U16,
     UPDATE_FLAGS,
     UPDATE_FLAGS_END,
     mix_rate,
     mix_source,
-    read_u16,
-    s16,
 )
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
 
@@ -54,6 +53,7 @@ __all__ = ["ServoState", "Servos", "ramp"]
 
 ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
 _u16 = U16.unpack_from
+_s16 = S16.unpack_from
 
 
 @dataclass(frozen=True, slots=True)
@@ -122,7 +122,7 @@ class Servos:
         if self.safe and not self.dirty:
             return self.blocks[ics]
         r = self.ram
-        a = read_u16(r, ALLOC + 2 * ics)
+        a: int = _u16(r, ALLOC + 2 * ics)[0]
         if a == NO_BLOCK or a + BLOCK_SIZE > RAM_SIZE or r[a + B_TYPE] != 0:
             return None
         return a
@@ -142,7 +142,7 @@ class Servos:
         blocks: list[int | None] = []
         spans: list[int] = []
         for ics in range(ICS_COUNT):
-            a = read_u16(r, ALLOC + 2 * ics)
+            a = _u16(r, ALLOC + 2 * ics)[0]
             if a == NO_BLOCK or a + BLOCK_SIZE > RAM_SIZE:
                 blocks.append(None)
                 continue
@@ -192,10 +192,10 @@ class Servos:
             r[blk + B_WIDTH_HI] = 0
             self.active.discard(ics)
             return False
-        cur = read_u16(r, blk + B_OUTPUT)
+        cur = _u16(r, blk + B_OUTPUT)[0]
         if cur in (FREE, HOLD):
             phys = self.physical.get(ics)
-            cur = pos if phys is None else (phys - s16(read_u16(r, blk + B_BASE)) - self.mix(blk))
+            cur = pos if phys is None else (phys - _s16(r, blk + B_BASE)[0] - self.mix(blk))
             cur &= 0xFFFF
             r[blk + B_OUTPUT] = cur & 0xFF
             r[blk + B_OUTPUT_HI] = cur >> 8
@@ -211,7 +211,8 @@ class Servos:
 
     def command(self, cmd: ServoCommand) -> None:
         """Run a servo command (0Fh, 10h, 11h) and update the update flags."""
-        flags = update_flags(self.ram)
+        r = self.ram
+        flags = int.from_bytes(r[UPDATE_FLAGS:UPDATE_FLAGS_END], "little")
         if isinstance(cmd, RunSingleServo):
             # ICS 36-127 (bits 6-0 of the ICS byte) have no allocation entry: skipped like an
             # unallocated slot
@@ -235,7 +236,7 @@ class Servos:
                     flags |= 1 << ics
                 elif not moving:
                     flags &= ~(1 << ics)
-        set_update_flags(self.ram, flags)
+        r[UPDATE_FLAGS:UPDATE_FLAGS_END] = flags.to_bytes(5, "little")
 
     # ------------------------------------------------------------------ mixing
 
@@ -248,13 +249,13 @@ class Servos:
         total = 0
         r = self.ram
         for src_off, method_off in SERVO.MIXES:
-            src = read_u16(r, blk + src_off)
+            src = _u16(r, blk + src_off)[0]
             rate = mix_rate(r[blk + method_off])
             if src == NO_BLOCK or not rate:
                 continue
             is_ics, is_word, operand = mix_source(src)
             if is_ics:
-                base = read_u16(r, ALLOC + 2 * ((operand >> 8) % ICS_COUNT))
+                base = _u16(r, ALLOC + 2 * ((operand >> 8) % ICS_COUNT))[0]
                 if base == NO_BLOCK:
                     continue
                 a = base + (operand & 0xFF)
@@ -262,7 +263,7 @@ class Servos:
                 a = operand
             if a + (2 if is_word else 1) > RAM_SIZE:
                 continue
-            v = s16(read_u16(r, a)) if is_word else (r[a] ^ 0x80) - 0x80
+            v = _s16(r, a)[0] if is_word else (r[a] ^ 0x80) - 0x80
             total += v * rate
         return total
 
@@ -310,7 +311,7 @@ class Servos:
             pairs = [(k, b) for k in self.config.virtual_servos if (b := self.block(k)) is not None]
         for ics, blk in pairs:
             out = _u16(r, blk + B_OUTPUT)[0]
-            base = s16(_u16(r, blk + B_BASE)[0])
+            base = _s16(r, blk + B_BASE)[0]
             if out == FREE or (out == HOLD and hold_is_free):
                 torque[ics] = False
                 p = physical[ics]
@@ -331,10 +332,11 @@ class Servos:
     # ------------------------------------------------------------------ host views
 
     def sent(self, blk: int) -> int:
-        out = read_u16(self.ram, blk + B_OUTPUT)
+        out: int = _u16(self.ram, blk + B_OUTPUT)[0]
         if out in (FREE, HOLD) and self.config.free_hold_base == "omit":
             return out
-        return (out + s16(read_u16(self.ram, blk + B_BASE)) + self.mix(blk)) & 0xFFFF
+        base: int = _s16(self.ram, blk + B_BASE)[0]
+        return (out + base + self.mix(blk)) & 0xFFFF
 
     def outputs(self) -> dict[int, int]:
         """The value sent to each allocated servo: output + base + mixing (spec 9)."""
@@ -349,7 +351,7 @@ class Servos:
         blk = self.block(ics)
         if blk is None:
             return None
-        out = read_u16(self.ram, blk + B_OUTPUT)
+        out = _u16(self.ram, blk + B_OUTPUT)[0]
         return ServoState(
             ics=ics,
             output=out,

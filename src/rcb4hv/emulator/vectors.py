@@ -20,6 +20,7 @@ from rcb4hv.emulator.memmap import (
     RAM_SIZE,
     ROM_SIZE,
     STATIC_VECTOR_RAM,
+    U16,
     VEC,
     VECTOR_PACKAGE,
     VECTOR_PACKAGE_COUNT,
@@ -30,6 +31,7 @@ from rcb4hv.emulator.memmap import (
 
 __all__ = ["Memo", "Vectors"]
 
+_u16 = U16.unpack_from
 # (table address, RAM spans read, their bytes)
 Memo = tuple[int, tuple[tuple[int, int], ...], bytes]
 
@@ -63,7 +65,7 @@ class Vectors:
 
         An invalid operand ends the evaluation with no match (nothing memoised).
         """
-        table = self.table()
+        table = _u16(self.ram, VECTOR_TABLE)[0]
         if self.accelerate and self.unchanged(table):
             return None
         self.memo = None
