@@ -5,48 +5,47 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from types import TracebackType
-from typing import Final
+from typing import Final, TypeVar
 
-from rcb4hv.errors import (
-    ChecksumError,
-    FrameError,
-    NakError,
-    ProtocolError,
-    Rcb4TimeoutError,
-    TransportError,
+from rcb4hv.client import exchange
+from rcb4hv.client.exchange import (
+    MAX_READ,
+    MAX_WRITE,
+    ROM_WRITE_CHUNK,
+    CommandNotAllowedError,
+    Plan,
+    Progress,
+    ReplyMatcher,
+    VerifyError,
+    check_reply,
+    new_decoder,
+    request_frame,
 )
+from rcb4hv.errors import FrameError, NakError, ProtocolError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import (
     ALWAYS,
-    MAX_REPLY_SIZE,
-    NEED_DATA,
     Ack,
     AcknowledgeCheck,
     Add,
     And,
     Call,
-    Com,
     Command,
     CommunicateDevice,
     Condition,
-    Data,
     DataReply,
     Destination,
     Div,
-    FrameDecoder,
     GetVersionInfo,
     Jump,
     Mod,
     Move,
     Mul,
-    Nak,
     Not,
     Or,
-    Ram,
     Reply,
     Return,
-    Rom,
     RunConstFrameServo,
     RunSeriesServo,
     RunSingleServo,
@@ -57,10 +56,7 @@ from rcb4hv.protocol import (
     Sub,
     VersionReply,
     Xor,
-    decode_reply,
-    reply_length,
 )
-from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
 from rcb4hv.transport import (
     BAUD_RATES,
     DEFAULT_BAUD,
@@ -82,34 +78,9 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+T = TypeVar("T")
+
 DEFAULT_TIMEOUT: Final = 0.5
-MAX_READ: Final = 128
-"""Bytes one MOVE to COM can read (its reply frame is 131 bytes)."""
-MAX_WRITE: Final = 121
-"""Literal bytes one MOVE can carry in a 128-byte command frame."""
-ROM_WRITE_CHUNK: Final = 64
-"""ROM writes go in 64-byte chunks aligned on 64-byte boundaries: one chunk fits a MOVE literal
-(at most 121 bytes) and never straddles an EEPROM write page (64 or 128 bytes on the parts
-used in this board family), so no page write ever wraps around inside its page."""
-
-Progress = Callable[[int, int], None]
-"""Progress callback: ``progress(done_bytes, total_bytes)``."""
-
-
-class CommandNotAllowedError(PermissionError):
-    """A command the client refuses unless explicitly enabled (ICS communication, 0Eh)."""
-
-
-class VerifyError(ProtocolError):
-    """Reading back memory just written gave different bytes."""
-
-    def __init__(self, message: str, address: int) -> None:
-        super().__init__(message)
-        self.address = address
-
-
-def _name(command: Command) -> str:
-    return type(command).__name__
 
 
 class Rcb4Client:
@@ -143,7 +114,7 @@ class Rcb4Client:
         self.allow_communicate_device = allow_communicate_device
         self.corrupt_grace = corrupt_grace
         self._lock = threading.Lock()
-        self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
+        self._decoder = new_decoder()
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -221,81 +192,37 @@ class Rcb4Client:
 
         A NAK raises :class:`NakError`; see the class docstring for the other errors.
         """
-        if isinstance(command, CommunicateDevice) and not self.allow_communicate_device:
-            raise CommandNotAllowedError(
-                "ICS communication (0Eh) is documented as 'must not be used'; "
-                "create the client with allow_communicate_device=True to send it"
-            )
-        frame = command.encode()
+        frame = request_frame(command, self.allow_communicate_device)
         reply = self._exchange(frame, command, self.timeout if timeout is None else timeout)
-        if isinstance(reply, Nak):
-            raise NakError(f"board answered NAK to {_name(command)}", command.cmd)
-        return reply
+        return check_reply(reply, command)
 
     def _exchange(self, frame: bytes, command: Command, timeout: float) -> Reply:
-        cmd = command.cmd
-        expected = reply_length(command)
         transport = self.transport
-        decoder = self._decoder
         with self._lock:
             deadline = time.monotonic() + timeout
-            decoder.reset()
+            matcher = ReplyMatcher(command, self._decoder, self.corrupt_grace)
             transport.reset_input()
             transport.write(frame)
-            corrupt: ChecksumError | None = None
-            need = 4
             while True:
-                chunk = transport.read(need, deadline)
+                until = deadline
+                if matcher.grace_deadline is not None:
+                    until = min(until, matcher.grace_deadline)
+                chunk = transport.read(matcher.need, until)
                 if not chunk:
-                    partial = decoder.reset()
-                    if corrupt is not None:
-                        raise corrupt
-                    got = f" (incomplete: {partial.hex(' ')})" if partial else ""
-                    raise Rcb4TimeoutError(
-                        f"no reply to {_name(command)} within {timeout:g} s{got}"
-                    )
-                decoder.receive_data(chunk)
-                while True:
-                    pending = decoder.pending
-                    skip = 0
-                    n = len(pending)
-                    while skip < n and not (
-                        (pending[skip] == expected or pending[skip] == 4)
-                        and (skip + 1 >= n or pending[skip + 1] == cmd)
-                    ):
-                        skip += 1
-                    if skip:
-                        log.warning(
-                            "discarded %d stray byte(s) before the reply to %s: %s",
-                            skip,
-                            _name(command),
-                            pending[:skip].hex(" "),
-                        )
-                        decoder.reset()
-                        decoder.receive_data(pending[skip:])
-                        pending = pending[skip:]
-                    if not pending:
-                        need = 4
-                        break
-                    try:
-                        got_frame = decoder.next_frame()
-                    except ChecksumError as exc:
-                        log.warning("reply to %s with a bad checksum: %s", _name(command), exc)
-                        corrupt = ChecksumError(
-                            f"reply to {_name(command)} has a bad checksum: "
-                            f"{exc.frame.hex(' ')}",
-                            exc.frame,
-                        )
-                        deadline = min(deadline, time.monotonic() + self.corrupt_grace)
-                        continue
-                    if got_frame is NEED_DATA:
-                        need = max(pending[0] - len(pending), 1)
-                        break
-                    assert isinstance(got_frame, bytes)
-                    try:
-                        return decode_reply(got_frame, command)
-                    except ProtocolError as exc:
-                        raise FrameError(f"bad reply to {_name(command)}: {exc}") from exc
+                    raise matcher.timeout_error(timeout)
+                reply = matcher.feed(chunk, time.monotonic())
+                if reply is not None:
+                    return reply
+
+    def _run(self, plan: Plan[T]) -> T:
+        """Drive a multi-frame plan (see :mod:`rcb4hv.client.exchange`) to its result."""
+        try:
+            command = next(plan)
+            while True:
+                command = plan.send(self.transact(command))
+        except StopIteration as done:
+            result: T = done.value
+            return result
 
     # ------------------------------------------------------------------ data commands
 
@@ -305,10 +232,7 @@ class Rcb4Client:
         return reply.data if isinstance(reply, DataReply) else None
 
     def _data(self, command: Command) -> bytes:
-        reply = self.transact(command)
-        if not isinstance(reply, DataReply):
-            raise FrameError(f"expected a data reply to {_name(command)}, got {reply}")
-        return reply.data
+        return exchange.data_of(self.transact(command), command)
 
     def and_(
         self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
@@ -438,30 +362,15 @@ class Rcb4Client:
 
     def read_ram(self, address: int, size: int) -> bytes:
         """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
-        _check_span("RAM", address, size, RAM_SIZE)
-        out = bytearray()
-        for a in range(address, address + size, MAX_READ):
-            n = min(MAX_READ, address + size - a)
-            out += self._data(Move(Com(), Ram(a), n))
-        return bytes(out)
+        return self._run(exchange.read_memory("RAM", address, size))
 
     def write_ram(self, address: int, data: bytes) -> None:
         """Write ``data`` to RAM (any size; 121 bytes per frame)."""
-        data = bytes(data)
-        _check_span("RAM", address, len(data), RAM_SIZE)
-        for i in range(0, len(data), MAX_WRITE):
-            self.transact(Move(Ram(address + i), Data(data[i : i + MAX_WRITE])))
+        self._run(exchange.write_ram(address, data))
 
     def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
         """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
-        _check_span("ROM", address, size, ROM_SIZE)
-        out = bytearray()
-        for a in range(address, address + size, MAX_READ):
-            n = min(MAX_READ, address + size - a)
-            out += self._data(Move(Com(), Rom(a), n))
-            if progress is not None:
-                progress(len(out), size)
-        return bytes(out)
+        return self._run(exchange.read_memory("ROM", address, size, progress))
 
     def write_rom(
         self,
@@ -474,31 +383,4 @@ class Rcb4Client:
         """Write ``data`` to ROM in 64-byte page-aligned chunks (see :data:`ROM_WRITE_CHUNK`),
         reading each chunk back when ``verify`` (raises :class:`VerifyError` on a mismatch).
         ``progress(done, total)`` counts bytes written (and verified)."""
-        data = bytes(data)
-        _check_span("ROM", address, len(data), ROM_SIZE)
-        total, done, a = len(data), 0, address
-        while done < total:
-            n = min(ROM_WRITE_CHUNK - a % ROM_WRITE_CHUNK, total - done)
-            chunk = data[done : done + n]
-            self.transact(Move(Rom(a), Data(chunk)))
-            if verify:
-                back = self._data(Move(Com(), Rom(a), n))
-                if back != chunk:
-                    bad = next(i for i in range(n) if back[i] != chunk[i])
-                    raise VerifyError(
-                        f"ROM {a + bad:06X}: wrote {chunk[bad]:02X}, read back {back[bad]:02X}",
-                        a + bad,
-                    )
-            done += n
-            a += n
-            if progress is not None:
-                progress(done, total)
-
-
-def _check_span(kind: str, address: int, size: int, limit: int) -> None:
-    if not isinstance(address, int) or not isinstance(size, int):
-        raise ValueError(f"{kind} address and size must be ints")
-    if size < 1:
-        raise ValueError(f"{kind} size {size} must be at least 1")
-    if address < 0 or address + size > limit:
-        raise ValueError(f"{kind} {address:#x}+{size} runs outside 0..{limit - 1:#x}")
+        self._run(exchange.write_rom(address, data, verify, progress))

@@ -11,7 +11,12 @@ Options (query string):
 * ``latency=S`` seconds between a request and its reply (default: the board's
   ``min_reply_latency_s``);
 * ``board=N``   serve a Board registered with :func:`emulator_url` instead of a new one
-  (tests use this to drive a board on a virtual clock and inspect its RAM).
+  (tests use this to drive a board on a virtual clock and inspect its RAM);
+* ``boot=ready`` (default) or ``boot=live``: a new board first runs its start-up program
+  in virtual time, so the port opens on a board whose ROM program has reached its main
+  loop (servo table in RAM, servos homed) — a command sent right after opening finds the
+  servos, as it would on a board powered on a while ago. ``boot=live`` opens at power-on
+  and lets the start-up run in real time, as on a board just switched on.
 
 The handler module is found by pyserial because :mod:`rcb4hv.transport` appends itself to
 ``serial.protocol_handler_packages`` on import.
@@ -66,6 +71,59 @@ def emulator_url(board: BoardLike) -> str:
     return f"{SCHEME}://?board={n}"
 
 
+BOOT_LIMIT_S = 30.0
+"""Board seconds a ``boot=ready`` open lets the start-up program run before giving up."""
+
+
+class _BootClock:
+    """Virtual time while the board boots (``advance``), then real time times ``speed``,
+    continuing from where the boot left off (``go_real``)."""
+
+    def __init__(self, speed: float) -> None:
+        if not speed > 0:
+            raise ValueError("speed must be > 0")
+        self.speed = speed
+        self._virtual: float | None = 0.0
+        self._base = 0.0
+        self._t0 = 0.0
+
+    def now(self) -> float:
+        if self._virtual is not None:
+            return self._virtual
+        return self._base + (time.monotonic() - self._t0) * self.speed
+
+    def advance(self, seconds: float) -> None:
+        assert self._virtual is not None
+        self._virtual += seconds
+
+    def go_real(self) -> None:
+        if self._virtual is not None:
+            self._base, self._virtual, self._t0 = self._virtual, None, time.monotonic()
+
+
+def _booted(ram: bytes | bytearray) -> bool:
+    """The ROM program is stopped, or in its main loop with an empty call stack (the test
+    :meth:`rcb4hv.client.Robot.wait_ready` makes on the wire)."""
+    from rcb4hv.protocol.memory import ADDR, SYS
+    from rcb4hv.rom.layout import HTH4_22
+
+    word = ram[ADDR.SYSTEM] | ram[ADDR.SYSTEM + 1] << 8
+    pc = int.from_bytes(ram[ADDR.PC : ADDR.PC + 3], "little")
+    depth = ram[ADDR.PC + 3]
+    return not word & SYS.ROM_RUN or (
+        HTH4_22.main_loop <= pc < HTH4_22.motion_base and depth == 0
+    )
+
+
+def _boot(board: Any, clock: _BootClock, step: float = 0.05) -> None:
+    """Run ``board``'s start-up program in virtual time until it reaches its main loop."""
+    t = 0.0
+    while not _booted(board.ram) and t < BOOT_LIMIT_S:
+        clock.advance(step)
+        board.tick()
+        t += step
+
+
 class Serial(SerialBase):
     """A pyserial port object whose far end is an in-process emulated board."""
 
@@ -102,11 +160,14 @@ class Serial(SerialBase):
             except ImportError as exc:
                 raise SerialException(f"the emulator is not available: {exc}") from exc
             try:
-                clock = emu.RealClock(speed=self._speed)
+                clock = _BootClock(self._speed)
                 if self._rom is not None:
                     self.board = emu.Board(clock=clock, rom_path=self._rom)
                 else:
                     self.board = emu.Board(clock=clock)
+                if self._boot_ready:
+                    _boot(self.board, clock)
+                clock.go_real()
             except (OSError, ValueError) as exc:
                 raise SerialException(f"cannot start the emulator: {exc}") from exc
             self._own_board = True
@@ -130,6 +191,7 @@ class Serial(SerialBase):
         if parts.scheme.lower() != SCHEME:
             raise SerialException(f"expected {SCHEME}://[?speed=S&rom=PATH], got {url!r}")
         self._speed, self._rom, self._latency, self._board_id = 1.0, None, None, None
+        self._boot_ready = True
         try:
             for key, values in urllib.parse.parse_qs(parts.query, True).items():
                 value = values[-1]
@@ -145,6 +207,10 @@ class Serial(SerialBase):
                         raise ValueError("latency must be >= 0")
                 elif key == "board":
                     self._board_id = int(value)
+                elif key == "boot":
+                    if value not in ("ready", "live"):
+                        raise ValueError("boot must be 'ready' or 'live'")
+                    self._boot_ready = value == "ready"
                 else:
                     raise ValueError(f"unknown option {key!r}")
         except ValueError as exc:
