@@ -40,10 +40,16 @@ def make_board(speed: float = SPEED, **config: Any) -> Any:
     return emu.Board(cfg, clock=emu.RealClock(speed=speed))
 
 
+SYNC_TRANSPORTS = tuple(k for k in TRANSPORTS if not k.startswith("aio-"))
+
+
 @pytest.fixture(params=TRANSPORTS)
 def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
     """One connected client per transport; everything is closed on exit."""
-    kind: str = request.param
+    yield from make_rig(request.param)
+
+
+def make_rig(kind: str) -> Iterator[Rig]:
     emu = _emulator()
     board = make_board()
     with ExitStack() as stack:

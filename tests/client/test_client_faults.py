@@ -4,13 +4,14 @@ exception, and the next call works."""
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
 
 import pytest
 
 from rcb4hv.client import Rcb4Client
 from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.transport import Fault, FaultConfig, FaultyTransport, open_transport
-from tests.client.conftest import Rig, make_board
+from tests.client.conftest import SYNC_TRANSPORTS, Rig, make_board, make_rig
 
 TIMEOUT = 0.15
 
@@ -26,6 +27,12 @@ EXPECTED: dict[Fault, type[BaseException] | None] = {
     Fault.EXTRA_AFTER: None,
     Fault.DISCONNECT: TransportError,
 }
+
+
+@pytest.fixture(params=SYNC_TRANSPORTS)
+def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
+    """The blocking client only: FaultyTransport wraps a blocking transport."""
+    yield from make_rig(request.param)
 
 
 def _faulty(rig: Rig, **config: object) -> tuple[FaultyTransport, Rcb4Client]:

@@ -113,6 +113,8 @@ class AsyncRcb4Client:
         ``socket://`` uses asyncio streams; device paths use pyserial-asyncio-fast;
         ``rcb4emu://`` runs the emulator in process (it waits for the board's start-up).
         """
+        if not timeout > 0:
+            raise ValueError("timeout must be > 0")
         transport = await open_async_transport(url, baudrate or DEFAULT_BAUD)
         client = cls(transport, timeout=timeout, allow_communicate_device=allow_communicate_device)
         if baudrate is None:
