@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "rcb4hv.cli.board_cmd",
     "rcb4hv.cli.project_cmd",
     "rcb4hv.cli.asm_cmd",
+    "rcb4hv.cli.hardware_cmd",
 )
 
 

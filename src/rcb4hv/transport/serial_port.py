@@ -29,6 +29,10 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+# Kondo's USB IDs. 165C:0008 is the Kondo USB adapter HS, the ID the rcb4 library (iory/rcb4:
+# its 99-rcb4-udev.rules and RCB4Interface.from_port) matches to find an RCB-4; 0007 is the
+# older adapter named in the working spec (PROTOCOL.md section 1). Linux's ftdi_sio lists only
+# 165C:0002 (drivers/usb/serial/ftdi_sio_ids.h), hence the new_id line of `rcb4hv udev-rule`.
 KONDO_VID: Final = 0x165C
 KONDO_PIDS: Final = (0x0008, 0x0007)
 BAUD_RATES: Final = (1250000, 625000, 115200)
