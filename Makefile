@@ -28,7 +28,7 @@ test: $(VENV)/.installed-dev
 
 # the documentation site, strictly: a broken link or reference fails the build
 docs: $(VENV)/.installed-dev
-	$(BIN)/mkdocs build --strict --quiet --site-dir .build/site
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet --site-dir .build/site
 
 # wheel + sdist, then the wheel alone in a fresh venv: `rcb4hv --version` and the demo run
 package: $(VENV)/.installed-dev

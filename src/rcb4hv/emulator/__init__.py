@@ -59,6 +59,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from rcb4hv.emulator.board import Board, ServoState
+from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
 from rcb4hv.emulator.clock import Clock, RealClock, VirtualClock
 from rcb4hv.emulator.config import DEFAULT_VERSION, EmulatorConfig
 
@@ -68,6 +69,7 @@ if TYPE_CHECKING:  # the servers need pty/termios: imported on first use
 __all__ = [
     "DEFAULT_VERSION",
     "Board",
+    "BootClock",
     "Clock",
     "EmulatorConfig",
     "PtyServer",
@@ -75,6 +77,7 @@ __all__ = [
     "ServoState",
     "TcpServer",
     "VirtualClock",
+    "boot_to_main_loop",
 ]
 
 

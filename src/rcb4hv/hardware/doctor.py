@@ -61,16 +61,9 @@ def _ports(host: Host, port: str | None) -> Iterator[Check]:
     ports = host.ports()
     kondo = [p for p in ports if p.is_kondo]
     listing = ", ".join(p.describe() for p in ports) or "none"
-    if kondo or (port and not _is_device(port)):
-        yield Check("serial ports", "ok", f"{len(kondo)} Kondo adapter(s); ports: {listing}")
-    elif port:
-        yield Check(
-            "serial ports",
-            "warn",
-            f"no Kondo adapter ({_IDS}) among: {listing}",
-            "fine for another adapter; for the Kondo USB adapter HS check the cable and, on "
-            "Linux, that ftdi_sio knows its ID (`rcb4hv udev-rule`)",
-        )
+    if kondo or port:
+        note = "" if kondo or not _is_device(port or "") else " (using the port given)"
+        yield Check("serial ports", "ok", f"{len(kondo)} Kondo adapter(s){note}; ports: {listing}")
     else:
         yield Check(
             "serial ports",

@@ -71,59 +71,6 @@ def emulator_url(board: BoardLike) -> str:
     return f"{SCHEME}://?board={n}"
 
 
-BOOT_LIMIT_S = 30.0
-"""Board seconds a ``boot=ready`` open lets the start-up program run before giving up."""
-
-
-class _BootClock:
-    """Virtual time while the board boots (``advance``), then real time times ``speed``,
-    continuing from where the boot left off (``go_real``)."""
-
-    def __init__(self, speed: float) -> None:
-        if not speed > 0:
-            raise ValueError("speed must be > 0")
-        self.speed = speed
-        self._virtual: float | None = 0.0
-        self._base = 0.0
-        self._t0 = 0.0
-
-    def now(self) -> float:
-        if self._virtual is not None:
-            return self._virtual
-        return self._base + (time.monotonic() - self._t0) * self.speed
-
-    def advance(self, seconds: float) -> None:
-        assert self._virtual is not None
-        self._virtual += seconds
-
-    def go_real(self) -> None:
-        if self._virtual is not None:
-            self._base, self._virtual, self._t0 = self._virtual, None, time.monotonic()
-
-
-def _booted(ram: bytes | bytearray) -> bool:
-    """The ROM program is stopped, or in its main loop with an empty call stack (the test
-    :meth:`rcb4hv.client.Robot.wait_ready` makes on the wire)."""
-    from rcb4hv.protocol.memory import ADDR, SYS
-    from rcb4hv.rom.layout import HTH4_22
-
-    word = ram[ADDR.SYSTEM] | ram[ADDR.SYSTEM + 1] << 8
-    pc = int.from_bytes(ram[ADDR.PC : ADDR.PC + 3], "little")
-    depth = ram[ADDR.PC + 3]
-    return not word & SYS.ROM_RUN or (
-        HTH4_22.main_loop <= pc < HTH4_22.motion_base and depth == 0
-    )
-
-
-def _boot(board: Any, clock: _BootClock, step: float = 0.05) -> None:
-    """Run ``board``'s start-up program in virtual time until it reaches its main loop."""
-    t = 0.0
-    while not _booted(board.ram) and t < BOOT_LIMIT_S:
-        clock.advance(step)
-        board.tick()
-        t += step
-
-
 class Serial(SerialBase):
     """A pyserial port object whose far end is an in-process emulated board."""
 
@@ -160,13 +107,13 @@ class Serial(SerialBase):
             except ImportError as exc:
                 raise SerialException(f"the emulator is not available: {exc}") from exc
             try:
-                clock = _BootClock(self._speed)
+                clock = emu.BootClock(self._speed)
                 if self._rom is not None:
                     self.board = emu.Board(clock=clock, rom_path=self._rom)
                 else:
                     self.board = emu.Board(clock=clock)
                 if self._boot_ready:
-                    _boot(self.board, clock)
+                    emu.boot_to_main_loop(self.board, clock)
                 clock.go_real()
             except (OSError, ValueError) as exc:
                 raise SerialException(f"cannot start the emulator: {exc}") from exc

@@ -1,0 +1,62 @@
+"""Start a board "switched on a while ago": its start-up program runs in virtual time, then the
+clock goes on in real time from there (``rcb4emu://`` and ``rcb4hv emulate`` do this unless
+asked for a live boot)."""
+
+from __future__ import annotations
+
+import time
+
+from rcb4hv.emulator.board import Board
+from rcb4hv.protocol.memory import ADDR, SYS
+from rcb4hv.rom.layout import HTH4_22
+
+__all__ = ["BOOT_LIMIT_S", "BootClock", "boot_to_main_loop", "booted"]
+
+BOOT_LIMIT_S = 30.0
+"""Board seconds a ``boot=ready`` open lets the start-up program run before giving up."""
+
+
+class BootClock:
+    """Virtual time while the board boots (``advance``), then real time times ``speed``,
+    continuing from where the boot left off (``go_real``)."""
+
+    def __init__(self, speed: float) -> None:
+        if not speed > 0:
+            raise ValueError("speed must be > 0")
+        self.speed = speed
+        self._virtual: float | None = 0.0
+        self._base = 0.0
+        self._t0 = 0.0
+
+    def now(self) -> float:
+        if self._virtual is not None:
+            return self._virtual
+        return self._base + (time.monotonic() - self._t0) * self.speed
+
+    def advance(self, seconds: float) -> None:
+        assert self._virtual is not None
+        self._virtual += seconds
+
+    def go_real(self) -> None:
+        if self._virtual is not None:
+            self._base, self._virtual, self._t0 = self._virtual, None, time.monotonic()
+
+
+def booted(ram: bytes | bytearray) -> bool:
+    """The ROM program is stopped, or in its main loop with an empty call stack (the test
+    :meth:`rcb4hv.client.Robot.wait_ready` makes on the wire)."""
+    word = ram[ADDR.SYSTEM] | ram[ADDR.SYSTEM + 1] << 8
+    pc = int.from_bytes(ram[ADDR.PC : ADDR.PC + 3], "little")
+    depth = ram[ADDR.PC + 3]
+    return not word & SYS.ROM_RUN or (
+        HTH4_22.main_loop <= pc < HTH4_22.motion_base and depth == 0
+    )
+
+
+def boot_to_main_loop(board: Board, clock: BootClock, step: float = 0.05) -> None:
+    """Run ``board``'s start-up program in virtual time until it reaches its main loop."""
+    t = 0.0
+    while not booted(board.ram) and t < BOOT_LIMIT_S:
+        clock.advance(step)
+        board.tick()
+        t += step
