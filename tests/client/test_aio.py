@@ -15,7 +15,7 @@ from contextlib import ExitStack
 import pytest
 
 from rcb4hv.aio import AsyncRcb4Client, AsyncRobot, PolledTransport, StreamTransport
-from rcb4hv.errors import NakError, Rcb4TimeoutError, TransportError
+from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import Button, Com, Data, Ics, Ram
 from rcb4hv.transport import emulator_url
 from tests.client.conftest import make_board
@@ -195,3 +195,50 @@ def test_open_failures_are_typed(tmp_path: object) -> None:
             await AsyncRcb4Client.open("rcb4emu://", timeout=0)
 
     asyncio.run(main())
+
+
+class ScriptedBoard:
+    """A TCP peer that answers the n-th request with the n-th scripted reply bytes."""
+
+    def __init__(self, replies: list[bytes]) -> None:
+        self.replies = list(replies)
+        self.server = socket.create_server(("127.0.0.1", 0))
+        self.url = f"socket://127.0.0.1:{self.server.getsockname()[1]}"
+        self.thread = threading.Thread(target=self._serve, daemon=True)
+        self.thread.start()
+
+    def _serve(self) -> None:
+        conn, _ = self.server.accept()
+        with conn:
+            for reply in self.replies:
+                if not conn.recv(256):
+                    return
+                conn.sendall(reply)
+            conn.recv(256)
+
+    def close(self) -> None:
+        self.server.close()
+        self.thread.join(timeout=2)
+
+
+ACK = bytes.fromhex("04 FE 06 08")
+
+
+def test_stray_bytes_and_bad_checksums_over_asyncio_streams() -> None:
+    bad_ack = bytes.fromhex("04 FE 06 09")
+    board = ScriptedBoard([b"\x55\xaa" + ACK, bad_ack, ACK + b"\x01\x02", ACK])
+
+    async def main() -> None:
+        async with await AsyncRcb4Client.open(board.url, timeout=1.0) as rcb:
+            await rcb.acknowledge_check()  # junk before the reply is discarded
+            t0 = time.monotonic()
+            with pytest.raises(ChecksumError):
+                await rcb.acknowledge_check()  # fails after the 20 ms grace, not the timeout
+            assert time.monotonic() - t0 < 0.3
+            await rcb.acknowledge_check()  # junk after the reply...
+            await rcb.acknowledge_check()  # ...is gone before the next call
+
+    try:
+        asyncio.run(main())
+    finally:
+        board.close()

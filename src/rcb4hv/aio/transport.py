@@ -246,20 +246,8 @@ async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
 
     loop = asyncio.get_running_loop()
 
-    def open_port() -> serial.Serial:
-        port: serial.Serial = serial.serial_for_url(
-            url,
-            baudrate=baudrate,
-            bytesize=serial.EIGHTBITS,
-            parity=serial.PARITY_EVEN,
-            stopbits=serial.STOPBITS_ONE,
-            timeout=0,
-            write_timeout=0,
-        )
-        return port
-
     try:
-        port = await loop.run_in_executor(None, open_port)
+        port = await loop.run_in_executor(None, serial_port.open_8e1, url, baudrate, 0)
     except serial_port._PORT_ERRORS as exc:
         raise TransportError(f"cannot open {url}: {exc}") from exc
     if not _has_fd(port):

@@ -95,6 +95,21 @@ def resolve_port(port: str | None) -> str:
     return found[0]
 
 
+def open_8e1(url: str, baudrate: int, write_timeout: float) -> serial.Serial:
+    """``serial_for_url`` at the board's framing, 8 data bits, even parity, 1 stop bit,
+    non-blocking reads (``timeout=0``)."""
+    port: serial.Serial = serial.serial_for_url(
+        url,
+        baudrate=baudrate,
+        bytesize=serial.EIGHTBITS,
+        parity=serial.PARITY_EVEN,
+        stopbits=serial.STOPBITS_ONE,
+        timeout=0,
+        write_timeout=write_timeout,
+    )
+    return port
+
+
 def _disable_nagle(port: object) -> None:
     """pyserial's socket:// leaves Nagle's algorithm on: a frame written in two parts would then
     reach the board ~40 ms apart, past its frame timeout. Send every write at once instead."""
@@ -131,15 +146,7 @@ class SerialTransport(Transport):
         if baudrate <= 0:
             raise ValueError(f"baud rate {baudrate} must be positive")
         try:
-            port = serial.serial_for_url(
-                url,
-                baudrate=baudrate,
-                bytesize=serial.EIGHTBITS,
-                parity=serial.PARITY_EVEN,
-                stopbits=serial.STOPBITS_ONE,
-                timeout=0,
-                write_timeout=2.0,
-            )
+            port = open_8e1(url, baudrate, write_timeout=2.0)
         except _PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
         _disable_nagle(port)
