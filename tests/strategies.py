@@ -7,8 +7,10 @@ from hypothesis import strategies as st
 from rcb4hv import protocol as p
 
 ics_numbers = st.integers(0, 35)
+single_servo_ics = st.integers(0, 0x7F)  # 0Fh: bits 6-0 of the ICS byte, any value
 positions = st.integers(0, 0xFFFF)
 speeds = st.integers(0, 255)
+stretch_values = st.integers(0, 255)  # 12h: any byte (documented 1-127; real projects send 0)
 
 
 def _ram(size: int) -> st.SearchStrategy[p.Ram]:
@@ -69,7 +71,7 @@ commands: st.SearchStrategy[p.Command] = st.one_of(
             st.integers(0, p.RAM_SIZE - 1),
         )
     ),
-    st.builds(p.RunSingleServo, ics_numbers, speeds, positions, st.booleans()),
+    st.builds(p.RunSingleServo, single_servo_ics, speeds, positions, st.booleans()),
     st.builds(
         p.RunConstFrameServo,
         speeds,
@@ -83,8 +85,8 @@ commands: st.SearchStrategy[p.Command] = st.one_of(
             st.booleans(),
         )
     ),
-    st.builds(p.SetSpeed, st.dictionaries(ics_numbers, st.integers(1, 127), max_size=36)),
-    st.builds(p.SetStretch, st.dictionaries(ics_numbers, st.integers(1, 127), max_size=36)),
+    st.builds(p.SetSpeed, st.dictionaries(ics_numbers, stretch_values, max_size=36)),
+    st.builds(p.SetStretch, st.dictionaries(ics_numbers, stretch_values, max_size=36)),
     st.just(p.GetVersionInfo()),
     st.builds(p.AcknowledgeCheck, st.booleans()),
 )

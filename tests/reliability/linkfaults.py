@@ -44,7 +44,7 @@ class LinkFault(enum.Enum):
     SPLIT_REPLY = "split_reply"
     """The reply trickles in byte by byte, SPLIT_GAP apart: the call succeeds."""
     SPLIT_REQUEST = "split_request"
-    """The request leaves in two parts, a quarter frame timeout apart: the call succeeds."""
+    """The request leaves in two parts, a tenth of a frame timeout apart: the call succeeds."""
     SPLIT_REQUEST_LONG = "split_request_long"
     """SIZE and CMD, then three frame timeouts of silence, then the rest: the board NAKs the
     partial frame (spec 13 #12), so the call raises NakError."""
@@ -99,7 +99,7 @@ class LinkFaults(Transport):
         if fault is LinkFault.SPLIT_REQUEST and len(data) > 1:
             half = len(data) // 2
             self.inner.write(data[:half])
-            time.sleep(self.frame_timeout / 4)
+            time.sleep(self.frame_timeout / 10)
             self.inner.write(data[half:])
         elif fault is LinkFault.SPLIT_REQUEST_LONG and len(data) > 2:
             self.inner.write(data[:2])

@@ -10,6 +10,7 @@ from typing import Any
 
 import click
 
+from rcb4hv.cli import project_check_cmd
 from rcb4hv.cli._util import (
     connection_options,
     handle_errors,
@@ -17,6 +18,7 @@ from rcb4hv.cli._util import (
     print_json,
     print_table,
 )
+from rcb4hv.cli.project_check_cmd import build_options, current_build_options
 from rcb4hv.protocol import Button
 
 STATUS_EXIT = {"error": 1, "timeout": 2, "stalled": 2}
@@ -70,7 +72,7 @@ def _load(path: Path) -> tuple[bytes, dict[int, str]]:
     if path.suffix.lower() == ".h4p":
         project = load_project(path)
         names = {m.slot: m.name or "" for m in project.used_motions}
-        return build_project_image(project), names
+        return build_project_image(project, current_build_options()), names
     data = path.read_bytes()
     from rcb4hv.rom import layout
 
@@ -84,13 +86,16 @@ def register(cli: click.Group) -> None:
 
     @cli.group()
     def project() -> None:
-        """HeartToHeart4 projects (.h4p): build, inspect, simulate and upload ROM images."""
+        """HeartToHeart4 projects (.h4p): build, inspect, check, simulate and upload ROM images."""
+
+    project_check_cmd.register(project)
 
     # ------------------------------------------------------------------ build
 
     @project.command("build")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
     @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+    @build_options
     @handle_errors
     def build(file: Path, output: Path) -> None:
         """Build the 256 KB HeartToHeart4 2.2 ROM image of FILE."""
@@ -98,7 +103,7 @@ def register(cli: click.Group) -> None:
         from rcb4hv.project.image import build_project_image
 
         p = load_project(file)
-        image = build_project_image(p)
+        image = build_project_image(p, current_build_options())
         output.write_bytes(image)
         click.echo(f"wrote {len(image)} bytes ({len(p.used_motions)} motions) to {output}")
 
@@ -160,10 +165,14 @@ def register(cli: click.Group) -> None:
                     "port": pm.port,
                     "compare_type": pm.compare_type,
                     "value": pm.value,
-                    "address": f"{pm.address:05X}",
+                    "address": None if pm.address < 0 else f"{pm.address:05X}",
                 }
                 for i, pm in p.active_priority_motions
             ],
+            "low_power_motion": None
+            if p.low_power_motion_address < 0
+            else f"{p.low_power_motion_address:05X}",
+            "low_power_value": p.low_power_value,
         }
         if as_json:
             print_json({"settings": settings, "motions": motions, "servos": servos})
@@ -173,6 +182,9 @@ def register(cli: click.Group) -> None:
             f"{settings['system_register']}h, {len(motions)} motions, "
             f"{len(servos)} servos"
         )
+        for line in project_check_cmd.settings_lines(p):
+            click.echo(line)
+        click.echo("")
         rows = []
         for mi in motions:
             notes = []
@@ -313,6 +325,7 @@ def register(cli: click.Group) -> None:
         show_default=True,
         help="Virtual seconds per motion before it counts as a timeout.",
     )
+    @build_options
     @handle_errors
     def simulate(
         file: Path,
@@ -329,8 +342,9 @@ def register(cli: click.Group) -> None:
         completed (returned to the main loop), waiting (loops reading an input, e.g. a button
         or AD sensor, as its program defines), stalled (repeats itself without reading any
         input), timeout (--limit reached) or error (ROMERR, command error, call-stack
-        overflow/underflow; with the PC and the instruction). Exit status 0 when every motion
-        completed or waits, 1 if any error, 2 if any timeout or stall.
+        overflow/underflow; with the PC and the instruction). A boot that fails is reported with
+        its cause and the motions are still played from the host. Exit status 0 when the boot
+        and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
         """
         from rcb4hv.project.simulate import Simulator
         from rcb4hv.rom import layout
@@ -361,19 +375,19 @@ def register(cli: click.Group) -> None:
         boot = sim.boot()
         starts: list[tuple[float, int]] = []
         results = []
-        if boot.status == "completed":
-            for slot in slots:
-                starts.append((sim.now, slot))
-                results.append(
-                    sim.play(
-                        layout.motion_address(slot),
-                        slot=slot,
-                        name=names.get(slot, ""),
-                        hold=hold,
-                        hold_for=hold_for,
-                        limit=limit,
-                    )
+        # a failed boot is reported; every motion is still played from the host (spec 11.4)
+        for slot in slots:
+            starts.append((sim.now, slot))
+            results.append(
+                sim.play(
+                    layout.motion_address(slot),
+                    slot=slot,
+                    name=names.get(slot, ""),
+                    hold=hold,
+                    hold_for=hold_for,
+                    limit=limit,
                 )
+            )
         summary: dict[str, int] = {}
         for r in results:
             summary[r.status] = summary.get(r.status, 0) + 1
@@ -439,6 +453,7 @@ def register(cli: click.Group) -> None:
         help="Restart the ROM program from 000000h afterwards.",
     )
     @click.option("--progress/--no-progress", default=True, show_default=True)
+    @build_options
     @handle_errors
     def upload(
         file: Path,

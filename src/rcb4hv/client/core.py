@@ -316,7 +316,8 @@ class Rcb4Client:
     def run_single_servo(
         self, ics: int, speed: int, position: int, set_update_flag: bool = True
     ) -> None:
-        """0Fh: one servo to ``position`` in ``speed`` output periods."""
+        """0Fh: one servo to ``position`` in ``speed`` output periods (any 7-bit ICS number,
+        speed and 16-bit position: the wire layer takes what the board takes)."""
         self.transact(RunSingleServo(ics, speed, position, set_update_flag))
 
     def run_const_frame_servo(
@@ -336,11 +337,13 @@ class Rcb4Client:
         self.transact(RunSeriesServo(moves, set_update_flag))
 
     def set_speed(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 02: servo speed parameter 1-127 per ICS number."""
+        """12h sub 02: servo speed parameter per ICS number (any byte; documented 1-127,
+        which :meth:`Robot.set_speed` checks)."""
         self.transact(SetSpeed(values))
 
     def set_stretch(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 01: servo stretch (holding gain) 1-127 per ICS number."""
+        """12h sub 01: servo stretch (holding gain) per ICS number (any byte; documented
+        1-127, which :meth:`Robot.set_stretch` checks)."""
         self.transact(SetStretch(values))
 
     # ------------------------------------------------------------------ system

@@ -22,8 +22,6 @@ from rcb4hv.protocol import (
     ICS_COUNT,
     POSITION_FREE,
     POSITION_HOLD,
-    POSITION_MAX,
-    POSITION_MIN,
     RAM_SIZE,
     SERVO,
     Button,
@@ -33,6 +31,11 @@ from rcb4hv.protocol import (
     ics_to_id_port,
 )
 from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol.ranges import (
+    check_documented_ics,
+    check_documented_position,
+    check_documented_stretch,
+)
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 from rcb4hv.transport import DEFAULT_BAUD
 
@@ -442,13 +445,8 @@ class Robot:
 
     @staticmethod
     def check_position(ics: int, position: int) -> None:
-        if not isinstance(position, int) or isinstance(position, bool):
-            raise ValueError(f"ICS {ics}: position must be an int, not {position!r}")
-        if not (POSITION_MIN <= position <= POSITION_MAX or position in (0x7FFF, 0x8000)):
-            raise ValueError(
-                f"ICS {ics}: position {position} outside {POSITION_MIN}..{POSITION_MAX} "
-                "(pass check_range=False to send it anyway)"
-            )
+        """ValueError unless ``position`` is in the documented 3500..11500 (or hold/free)."""
+        check_documented_position(ics, position)
 
     def move(
         self,
@@ -532,25 +530,47 @@ class Robot:
                 raise Rcb4TimeoutError(f"servos {busy} still moving after {timeout:g} s")
             time.sleep(min(interval, max(0.0, deadline - time.monotonic())))
 
-    def set_stretch(
-        self, values: Mapping[int, int] | int, ics: Iterable[int] | None = None
-    ) -> None:
-        """Stretch (holding gain) 1-127: a mapping, or one value for the selected servos."""
+    def _stretch_values(
+        self,
+        what: str,
+        values: Mapping[int, int] | int,
+        ics: Iterable[int] | None,
+        check_range: bool,
+    ) -> dict[int, int]:
         vals = (
             dict(values)
             if isinstance(values, Mapping)
             else dict.fromkeys(self._select(ics), values)
         )
-        self.client.set_stretch(vals)
+        for k, v in vals.items():
+            check_documented_ics(k)
+            if check_range:
+                check_documented_stretch(what, k, v)
+        return vals
 
-    def set_speed(self, values: Mapping[int, int] | int, ics: Iterable[int] | None = None) -> None:
-        """Servo speed parameter 1-127: a mapping, or one value for the selected servos."""
-        vals = (
-            dict(values)
-            if isinstance(values, Mapping)
-            else dict.fromkeys(self._select(ics), values)
-        )
-        self.client.set_speed(vals)
+    def set_stretch(
+        self,
+        values: Mapping[int, int] | int,
+        ics: Iterable[int] | None = None,
+        *,
+        check_range: bool = True,
+    ) -> None:
+        """Stretch (holding gain) 1-127: a mapping, or one value for the selected servos.
+
+        Values outside the documented 1-127 raise ValueError unless ``check_range=False``
+        (the wire carries any byte; real projects send 0)."""
+        self.client.set_stretch(self._stretch_values("stretch", values, ics, check_range))
+
+    def set_speed(
+        self,
+        values: Mapping[int, int] | int,
+        ics: Iterable[int] | None = None,
+        *,
+        check_range: bool = True,
+    ) -> None:
+        """Servo speed parameter 1-127: a mapping, or one value for the selected servos
+        (``check_range`` as for :meth:`set_stretch`)."""
+        self.client.set_speed(self._stretch_values("speed", values, ics, check_range))
 
     # ------------------------------------------------------------------ motions
 

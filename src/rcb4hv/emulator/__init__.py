@@ -48,7 +48,15 @@ Modelling choices where the spec is silent
   a SUB/JUMP pair in a running motion); a vector CALL pushes the current PC.
 * ADD..MOD with destination COM compute ``0 OP source`` and only answer the result.
 * SetSpeed/SetStretch values are kept per ICS (:attr:`Board.stretch`,
-  :attr:`Board.speed_parameter`); they do not change the model's motion.
+  :attr:`Board.speed_parameter`); they do not change the model's motion. Every byte value is
+  accepted and stored as sent, the documented 1-127 included and 0 or 128-255 too (real
+  HeartToHeart4 motions send 0): the model has no servo gain, so no value can conflict with it.
+* Positions are any 16-bit value: the model interpolates and its virtual servos follow values
+  outside 3500-11500 as sent (no servo-side travel limit is modelled). Speed 0 follows
+  ``speed_zero`` (spec 13 #7).
+* JUMP/CALL and vector-jump targets are 24 bits; one past 3FFFFh wraps modulo the 256 KB ROM.
+* RunSingleServo (0Fh) carries a 7-bit ICS number; ICS 36-127 have no allocation entry and are
+  skipped like an unallocated slot (ACK; with the update-flag bit clear every flag becomes 0).
 * Virtual servos (``virtual_servos``) report position - base into +4 of ``alloc[n]`` every
   period while ICS_F is set, also when free; other allocated blocks keep +4 unchanged.
 * MSG_F never sends anything (spec 13 #10: the format is undocumented) - a documented gap.

@@ -23,6 +23,7 @@ from rcb4hv.errors import ChecksumError, FrameError, ProtocolError
 from rcb4hv.protocol import (
     ADDR,
     FRAME_PERIODS_MS,
+    ICS_COUNT,
     NEED_DATA,
     POSITION_FREE,
     POSITION_HOLD,
@@ -692,7 +693,9 @@ class Board:
     def _servo_command(self, cmd: RunSingleServo | RunConstFrameServo | RunSeriesServo) -> None:
         flags = int.from_bytes(self.ram[7:12], "little")
         if isinstance(cmd, RunSingleServo):
-            moving = self._start_move(cmd.ics, cmd.speed, cmd.position)
+            # ICS 36-127 (bits 6-0 of the ICS byte) have no allocation entry: skipped like an
+            # unallocated slot
+            moving = cmd.ics < ICS_COUNT and self._start_move(cmd.ics, cmd.speed, cmd.position)
             if cmd.set_update_flag:
                 flags = (1 << cmd.ics) if moving else 0
         else:

@@ -21,11 +21,12 @@ The mapping, field by field:
 * ``ButtonData`` / ``CompareType`` of each used motion -> a vector package (spec 11.3) that
   CALLs the motion when the button word (RAM 0350h) compares to the value (:data:`COMPARE`);
   in slot order, at most 32.
-* ``StartupMotionAddress`` (``-1`` = none) -> the CALL at 00444h.
-* ``PriorityMotionCollection`` keys ``0``-``12`` -> the 13 main-loop checks; ``Port``
+* ``StartupMotionAddress`` (``-1`` = none: the RETURN stub) -> the CALL at 00444h.
+* ``PriorityMotionCollection`` keys ``0``-``12`` -> the 13 main-loop checks (``Address`` ``-1``
+  = none, see :mod:`rcb4hv.project.options` for this and an empty startup slot); ``Port``
   ``Battery`` compares AD0 (RAM 0022h), ``AD<n>`` compares AD n, ``PA<n>`` the remote's
-  analogue value n (one byte). ``LowPowerMotionAddress`` (older projects), when set, becomes a
-  battery check ``AD0 <= LowPowerValue`` in the first free slot.
+  analogue value n (one byte). ``LowPowerMotionAddress`` (older projects), when not ``-1``
+  (none), becomes a battery check ``AD0 <= LowPowerValue`` in the first free slot.
 * ``ProjectTitle`` -> the 32-byte title (cp932; a longer title is cut at a character boundary).
 * ``MotionData`` -> the motion's bytes at 0B80h + 2048 (n - 1), copied exactly as stored,
   including HeartToHeart4's ``FF`` end-of-motion byte after the final RETURN.
@@ -41,6 +42,7 @@ from typing import Final
 from rcb4hv.errors import FrameError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
+from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
 from rcb4hv.protocol import Button, frame_at
 from rcb4hv.rom import (
     Compare,
@@ -254,7 +256,9 @@ def _title(text: str | None) -> str:
 # ----------------------------------------------------------------------------- project -> image
 
 
-def project_description(project: Project) -> ImageDescription:
+def project_description(
+    project: Project, options: BuildOptions = DEFAULT_OPTIONS
+) -> ImageDescription:
     """The :class:`~rcb4hv.rom.ImageDescription` of ``project`` (see the module docstring).
 
     ValueError when the project cannot be laid out in the 2.2 image: a motion stored for
@@ -296,7 +300,12 @@ def project_description(project: Project) -> ImageDescription:
             raise ValueError(
                 f"priority check {index}: unknown CompareType {pm.compare_type!r}"
             ) from None
-        priority[index] = PriorityMotion(source, compare, pm.value, pm.address, size)
+        target = pm.address
+        if target < 0:  # a check configured with no motion
+            if options.priority_none == "skip":
+                continue
+            target = layout.STARTUP_STUB
+        priority[index] = PriorityMotion(source, compare, pm.value, target, size)
     if project.low_power_motion_address >= 0:
         free = [i for i, p in enumerate(priority) if p is None]
         if not free:
@@ -305,6 +314,8 @@ def project_description(project: Project) -> ImageDescription:
             AD0, "le", project.low_power_value, project.low_power_motion_address
         )
     startup = project.startup_motion_address
+    if options.empty_startup == "stub" and all(m.address != startup for m in motions):
+        startup = -1
     return ImageDescription(
         system_register=project.system_register,
         ad_references=project.adc_reference_words,
@@ -318,13 +329,14 @@ def project_description(project: Project) -> ImageDescription:
     )
 
 
-def build_project_image(project: Project) -> bytes:
-    """The 256 KB HeartToHeart4 2.2 ROM image of ``project``.
+def build_project_image(project: Project, options: BuildOptions = DEFAULT_OPTIONS) -> bytes:
+    """The 256 KB HeartToHeart4 2.2 ROM image of ``project`` (``options``: settings that
+    mean "none", :mod:`rcb4hv.project.options`).
 
     Each motion's bytes are copied exactly as the project stores them (FF end marker
     included) over the builder's output, which holds the same frames.
     """
-    image = bytearray(build_image(project_description(project)))
+    image = bytearray(build_image(project_description(project, options)))
     for m in project.used_motions:
         data = m.rom_bytes()
         a = m.address

@@ -32,6 +32,10 @@ Each play ends in one of these states (:class:`MotionResult.status`):
     overflow (17th nested CALL) or underflow (RETURN on an empty stack). ``pc`` is the failing
     instruction's address and ``instruction`` its disassembly (the board leaves the PC on it).
 
+A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause in words
+(:func:`rcb4hv.project.instructions.boot_cause`, e.g. ``startup motion 0FB80h: slot 31 holds no
+motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
+
 The emulator exposes no "last program error" record, so the kind of error is derived from public
 state: the ROMERR bit, the instruction at the PC, the call depth and the allocation table.
 """
@@ -47,32 +51,18 @@ from typing import Any, Final, Literal
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError
+from rcb4hv.project.instructions import boot_cause, ics_operands, input_names
 from rcb4hv.protocol import (
     ALWAYS,
     Ack,
-    Add,
-    And,
     Call,
     Com,
     Command,
     Data,
     DataReply,
-    Div,
-    Ics,
-    Jump,
-    Mod,
     Move,
-    Mul,
-    Not,
-    Or,
     Ram,
     Return,
-    RunConstFrameServo,
-    RunSeriesServo,
-    RunSingleServo,
-    Shift,
-    Sub,
-    Xor,
     decode_command,
     decode_reply,
     encode_command,
@@ -108,16 +98,6 @@ duration is within one step of the board's; 1 ms steps made simulation ~20% slow
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
 STACK_DEPTH: Final = 16
-
-# RAM that changes from outside the program: (first, last, name)
-_INPUTS: Final = (
-    (0x0022, 0x0037, "AD"),
-    (0x003A, 0x003B, "PIO"),
-    (0x003C, 0x0043, "timer"),
-    (0x0350, 0x0351, "buttons"),
-    (0x0352, 0x0355, "PA"),
-)
-
 
 class SimulationError(Exception):
     """The board did not accept a host frame, or the image does not boot."""
@@ -337,7 +317,7 @@ class Simulator:
             return "call-stack underflow (RETURN on an empty stack)", pc, text
         if isinstance(cmd, Call) and depth >= STACK_DEPTH:
             return "call-stack overflow (17th nested CALL)", pc, text
-        for ics in _ics_operands(cmd):
+        for ics in ics_operands(cmd):
             if b.alloc(ics) == 0xFFFF:
                 return f"command error: ICS {ics} is not allocated", pc, text
         return "command error (program stopped)", pc, text
@@ -355,7 +335,8 @@ class Simulator:
             n = b.instructions_executed - i0
             if not b.system_register & SYS.ROM_RUN:
                 kind, pc, text = self._error()
-                res = MotionResult(None, 0, "boot", "error", dur, n, kind, pc, text)
+                cause = boot_cause(b.rom, kind, pc)
+                res = MotionResult(None, 0, "boot", "error", dur, n, cause, pc, text)
                 break
             pc = b.pc
             in_main = layout.MAIN_LOOP <= pc < layout.MAIN_LOOP_JUMP + 7 and b.ram[5] == 0
@@ -504,7 +485,7 @@ class Simulator:
         for pc in sorted(pcs):
             cmd, _ = self._instruction_at(pc)
             if cmd is not None:
-                for name in _input_names(cmd):
+                for name in input_names(cmd):
                     if name not in inputs:
                         inputs.append(name)
         loop = (min(pcs), max(a + n - 1 for a, n in pcs.items())) if pcs else None
@@ -539,50 +520,3 @@ class Simulator:
             if progress is not None:
                 progress(r)
         return out
-
-
-def _operands(cmd: Command) -> list[object]:
-    ops: list[object] = []
-    for attr in ("dst", "src"):
-        v = getattr(cmd, attr, None)
-        if v is not None:
-            ops.append(v)
-    return ops
-
-
-def _ics_operands(cmd: Command) -> list[int]:
-    if isinstance(cmd, RunSingleServo):
-        return []
-    if isinstance(cmd, (RunConstFrameServo, RunSeriesServo)):
-        return []
-    return [o.ics for o in _operands(cmd) if isinstance(o, Ics)]
-
-
-def _input_names(cmd: Command) -> list[str]:
-    """Inputs (RAM the program does not own) a data command reads."""
-    if not isinstance(cmd, (Move, And, Or, Xor, Add, Sub, Mul, Div, Mod, Not, Shift)):
-        return []
-    if isinstance(cmd, (Jump, Call)):  # pragma: no cover - not data commands
-        return []
-    size = cmd.nbytes
-    names: list[str] = []
-    for op in _operands(cmd):
-        if isinstance(op, Ics):
-            if op.offset in (4, 5):
-                names.append(f"ICS {op.ics} measured value")
-            continue
-        if not isinstance(op, Ram):
-            continue
-        a0, a1 = op.address, op.address + size - 1
-        for lo, hi, kind in _INPUTS:
-            if a0 > hi or a1 < lo:
-                continue
-            if kind == "AD":
-                first = max(0, (a0 - lo) // 2)
-                last = min(10, (a1 - lo) // 2)
-                names += [f"AD{n}" for n in range(first, last + 1)]
-            elif kind == "PA":
-                names += [f"PA{n - lo + 1}" for n in range(max(a0, lo), min(a1, hi) + 1)]
-            else:
-                names.append(kind)
-    return names

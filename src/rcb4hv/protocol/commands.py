@@ -665,7 +665,9 @@ class RunSingleServo:
     cmd: ClassVar[int] = Op.SINGLE_SERVO
 
     def __post_init__(self) -> None:
-        _check_ics(self.ics)
+        # bits 6-0 of the ICS byte: any value decodes; ICS 36-127 have no allocation entry and
+        # are skipped like an unallocated slot (the robot level and the lint check 0-35)
+        _check_int("ICS number", self.ics, 0, 0x7F)
         _check_int("speed", self.speed, 0, 255)
         _check_position(self.position)
 
@@ -763,7 +765,9 @@ class RunSeriesServo:
 
 
 def _check_stretch_value(v: int) -> None:
-    _check_int("value", v, 1, 127)
+    # Any byte: the reference documents 1-127, but real HeartToHeart4 motions hold 0 and the
+    # board runs them. The documented range lives in rcb4hv.protocol.ranges (robot level, lint).
+    _check_int("value", v, 0, 0xFF)
 
 
 @dataclass(frozen=True, slots=True)
@@ -790,14 +794,14 @@ class _SpeedStretch:
 
 @dataclass(frozen=True, slots=True, init=False)
 class SetStretch(_SpeedStretch):
-    """12h sub 01: servo stretch (holding gain) 1-127 per servo."""
+    """12h sub 01: servo stretch (holding gain) per servo; documented 1-127, any byte here."""
 
     sub: ClassVar[int] = 0x01
 
 
 @dataclass(frozen=True, slots=True, init=False)
 class SetSpeed(_SpeedStretch):
-    """12h sub 02: servo speed parameter 1-127 per servo."""
+    """12h sub 02: servo speed parameter per servo; documented 1-127, any byte here."""
 
     sub: ClassVar[int] = 0x02
 

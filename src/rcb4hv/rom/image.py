@@ -57,6 +57,7 @@ Compare = Literal["eq", "ne", "lt", "le", "gt", "ge"]
 HOLD: Final = 0x7FFF
 
 
+
 def _check(name: str, value: int, lo: int, hi: int) -> None:
     if not isinstance(value, int) or isinstance(value, bool) or not lo <= value <= hi:
         raise ValueError(f"{name} {value!r} out of range {lo}..{hi}")
@@ -143,7 +144,7 @@ class VectorPackage:
     def __post_init__(self) -> None:
         _check("destination", self.destination, 0, 0xFFFF)
         _check("source", self.source, 0, 0xFFFF)
-        _check("target", self.target, 0, L.ROM_SIZE - 1)
+        _check("target", self.target, 0, 0xFFFFFF)  # 24 bits, as on the wire
 
     @classmethod
     def button(cls, buttons: int, target: int, *, jump: bool = False) -> VectorPackage:
@@ -179,7 +180,7 @@ class VectorPackage:
         pkg = cls(
             destination=data[1] | data[2] << 8,
             source=data[3] | data[4] << 8,
-            target=(data[5] | data[6] << 8 | data[7] << 16) % L.ROM_SIZE,
+            target=data[5] | data[6] << 8 | data[7] << 16,
             z=bool(c & 1),
             c=bool(c & 2),
             compare_z=bool(c & 4),
@@ -217,7 +218,7 @@ class PriorityMotion:
         _check("source", self.source, 0, 0x048F)
         _check("size", self.size, 1, 2)
         _check("value", self.value, 0, (1 << (8 * self.size)) - 1)
-        _check("target", self.target, 0, L.ROM_SIZE - 1)
+        _check("target", self.target, 0, 0xFFFFFF)  # 24 bits, as on the wire
         if self.compare in ("le", "gt"):
             if self.value >= (1 << (8 * self.size)) - 1:
                 raise ValueError(f"{self.compare} {self.value} cannot be expressed")
@@ -305,7 +306,7 @@ class ImageDescription:
         if "\x00" in self.title:
             raise ValueError("the title cannot contain NUL")
         if self.startup_motion is not None:
-            _check("startup motion address", self.startup_motion, 0, L.ROM_SIZE - 1)
+            _check("startup motion address", self.startup_motion, 0, 0xFFFFFF)
         _check("startup wait", self.startup_wait, 0, 0x7FFF)
         _check("home speed", self.home_speed, 0, 255)
         motions = sorted(self.motions, key=lambda m: m.slot)

@@ -1,0 +1,142 @@
+"""``rcb4hv project check`` (the lint), the "none"-setting options and the settings lines of
+``project info``. Registered into the ``project`` group by :mod:`rcb4hv.cli.project_cmd`."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+from rcb4hv.cli._util import handle_errors, print_json, print_table
+from rcb4hv.hth4 import Project
+from rcb4hv.project.options import EMPTY_STARTUP, PRIORITY_NONE, BuildOptions
+
+__all__ = ["build_options", "current_build_options", "register", "settings_lines"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+_META_KEY = "rcb4hv.build_options"
+
+
+def _store(ctx: click.Context, param: click.Parameter, value: str) -> str:
+    opts = ctx.meta.get(_META_KEY, {})
+    opts[param.name] = value
+    ctx.meta[_META_KEY] = opts
+    return value
+
+
+def build_options(func: F) -> F:
+    """Add ``--priority-none`` and ``--empty-startup`` (read with :func:`current_build_options`)."""
+    func = click.option(
+        "--empty-startup",
+        "empty_startup",
+        type=click.Choice(EMPTY_STARTUP),
+        default="call",
+        show_default=True,
+        expose_value=False,
+        callback=_store,
+        help="A startup address where no motion starts: CALL it as stored, or write 'none'.",
+    )(func)
+    return click.option(
+        "--priority-none",
+        "priority_none",
+        type=click.Choice(PRIORITY_NONE),
+        default="stub",
+        show_default=True,
+        expose_value=False,
+        callback=_store,
+        help="A priority check with Address -1: CALL the RETURN stub, or leave the check unused.",
+    )(func)
+
+
+def current_build_options() -> BuildOptions:
+    """The build options given to the running command (defaults outside a command)."""
+    ctx = click.get_current_context(silent=True)
+    values = {} if ctx is None else ctx.meta.get(_META_KEY, {})
+    return BuildOptions(**values)
+
+
+def _target_text(project: Project, address: int) -> str:
+    """``13B80h (slot 39, NAME)``, ``none`` for a negative address, or what is wrong."""
+    if address < 0:
+        return "none"
+    m = project.motion_at(address)
+    if m is None:
+        return f"{address:05X}h (not the start of a motion slot)"
+    if m.is_empty:
+        return f"{address:05X}h (slot {m.slot} holds no motion)"
+    return f"{address:05X}h (slot {m.slot}, {m.name or 'unnamed'})"
+
+
+def settings_lines(project: Project) -> list[str]:
+    """The startup, low-power and priority settings, "none" where they name no motion."""
+    lines = [
+        f"startup motion: {_target_text(project, project.startup_motion_address)}",
+        f"low-power motion: {_target_text(project, project.low_power_motion_address)}"
+        + (
+            f" at AD0 <= {project.low_power_value}" if project.low_power_motion_address >= 0 else ""
+        ),
+    ]
+    for i, pm in project.active_priority_motions:
+        lines.append(
+            f"priority check {i}: {pm.port} {pm.compare_type} {pm.value} -> "
+            f"{_target_text(project, pm.address)}"
+        )
+    return lines
+
+
+def _short(text: str, width: int) -> str:
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def register(project: click.Group) -> None:
+    """Add ``check`` to the ``project`` group."""
+
+    @project.command("check")
+    @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+    @handle_errors
+    def check(file: Path, as_json: bool) -> None:
+        """Lint FILE (.h4p) before it goes on a robot.
+
+        Reports targets (startup, priority, low-power, buttons, JUMP/CALL) in empty slots or
+        outside motions, positions outside 3500-11500, 12h values outside 1-127, speeds of 0,
+        motions without a final RETURN, ICS numbers missing from the servo table, unreachable
+        code and buttons bound twice. Exit status 0 when clean or only warnings, 1 on errors.
+        """
+        from rcb4hv.hth4 import load_project
+        from rcb4hv.project.check import check_project
+
+        project = load_project(file)
+        findings = check_project(project)
+        errors = sum(f.severity == "error" for f in findings)
+        warnings = len(findings) - errors
+        if as_json:
+            print_json(
+                {
+                    "file": str(file),
+                    "errors": errors,
+                    "warnings": warnings,
+                    "findings": [f.to_dict() for f in findings],
+                }
+            )
+        else:
+            if findings:
+                print_table(
+                    ("severity", "slot", "name", "address", "instruction", "reason"),
+                    [
+                        [
+                            f.severity,
+                            "-" if f.slot is None else f.slot,
+                            f.name,
+                            "-" if f.address is None else f"{f.address:05X}",
+                            _short(f.instruction, 48),
+                            f"{f.reason} [{f.code}]",
+                        ]
+                        for f in findings
+                    ],
+                )
+            click.echo(f"{file.name}: {errors} errors, {warnings} warnings")
+        sys.exit(1 if errors else 0)
