@@ -20,6 +20,7 @@ from __future__ import annotations
 __all__ = [
     "ChecksumError",
     "FrameError",
+    "LayoutError",
     "NakError",
     "ProtocolError",
     "Rcb4Error",
@@ -62,3 +63,8 @@ class TransportError(Rcb4Error):
 
 class Rcb4TimeoutError(Rcb4Error, TimeoutError):
     """No complete reply arrived within the timeout."""
+
+
+class LayoutError(Rcb4Error, ValueError):
+    """A project or image does not fit a HeartToHeart4 ROM layout: motions stored for no
+    known layout, or a motion that cannot be moved to the layout asked for."""

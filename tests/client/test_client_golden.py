@@ -9,6 +9,7 @@ import pytest
 
 from rcb4hv.client import Rcb4Client, Robot, ServoInfo
 from rcb4hv.protocol import Condition, Data, Ram, Rom, ServoBlock
+from rcb4hv.rom.layout import HTH4_22
 from rcb4hv.transport import Transport
 
 
@@ -130,7 +131,7 @@ def test_play_motion_sends_the_hth4_sequence() -> None:
     """Spec 11.4: suspend, reset PC to 044B, CALL 0B80, resume with ICS_F|ROM_F|VEC_F."""
     ack0 = H("04 00 06 0A")
     t = ScriptedTransport(H("05 00 1B 80 A0"), ack0, ack0, H("04 0C 06 16"), ack0)
-    Robot(Rcb4Client(t, timeout=0.2)).play_motion(1)
+    Robot(Rcb4Client(t, timeout=0.2), layout=HTH4_22).play_motion(1)
     assert t.writes == [
         H("0A 00 20 00 00 00 00 00 02 2C"),  # read the system register (801B)
         H("09 00 02 00 00 00 10 80 9B"),  # ICS_F, ROM_F, VEC_F cleared

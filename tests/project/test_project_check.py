@@ -176,3 +176,20 @@ def test_check_cli_exit_status_and_json(xml: str, tmp_path: Path, kxr_project_pa
     r = CliRunner().invoke(cli, ["project", "check", str(bad)])
     assert r.exit_code == 1
     assert "slot 18 holds no motion [target-empty-slot]" in r.output
+
+
+def test_older_layout_project_checks_like_its_22_original(xml: str) -> None:
+    """A project stored for the 2.1 layout (motions at 0BB8h) is linted in its own layout: the
+    same findings, moved with the motions, and no build error."""
+    from rcb4hv.project.relocate import move_address, relocate_project
+    from rcb4hv.rom.layout import HTH4_22, LAYOUTS
+
+    project = load(xml)
+    older = relocate_project(project, LAYOUTS["2.1"])
+    now, then = check_project(project), check_project(older)
+    assert "build-error" not in _codes(then)
+    assert [(f.code, f.slot) for f in then] == [(f.code, f.slot) for f in now]
+    assert [f.address for f in then] == [
+        None if f.address is None else move_address(f.address, HTH4_22, LAYOUTS["2.1"])
+        for f in now
+    ]

@@ -83,7 +83,7 @@ def test_priority_address_minus_one_is_none(xml: str) -> None:
     assert (index, pm.address, pm.port) == (0, -1, "Battery")
     stub = build_project_image(project)
     assert read_image(stub).priority[0]["address"] == layout.STARTUP_STUB
-    skip = build_project_image(project, BuildOptions(priority_none="skip"))
+    skip = build_project_image(project, options=BuildOptions(priority_none="skip"))
     assert read_image(skip).priority == {}
     # low battery: the configured check fires and calls nothing; the original calls slot 40
     for image, depth in ((stub, 0), (skip, 0), (build_project_image(load(xml)), 1)):
@@ -124,7 +124,7 @@ def test_startup_in_empty_slot_boot_fails_and_motions_still_play(xml: str) -> No
     assert boot.pc == EMPTY_ADDRESS
     results = sim.play_all([(39, "home"), (9, "walk")])
     assert [r.status for r in results] == ["completed", "completed"]
-    stubbed = build_project_image(project, BuildOptions(empty_startup="stub"))
+    stubbed = build_project_image(project, options=BuildOptions(empty_startup="stub"))
     assert decode_command(frame_at(stubbed, layout.STARTUP_CALL)) == Call(layout.STARTUP_STUB)
     assert Simulator(stubbed).boot().status == "completed"
 

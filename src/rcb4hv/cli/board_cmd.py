@@ -25,7 +25,7 @@ from rcb4hv.client import MotionLayout, PositionRecorder, Robot, ServoInfo
 from rcb4hv.protocol import ROM_SIZE, Button
 from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
 
-LAYOUTS: dict[str, MotionLayout] = {v: ROM_LAYOUTS[v] for v in ("2.0", "2.1", "2.2")}
+LAYOUTS: dict[str, MotionLayout] = {v: ROM_LAYOUTS[v] for v in ("1.3", "2.0", "2.1", "2.2")}
 
 
 @contextmanager
@@ -330,10 +330,10 @@ def register(cli: click.Group) -> None:
 
     layout_option = click.option(
         "--layout",
-        type=click.Choice(sorted(LAYOUTS)),
-        default="2.2",
+        type=click.Choice([*sorted(LAYOUTS), "auto"]),
+        default="auto",
         show_default=True,
-        help="HeartToHeart4 version the ROM image was written with.",
+        help="HeartToHeart4 version the ROM image was written with (auto: read from the ROM).",
     )
 
     @cli.group()
@@ -358,7 +358,7 @@ def register(cli: click.Group) -> None:
     ) -> None:
         """Play motion NUMBER (1-120)."""
         with open_robot(port, baud, timeout) as robot:
-            robot.layout = LAYOUTS[layout]
+            robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.play_motion(number)
             click.echo(f"playing motion {number} ({robot.layout.address(number):06X})")
@@ -374,7 +374,7 @@ def register(cli: click.Group) -> None:
     def motion_stop(pause: bool, layout: str, port: str | None, baud: str, timeout: float) -> None:
         """Stop the motion: back to the main loop (or --pause the ROM program)."""
         with open_robot(port, baud, timeout) as robot:
-            robot.layout = LAYOUTS[layout]
+            robot.layout = LAYOUTS.get(layout) or robot.layout
             robot.stop_motion(reset=not pause)
         click.echo("paused" if pause else "stopped; board back in its main loop")
 
@@ -397,7 +397,7 @@ def register(cli: click.Group) -> None:
     ) -> None:
         """Wait until no motion plays (exit status 1 on timeout)."""
         with open_robot(port, baud, timeout) as robot:
-            robot.layout = LAYOUTS[layout]
+            robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.wait_motion(timeout=wait_timeout)
         click.echo(f"no motion playing (waited {time.monotonic() - t0:.2f} s)")
@@ -412,7 +412,7 @@ def register(cli: click.Group) -> None:
     ) -> None:
         """The motion being played (if any), PC, call depth, update flags."""
         with open_robot(port, baud, timeout) as robot:
-            robot.layout = LAYOUTS[layout]
+            robot.layout = LAYOUTS.get(layout) or robot.layout
             st = robot.motion_status()
         if as_json:
             print_json(

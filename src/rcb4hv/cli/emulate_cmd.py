@@ -29,6 +29,13 @@ def _parse_hostport(value: str) -> tuple[str, int]:
     type=click.Path(dir_okay=False),
     help="Persistent ROM image file (created from the default board if missing).",
 )
+@click.option(
+    "--layout",
+    type=click.Choice(["2.2", "2.1", "2.0", "1.3"]),
+    default=None,
+    help="HeartToHeart4 layout of the default board [default: 2.2]; ignored when --rom "
+    "names an existing image.",
+)
 @click.option("--speed", type=float, default=1.0, show_default=True, help="Clock speed factor.")
 @click.option(
     "--latency",
@@ -50,6 +57,7 @@ def emulate(
     use_pty: bool,
     tcp: str | None,
     rom: str | None,
+    layout: str | None,
     speed: float,
     latency: float | None,
     boot: str,
@@ -76,10 +84,17 @@ def emulate(
         config = EmulatorConfig(**kwargs)  # type: ignore[arg-type]
     except ValueError as exc:
         raise click.UsageError(str(exc)) from exc
+    image, lay = None, None
+    if layout is not None:
+        from rcb4hv.rom.default import default_image
+        from rcb4hv.rom.layout import LAYOUTS
+
+        lay = LAYOUTS[layout]
+        image = default_image(lay)
     clock = BootClock(speed)
-    board = Board(config, clock=clock, rom_path=rom)
+    board = Board(config, clock=clock, rom_image=image, rom_path=rom)
     if boot == "ready":
-        boot_to_main_loop(board, clock)
+        boot_to_main_loop(board, clock, lay)
     clock.go_real()
     stop = threading.Event()
 

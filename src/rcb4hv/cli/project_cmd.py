@@ -20,6 +20,7 @@ from rcb4hv.cli._util import (
 )
 from rcb4hv.cli.project_check_cmd import build_options, current_build_options
 from rcb4hv.protocol import Button
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
 
 STATUS_EXIT = {"error": 1, "timeout": 2, "stalled": 2}
 
@@ -64,21 +65,34 @@ def _button_text(buttons: int, compare: str = "Equals") -> str:
     return names if compare == "Equals" else f"{compare} {names}"
 
 
-def _load(path: Path) -> tuple[bytes, dict[int, str]]:
-    """(image, names by slot) of a .h4p project or a raw 256 KB image file."""
+LAYOUT_OPTION = click.option(
+    "--layout",
+    "layout_name",
+    type=click.Choice(["2.2", "2.1", "2.0", "1.3"]),
+    default=None,
+    help="HeartToHeart4 layout [default: the one the motions' stored addresses (or the "
+    "image's main loop) show; a project is moved to the layout given].",
+)
+
+
+def _load(
+    path: Path, layout_name: str | None = None
+) -> tuple[bytes, MotionLayout, dict[int, str]]:
+    """(image, layout, names by slot) of a .h4p project or a raw 256 KB image file."""
     from rcb4hv.hth4 import load_project
-    from rcb4hv.project.image import build_project_image
+    from rcb4hv.project.relocate import image_layout, project_image
 
     if path.suffix.lower() == ".h4p":
         project = load_project(path)
         names = {m.slot: m.name or "" for m in project.used_motions}
-        return build_project_image(project, current_build_options()), names
+        image, lay = project_image(project, layout_name, options=current_build_options())
+        return image, lay, names
     data = path.read_bytes()
     from rcb4hv.rom import layout
 
     if len(data) != layout.ROM_SIZE:
         raise ValueError(f"{path}: not a .h4p project nor a {layout.ROM_SIZE}-byte ROM image")
-    return data, {}
+    return data, image_layout(data, layout_name, default=HTH4_22), {}
 
 
 def register(cli: click.Group) -> None:
@@ -96,16 +110,20 @@ def register(cli: click.Group) -> None:
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
     @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
     @build_options
+    @LAYOUT_OPTION
     @handle_errors
-    def build(file: Path, output: Path) -> None:
-        """Build the 256 KB HeartToHeart4 2.2 ROM image of FILE."""
+    def build(file: Path, output: Path, layout_name: str | None) -> None:
+        """Build the 256 KB ROM image of FILE in its HeartToHeart4 layout (or --layout)."""
         from rcb4hv.hth4 import load_project
-        from rcb4hv.project.image import build_project_image
+        from rcb4hv.project.relocate import project_image
 
         p = load_project(file)
-        image = build_project_image(p, current_build_options())
+        image, lay = project_image(p, layout_name, options=current_build_options())
         output.write_bytes(image)
-        click.echo(f"wrote {len(image)} bytes ({len(p.used_motions)} motions) to {output}")
+        click.echo(
+            f"wrote {len(image)} bytes ({len(p.used_motions)} motions, HeartToHeart4 "
+            f"{lay.version} layout) to {output}"
+        )
 
     # ------------------------------------------------------------------ info
 
@@ -231,12 +249,15 @@ def register(cli: click.Group) -> None:
     @project.command("image")
     @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+    @LAYOUT_OPTION
     @handle_errors
-    def image_cmd(image: Path, as_json: bool) -> None:
-        """The motions and settings a HeartToHeart4 2.2 ROM IMAGE holds."""
+    def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
+        """The motions and settings a HeartToHeart4 ROM IMAGE holds."""
         from rcb4hv.project.image import read_image
+        from rcb4hv.project.relocate import image_layout
 
-        c = read_image(image.read_bytes())
+        data = image.read_bytes()
+        c = read_image(data, image_layout(data, layout_name))
         motions: list[dict[str, Any]] = [
             {
                 "slot": m.slot,
@@ -326,6 +347,7 @@ def register(cli: click.Group) -> None:
         help="Virtual seconds per motion before it counts as a timeout.",
     )
     @build_options
+    @LAYOUT_OPTION
     @handle_errors
     def simulate(
         file: Path,
@@ -335,10 +357,11 @@ def register(cli: click.Group) -> None:
         hold_button: str | None,
         hold_for: float,
         limit: float,
+        layout_name: str | None,
     ) -> None:
         """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
 
-        Each motion is played as a host does (suspend, PC to 044Bh, CALL, resume). Status:
+        Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
         completed (returned to the main loop), waiting (loops reading an input, e.g. a button
         or AD sensor, as its program defines), stalled (repeats itself without reading any
         input), timeout (--limit reached) or error (ROMERR, command error, call-stack
@@ -347,13 +370,12 @@ def register(cli: click.Group) -> None:
         and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
         """
         from rcb4hv.project.simulate import Simulator
-        from rcb4hv.rom import layout
 
-        image, names = _load(file)
+        image, lay, names = _load(file, layout_name)
         hold = _parse_buttons(hold_button) if hold_button else 0
         slots = list(motion)
         if not slots:
-            slots = sorted(names) if names else _image_slots(image)
+            slots = sorted(names) if names else _image_slots(image, lay)
         samples: list[tuple[float, dict[int, int | None]]] = []
         sim: Simulator
 
@@ -371,7 +393,7 @@ def register(cli: click.Group) -> None:
                 )
             )
 
-        sim = Simulator(image, listener=record if plot else None)
+        sim = Simulator(image, listener=record if plot else None, motion_layout=lay)
         boot = sim.boot()
         starts: list[tuple[float, int]] = []
         results = []
@@ -380,7 +402,7 @@ def register(cli: click.Group) -> None:
             starts.append((sim.now, slot))
             results.append(
                 sim.play(
-                    layout.motion_address(slot),
+                    lay.address(slot),
                     slot=slot,
                     name=names.get(slot, ""),
                     hold=hold,
@@ -468,7 +490,7 @@ def register(cli: click.Group) -> None:
         """Write the ROM image of FILE (.h4p or a 256 KB image) to the board at --port."""
         from rcb4hv.project.upload import upload_image
 
-        image, _ = _load(file)
+        image, _, _ = _load(file)
         with open_robot(port, baud, timeout) as robot:
             if only_changed:
                 with _progress(len(image), "read", progress) as rbar:
@@ -496,10 +518,10 @@ def register(cli: click.Group) -> None:
         )
 
 
-def _image_slots(image: bytes) -> list[int]:
+def _image_slots(image: bytes, lay: MotionLayout = HTH4_22) -> list[int]:
     from rcb4hv.project.image import read_image
 
-    return [m.slot for m in read_image(image).motions]
+    return [m.slot for m in read_image(image, lay).motions]
 
 
 def _plot(

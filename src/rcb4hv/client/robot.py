@@ -39,6 +39,8 @@ from rcb4hv.protocol.ranges import (
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 from rcb4hv.transport import DEFAULT_BAUD
 
+from .layout import detect_board_layout
+
 __all__ = [
     "CENTER",
     "HTH4_20",
@@ -209,11 +211,11 @@ class Robot:
         self,
         client: Rcb4Client,
         *,
-        layout: MotionLayout = HTH4_22,
+        layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
     ) -> None:
         self.client = client
-        self.layout = layout
+        self._layout = layout
         self.calibration: dict[int, Calibration] = dict(calibration or {})
         self._servos: dict[int, ServoInfo] | None = None
         self._period: float | None = None
@@ -225,12 +227,24 @@ class Robot:
         *,
         baudrate: int | None = DEFAULT_BAUD,
         timeout: float = DEFAULT_TIMEOUT,
-        layout: MotionLayout = HTH4_22,
+        layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
     ) -> Robot:
         """Open ``url`` (see :meth:`Rcb4Client.open`) and wrap it."""
         client = Rcb4Client.open(url, baudrate=baudrate, timeout=timeout)
         return cls(client, layout=layout, calibration=calibration)
+
+    @property
+    def layout(self) -> MotionLayout:
+        """The board's HeartToHeart4 layout: as given, else read from its ROM on first use
+        (:func:`rcb4hv.client.layout.detect_board_layout`), else 2.2."""
+        if self._layout is None:
+            self._layout = detect_board_layout(self.client) or HTH4_22
+        return self._layout
+
+    @layout.setter
+    def layout(self, value: MotionLayout) -> None:
+        self._layout = value
 
     def close(self) -> None:
         self.client.close()

@@ -8,7 +8,7 @@ import time
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.protocol.memory import ADDR, SYS
-from rcb4hv.rom.layout import HTH4_22
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
 
 __all__ = ["BOOT_LIMIT_S", "BootClock", "boot_to_main_loop", "booted"]
 
@@ -42,21 +42,25 @@ class BootClock:
             self._base, self._virtual, self._t0 = self._virtual, None, time.monotonic()
 
 
-def booted(ram: bytes | bytearray) -> bool:
-    """The ROM program is stopped, or in its main loop with an empty call stack (the test
-    :meth:`rcb4hv.client.Robot.wait_ready` makes on the wire)."""
+def booted(ram: bytes | bytearray, layout: MotionLayout = HTH4_22) -> bool:
+    """The ROM program is stopped, or in ``layout``'s main loop with an empty call stack (the
+    test :meth:`rcb4hv.client.Robot.wait_ready` makes on the wire)."""
     word = ram[ADDR.SYSTEM] | ram[ADDR.SYSTEM + 1] << 8
     pc = int.from_bytes(ram[ADDR.PC : ADDR.PC + 3], "little")
     depth = ram[ADDR.PC + 3]
     return not word & SYS.ROM_RUN or (
-        HTH4_22.main_loop <= pc < HTH4_22.motion_base and depth == 0
+        layout.main_loop <= pc < layout.motion_base and depth == 0
     )
 
 
-def boot_to_main_loop(board: Board, clock: BootClock, step: float = 0.05) -> None:
-    """Run ``board``'s start-up program in virtual time until it reaches its main loop."""
+def boot_to_main_loop(
+    board: Board, clock: BootClock, layout: MotionLayout | None = None, step: float = 0.05
+) -> None:
+    """Run ``board``'s start-up program in virtual time until it reaches the main loop of
+    ``layout`` (default: HeartToHeart4 2.2, whose main loop 2.0/2.1 images share)."""
+    lay = layout or HTH4_22
     t = 0.0
-    while not booted(board.ram) and t < BOOT_LIMIT_S:
+    while not booted(board.ram, lay) and t < BOOT_LIMIT_S:
         clock.advance(step)
         board.tick()
         t += step

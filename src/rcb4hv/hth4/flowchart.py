@@ -17,6 +17,10 @@ A flowchart is the editor's picture of one motion: boxes (``Activities``, each a
 
 Boxes are stored in editor order, not execution order; follow the lines to get the order.
 Round trip is byte-identical for XmlSerializer output (see :mod:`rcb4hv.hth4.project`).
+
+Older HeartToHeart4 versions wrote the same boxes and arrows as one ``ArrayOfAnyType`` list
+with no ``CanvasData``; :mod:`rcb4hv.hth4.flowchart_older` reads and writes that form into
+this model (:attr:`Flowchart.item_types` is then set).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,
     ExtraElement,
+    Hth4FormatError,
     XmlLayout,
     _Reader,
     parse_document,
@@ -110,6 +115,9 @@ class Flowchart:
     back_color_text: str | None = "buttonface"
     extra: tuple[ExtraElement, ...] = ()
     layout: XmlLayout = field(default=XSI_FIRST_LAYOUT)
+    item_types: tuple[str, ...] | None = None
+    """None for the ``CanvasData`` form; for the older ``ArrayOfAnyType`` form the ``xsi:type``
+    of each list item in file order (``ActivityData`` / ``LineData``)."""
 
     def activity(self, name: str) -> FlowchartActivity:
         """The box called ``name``; KeyError if none."""
@@ -133,8 +141,15 @@ def load_motion_xml(path: str | os.PathLike[str]) -> Flowchart:
 
 
 def parse_motion_xml(data: bytes | str) -> Flowchart:
-    """Parse the text of a flowchart file."""
-    root, layout = parse_document(data, ROOT, XSI_FIRST_LAYOUT)
+    """Parse the text of a flowchart file (either form)."""
+    try:
+        root, layout = parse_document(data, ROOT, XSI_FIRST_LAYOUT)
+    except Hth4FormatError as exc:
+        from rcb4hv.hth4.flowchart_older import OLDER_ROOT, parse_older_flowchart
+
+        if exc.path != OLDER_ROOT:
+            raise
+        return parse_older_flowchart(data)
     r = root_reader(root)
     size = r.child("Size")
     chart = Flowchart(
@@ -189,7 +204,11 @@ def _read_activity(x: _Reader) -> FlowchartActivity:
 
 
 def dump_motion_xml(chart: Flowchart) -> bytes:
-    """The ``.xml`` file contents for ``chart``."""
+    """The ``.xml`` file contents for ``chart`` (in the form it was read in)."""
+    if chart.item_types is not None:
+        from rcb4hv.hth4.flowchart_older import dump_older_flowchart
+
+        return dump_older_flowchart(chart)
     b = Builder(ROOT, "")
     b.opt_leaf("Name", chart.name)
     _size(b.child("Size"), chart.size)
@@ -204,23 +223,27 @@ def dump_motion_xml(chart: Flowchart) -> bytes:
         x.leaf("ConnectMode", line.connect_mode)
     acts = b.child("Activities")
     for a in chart.activities:
-        x = acts.item("anyType", "ActivityData")
-        x.opt_leaf("Name", a.name)
-        x.opt_leaf("GUID", a.guid)
-        _pt(x.child("Location"), a.location)
-        _size(x.child("Size"), a.size)
-        x.opt_leaf("Text", a.text)
-        x.opt_leaf("BackColorText", a.back_color_text)
-        x.leaf("MotionFlag", a.motion_flag)
-        x.opt_leaf("BaseName", a.base_name)
-        x.opt_leaf("Description", a.description)
-        x.opt_leaf("Group", a.group)
-        x.opt_leaf("ConnectedGuids", a.connected_guids)
-        x.opt_leaf("ConnectTypes", a.connect_types)
-        x.child("ProgramCode").hex_frames(a.program_code)
-        x.opt_leaf("Hint", a.hint)
+        write_activity(acts.item("anyType", "ActivityData"), a)
     b.opt_leaf("BackColorText", chart.back_color_text)
     return serialize(b.to_node(chart.extra), chart.layout)
+
+
+def write_activity(x: Builder, a: FlowchartActivity) -> None:
+    """The children of an ``ActivityData`` item (absent optional fields are not written)."""
+    x.opt_leaf("Name", a.name)
+    x.opt_leaf("GUID", a.guid)
+    _pt(x.child("Location"), a.location)
+    _size(x.child("Size"), a.size)
+    x.opt_leaf("Text", a.text)
+    x.opt_leaf("BackColorText", a.back_color_text)
+    x.leaf("MotionFlag", a.motion_flag)
+    x.opt_leaf("BaseName", a.base_name)
+    x.opt_leaf("Description", a.description)
+    x.opt_leaf("Group", a.group)
+    x.opt_leaf("ConnectedGuids", a.connected_guids)
+    x.opt_leaf("ConnectTypes", a.connect_types)
+    x.child("ProgramCode").hex_frames(a.program_code)
+    x.opt_leaf("Hint", a.hint)
 
 
 def save_motion_xml(chart: Flowchart, path: str | os.PathLike[str]) -> None:

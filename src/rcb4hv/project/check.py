@@ -47,6 +47,7 @@ from rcb4hv.asm import format_command
 from rcb4hv.hth4 import Motion, Project
 from rcb4hv.project.image import project_description
 from rcb4hv.project.motionflow import MotionCode, motion_code
+from rcb4hv.project.relocate import project_layout
 from rcb4hv.protocol import (
     ALWAYS,
     Call,
@@ -99,7 +100,10 @@ class Finding:
 class _Map:
     """Which motion slot holds a ROM address, and where its instructions start."""
 
-    def __init__(self, project: Project, codes: dict[int, MotionCode]) -> None:
+    def __init__(
+        self, project: Project, codes: dict[int, MotionCode], stub: int = layout.STARTUP_STUB
+    ) -> None:
+        self.stub = stub
         entries = sorted(project.motions, key=lambda m: m.address)
         self.regions: list[tuple[int, int, Motion]] = []
         for i, m in enumerate(entries):
@@ -131,7 +135,7 @@ class _Map:
             return "error", "target-outside-rom", f"{why} (the board wraps it into erased ROM)"
         m = self.motion_at(address)
         if m is None:
-            if address == layout.STARTUP_STUB:
+            if address == self.stub:
                 return None
             return "warning", "target-outside-motions", "lands outside the motion slots"
         code = self.codes.get(m.slot)
@@ -222,12 +226,14 @@ def check_project(project: Project) -> list[Finding]:
     ) -> None:
         findings.append(Finding(severity, code, slot, name, address, instruction, reason))
 
+    lay = layout.HTH4_22
     try:
-        project_description(project)
+        lay = project_layout(project)
+        project_description(project, lay)
     except ValueError as exc:
         add("error", "build-error", str(exc))
     codes = {m.slot: motion_code(m) for m in project.used_motions}
-    rom = _Map(project, codes)
+    rom = _Map(project, codes, lay.startup_stub)
     allocated = {s.device_number for s in project.servos if s.in_use} | {KRI3_ICS}
 
     def setting(what: str, address: int) -> None:

@@ -30,6 +30,10 @@ The mapping, field by field:
 * ``ProjectTitle`` -> the 32-byte title (cp932; a longer title is cut at a character boundary).
 * ``MotionData`` -> the motion's bytes at 0B80h + 2048 (n - 1), copied exactly as stored,
   including HeartToHeart4's ``FF`` end-of-motion byte after the final RETURN.
+
+Every function takes ``motion_layout`` (default HeartToHeart4 2.2): an older project (motions
+at 0BB8h, main loop 003FDh) is laid out with :mod:`rcb4hv.rom.older`. Detecting a project's
+layout and moving a project to another layout is :mod:`rcb4hv.project.relocate`.
 """
 
 from __future__ import annotations
@@ -52,10 +56,10 @@ from rcb4hv.rom import (
     PriorityMotion,
     ServoConfig,
     VectorPackage,
-    build_image,
     layout,
-    parse_image,
 )
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import build_image_for, parse_image_for
 
 __all__ = [
     "COMPARE",
@@ -257,7 +261,10 @@ def _title(text: str | None) -> str:
 
 
 def project_description(
-    project: Project, options: BuildOptions = DEFAULT_OPTIONS
+    project: Project,
+    motion_layout: MotionLayout = HTH4_22,
+    *,
+    options: BuildOptions = DEFAULT_OPTIONS,
 ) -> ImageDescription:
     """The :class:`~rcb4hv.rom.ImageDescription` of ``project`` (see the module docstring).
 
@@ -271,13 +278,15 @@ def project_description(
     motions: list[Motion] = []
     packages: list[VectorPackage] = []
     for m in sorted(project.used_motions, key=lambda m: m.slot):
-        if not 1 <= m.slot <= layout.MOTION_COUNT:
-            raise ValueError(f"motion {m.key}: slot {m.slot} outside 1..{layout.MOTION_COUNT}")
-        address = layout.motion_address(m.slot)
+        count = motion_layout.motion_count
+        if not 1 <= m.slot <= count:
+            raise ValueError(f"motion {m.key}: slot {m.slot} outside 1..{count}")
+        address = motion_layout.address(m.slot)
         if m.address != address:
             raise ValueError(
                 f"motion {m.key} ({m.name}) is stored for ROM {m.address:05X}h, but the "
-                f"HeartToHeart4 2.2 layout puts slot {m.slot} at {address:05X}h"
+                f"HeartToHeart4 {motion_layout.version} layout puts slot {m.slot} at "
+                f"{address:05X}h"
             )
         try:
             motions.append(Motion(m.slot, motion_image_frames(m.frames)))
@@ -329,14 +338,20 @@ def project_description(
     )
 
 
-def build_project_image(project: Project, options: BuildOptions = DEFAULT_OPTIONS) -> bytes:
-    """The 256 KB HeartToHeart4 2.2 ROM image of ``project`` (``options``: settings that
-    mean "none", :mod:`rcb4hv.project.options`).
+def build_project_image(
+    project: Project,
+    motion_layout: MotionLayout = HTH4_22,
+    *,
+    options: BuildOptions = DEFAULT_OPTIONS,
+) -> bytes:
+    """The 256 KB ROM image of ``project`` in ``motion_layout`` (default HeartToHeart4 2.2);
+    ``options``: settings that mean "none", :mod:`rcb4hv.project.options`.
 
     Each motion's bytes are copied exactly as the project stores them (FF end marker
     included) over the builder's output, which holds the same frames.
     """
-    image = bytearray(build_image(project_description(project, options)))
+    desc = project_description(project, motion_layout, options=options)
+    image = bytearray(build_image_for(desc, motion_layout))
     for m in project.used_motions:
         data = m.rom_bytes()
         a = m.address
@@ -425,13 +440,15 @@ class ImageContents:
         raise KeyError(f"no motion in slot {slot}")
 
 
-def read_image(rom: bytes | bytearray) -> ImageContents:
+def read_image(
+    rom: bytes | bytearray, motion_layout: MotionLayout = HTH4_22
+) -> ImageContents:
     """The motions and settings of a HeartToHeart4 2.2 image (via :func:`rom.parse_image`).
 
     :class:`~rcb4hv.errors.ProtocolError` if it is not such an image; ValueError for a wrong
     size.
     """
-    desc = parse_image(rom)
+    desc = parse_image_for(rom, motion_layout)
     bindings: list[ButtonBinding] = []
     others: list[VectorPackage] = []
     for p in desc.vector_packages:
@@ -451,7 +468,7 @@ def read_image(rom: bytes | bytearray) -> ImageContents:
             }
     slots: list[MotionSlot] = []
     for m in desc.motions:
-        a = m.address
+        a = motion_layout.address(m.slot)
         slots.append(
             MotionSlot(
                 slot=m.slot,

@@ -3,7 +3,8 @@
 :class:`Simulator` boots an image in an emulated :class:`~rcb4hv.emulator.Board` on a
 :class:`~rcb4hv.emulator.VirtualClock` and plays motions through :meth:`Board.feed` with real
 command frames (spec 11.4): suspend (system register without ICS_F/ROM_F/VEC_F), reset the
-program (PC = 044Bh, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F, VEC_F).
+program (PC = the main loop, depth 0, update flags 0), CALL the motion, resume (ICS_F, ROM_F,
+VEC_F). The image's layout (main loop 044Bh or 003FDh, motion slots) is detected from it.
 While a button is held for the motion (``hold``) VEC_F is left clear at the resume, so the
 held button does not also fire the package bound to it at once; the main loop re-arms VEC_F
 when it runs.
@@ -70,6 +71,8 @@ from rcb4hv.protocol import (
 )
 from rcb4hv.protocol.memory import SYS
 from rcb4hv.rom import layout
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import detect_image_layout
 
 __all__ = [
     "DEFAULT_LIMIT",
@@ -199,9 +202,11 @@ class Simulator:
         ics: Iterable[int] | None = None,
         config: EmulatorConfig | None = None,
         listener: SampleListener | None = None,
+        motion_layout: MotionLayout | None = None,
     ) -> None:
         if len(image) != layout.ROM_SIZE:
             raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
+        self.layout = motion_layout or detect_image_layout(image) or HTH4_22
         if ics is None:
             ics = [
                 n
@@ -245,7 +250,7 @@ class Simulator:
             SYS.ROM_ERROR | SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
         )
         self._write_ram(0x0000, word.to_bytes(2, "little"))
-        self._write_ram(0x0002, layout.MAIN_LOOP.to_bytes(3, "little") + bytes(7))
+        self._write_ram(0x0002, self.layout.main_loop.to_bytes(3, "little") + bytes(7))
         self._send(Call(address, ALWAYS))
         flags = SYS.ICS_OUTPUT | SYS.ROM_RUN | (SYS.VECTOR_JUMP if vector else 0)
         self._write_ram(0x0000, (word | flags).to_bytes(2, "little"))
@@ -339,7 +344,7 @@ class Simulator:
                 res = MotionResult(None, 0, "boot", "error", dur, n, cause, pc, text)
                 break
             pc = b.pc
-            in_main = layout.MAIN_LOOP <= pc < layout.MAIN_LOOP_JUMP + 7 and b.ram[5] == 0
+            in_main = self.layout.main_loop <= pc < self.layout.main_loop_end and not b.ram[5]
             if in_main and seen_main:
                 res = MotionResult(None, 0, "boot", "completed", dur, n)
                 break
@@ -380,7 +385,7 @@ class Simulator:
         if b.ram[5] != 1:
             return False
         cmd, _ = self._instruction_at(b.pc)
-        return isinstance(cmd, Return) and b.call_stack[0] < layout.MOTIONS
+        return isinstance(cmd, Return) and b.call_stack[0] < self.layout.motion_base
 
     def play(
         self,
@@ -403,7 +408,7 @@ class Simulator:
             raise ValueError(f"ROM address {address:#x} out of range")
         b = self.board
         if slot is None:
-            slot = layout.motion_number(address)
+            slot = self.layout.motion_at(address)
         self.start_motion(address, vector=not hold)
         t0, i0 = self._t_us, b.instructions_executed
         held = None
@@ -439,7 +444,7 @@ class Simulator:
                 kind, pc, text = self._error()
                 return result("error", error=kind, pc=pc, instruction=text)
             pc = b.pc
-            if b.ram[5] == 0 and pc < layout.MOTIONS:
+            if b.ram[5] == 0 and pc < self.layout.motion_base:
                 return result("completed")
             if elapsed >= limit_us:
                 return result("timeout", pc=pc)
@@ -509,7 +514,7 @@ class Simulator:
         out = []
         for slot, name in motions:
             r = self.play(
-                layout.motion_address(slot),
+                self.layout.address(slot),
                 slot=slot,
                 name=name,
                 hold=hold,

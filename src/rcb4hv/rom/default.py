@@ -9,6 +9,8 @@
 Motion 1 raises both arms, waits for the pose, brings them back home and returns; motion 2
 turns the head left and right. The triangle button (vector jump) calls motion 1, the circle
 button motion 2. No startup motion (the stub at 3CB80h).
+
+``default_image(LAYOUTS["2.1"])`` is the same board in an older layout (:mod:`rcb4hv.rom.older`).
 """
 
 from __future__ import annotations
@@ -16,8 +18,8 @@ from __future__ import annotations
 from typing import Final
 
 from rcb4hv.protocol import Button, RunConstFrameServo, SystemRegister
-from rcb4hv.rom.image import ImageDescription, Motion, ServoConfig, VectorPackage, build_image
-from rcb4hv.rom.layout import motion_address
+from rcb4hv.rom.image import ImageDescription, Motion, ServoConfig, VectorPackage
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
 
 __all__ = ["DEFAULT_ICS", "default_description", "default_image"]
 
@@ -43,8 +45,9 @@ def _pose(speed: int, changes: dict[int, int]) -> RunConstFrameServo:
     return RunConstFrameServo(speed, {k: changes.get(k, HOME) for k in DEFAULT_ICS})
 
 
-def default_description() -> ImageDescription:
-    """The typed description of the default board."""
+def default_description(layout: MotionLayout = HTH4_22) -> ImageDescription:
+    """The typed description of the default board (button targets in ``layout``)."""
+    motion_address = layout.address
     raise_arms = {2: HOME + 2700, 3: HOME - 2700, 4: HOME + 300, 5: HOME - 300}
     motion1 = Motion(1, [_pose(20, raise_arms), _pose(20, {})])
     motion2 = Motion(2, [_pose(10, {0: HOME + 1500}), _pose(10, {0: HOME - 1500}), _pose(10, {})])
@@ -60,6 +63,8 @@ def default_description() -> ImageDescription:
     )
 
 
-def default_image() -> bytes:
-    """The 256 KB ROM image of the default board."""
-    return build_image(default_description())
+def default_image(layout: MotionLayout = HTH4_22) -> bytes:
+    """The 256 KB ROM image of the default board in ``layout`` (default HeartToHeart4 2.2)."""
+    from rcb4hv.rom.older import build_image_for
+
+    return build_image_for(default_description(layout), layout)

@@ -74,6 +74,28 @@ class MotionLayout:
     motion_stride: int
     main_loop: int
     motion_count: int
+    main_loop_end: int
+    """First address after the main loop's instructions (its closing JUMP included)."""
+
+    @property
+    def version(self) -> str:
+        """The HeartToHeart4 version named by :data:`LAYOUTS` (``2.2``, ``2.1``, ``1.3``)."""
+        return self.name.removeprefix("hth4-")
+
+    @property
+    def motion_end(self) -> int:
+        """First address after the last motion slot."""
+        return self.motion_base + self.motion_stride * self.motion_count
+
+    @property
+    def startup_stub(self) -> int:
+        """The RETURN the startup CALL targets when the project has no startup motion."""
+        return self.motion_end
+
+    @property
+    def older(self) -> bool:
+        """True for the layouts whose main loop is at 003FDh (:mod:`rcb4hv.rom.older`)."""
+        return self.main_loop == OLDER_MAIN_LOOP
 
     def address(self, motion: int) -> int:
         """ROM address of ``motion`` (1-based)."""
@@ -91,20 +113,29 @@ class MotionLayout:
         return n if n <= self.motion_count else None
 
 
+OLDER_MAIN_LOOP: Final = 0x003FD
+OLDER_MAIN_LOOP_END: Final = 0x0056A
+
 LAYOUTS: Final[dict[str, MotionLayout]] = {
-    "2.2": MotionLayout("hth4-2.2", 0x0B80, 2048, 0x044B, 120),
-    # 2.0/2.1: the spec gives only the motion base; the main loop is assumed at 044Bh as in 2.2
-    "2.1": MotionLayout("hth4-2.1", 0x0BB8, 2048, 0x044B, 120),
-    "2.0": MotionLayout("hth4-2.0", 0x0BB8, 2048, 0x044B, 120),
-    "1.3": MotionLayout("hth4-1.3", 0x0BB8, 0x1300, 0x03FD, 50),
+    "2.2": MotionLayout("hth4-2.2", 0x0B80, 2048, 0x044B, 120, MAIN_LOOP_JUMP + 7),
+    # 2.0/2.1: motion n at 0BB8h + 800h (n - 1) and the main loop at 003FDh. Both are what
+    # the host libraries of that era use (libkondo4: RCB4_ADDR_MOT_BASE 3000, RCB4_MOT_SIZE
+    # 2048, RCB4_ADDR_MAIN 03FDh; python-khr3hv: CALL 0BB8h + 800h n, PC <- 0003FDh) and
+    # where a real project of that era stores its motions (Address 3000 + 2048 k). The boot
+    # region around the main loop is this project's choice (rcb4hv.rom.older).
+    "2.1": MotionLayout("hth4-2.1", 0x0BB8, 2048, OLDER_MAIN_LOOP, 120, OLDER_MAIN_LOOP_END),
+    "2.0": MotionLayout("hth4-2.0", 0x0BB8, 2048, OLDER_MAIN_LOOP, 120, OLDER_MAIN_LOOP_END),
+    "1.3": MotionLayout("hth4-1.3", 0x0BB8, 0x1300, OLDER_MAIN_LOOP, 50, OLDER_MAIN_LOOP_END),
 }
-"""Motion layouts of the HeartToHeart4 versions (spec 11.2), by version."""
+"""Motion layouts of the HeartToHeart4 versions (spec 11.2), by version. 2.0 and 2.1 are the
+same layout (no source tells them apart); detection names it ``2.1``."""
 
 HTH4_22: Final = LAYOUTS["2.2"]
 MOTIONS: Final = HTH4_22.motion_base
 MOTION_SIZE: Final = HTH4_22.motion_stride
 MOTION_COUNT: Final = HTH4_22.motion_count
 STARTUP_STUB: Final = 0x3CB80
+assert HTH4_22.startup_stub == STARTUP_STUB
 
 # RAM targets of the copies (spec 10.1)
 RAM_SERVO_BLOCKS: Final = 0x0090

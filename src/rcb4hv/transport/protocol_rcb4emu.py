@@ -8,6 +8,8 @@ Options (query string):
 
 * ``speed=S``   clock speed factor (default 1);
 * ``rom=PATH``  boot this ROM image file (written back on close if the board persists it);
+* ``layout=V``  the default board in HeartToHeart4 layout ``V`` (2.2, 2.1, 2.0, 1.3; with
+  ``rom=`` only used when the file does not exist yet);
 * ``latency=S`` seconds between a request and its reply (default: the board's
   ``min_reply_latency_s``);
 * ``board=N``   serve a Board registered with :func:`emulator_url` instead of a new one
@@ -83,6 +85,7 @@ class Serial(SerialBase):
         self._speed = 1.0
         self._rom: str | None = None
         self._board_id: int | None = None
+        self._layout: str | None = None
         # (release time, bytes) chunks not yet visible to read()
         self._pending: list[tuple[float, bytes]] = []
         self._rx = bytearray()
@@ -108,12 +111,14 @@ class Serial(SerialBase):
                 raise SerialException(f"the emulator is not available: {exc}") from exc
             try:
                 clock = emu.BootClock(self._speed)
-                if self._rom is not None:
-                    self.board = emu.Board(clock=clock, rom_path=self._rom)
-                else:
-                    self.board = emu.Board(clock=clock)
+                image, lay = None, None
+                if self._layout is not None:
+                    rom = importlib.import_module("rcb4hv.rom.default")
+                    lay = importlib.import_module("rcb4hv.rom.layout").LAYOUTS[self._layout]
+                    image = rom.default_image(lay)
+                self.board = emu.Board(clock=clock, rom_image=image, rom_path=self._rom)
                 if self._boot_ready:
-                    emu.boot_to_main_loop(self.board, clock)
+                    emu.boot_to_main_loop(self.board, clock, lay)
                 clock.go_real()
             except (OSError, ValueError) as exc:
                 raise SerialException(f"cannot start the emulator: {exc}") from exc
@@ -136,9 +141,10 @@ class Serial(SerialBase):
     def _parse_url(self, url: str) -> None:
         parts = urllib.parse.urlsplit(url)
         if parts.scheme.lower() != SCHEME:
-            raise SerialException(f"expected {SCHEME}://[?speed=S&rom=PATH], got {url!r}")
+            raise SerialException(f"expected {SCHEME}://[?speed=S&rom=PATH&layout=V], got {url!r}")
         self._speed, self._rom, self._latency, self._board_id = 1.0, None, None, None
         self._boot_ready = True
+        self._layout = None
         try:
             for key, values in urllib.parse.parse_qs(parts.query, True).items():
                 value = values[-1]
@@ -148,6 +154,10 @@ class Serial(SerialBase):
                         raise ValueError("speed must be > 0")
                 elif key == "rom":
                     self._rom = value
+                elif key == "layout":
+                    if value not in ("2.2", "2.1", "2.0", "1.3"):
+                        raise ValueError(f"unknown layout {value!r} (2.2, 2.1, 2.0, 1.3)")
+                    self._layout = value
                 elif key == "latency":
                     self._latency = float(value)
                     if self._latency < 0:
