@@ -9,6 +9,7 @@ import time
 from rcb4hv.emulator.board import Board
 from rcb4hv.protocol.memory import ADDR, SYS
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import detect_image_layout
 
 __all__ = ["BOOT_LIMIT_S", "BootClock", "boot_to_main_loop", "booted"]
 
@@ -57,8 +58,8 @@ def boot_to_main_loop(
     board: Board, clock: BootClock, layout: MotionLayout | None = None, step: float = 0.05
 ) -> None:
     """Run ``board``'s start-up program in virtual time until it reaches the main loop of
-    ``layout`` (default: HeartToHeart4 2.2, whose main loop 2.0/2.1 images share)."""
-    lay = layout or HTH4_22
+    ``layout`` (default: the layout the ROM image holds, else HeartToHeart4 2.2)."""
+    lay = layout or detect_image_layout(board.rom) or HTH4_22
     t = 0.0
     while not booted(board.ram, lay) and t < BOOT_LIMIT_S:
         clock.advance(step)
