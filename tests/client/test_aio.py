@@ -242,3 +242,18 @@ def test_stray_bytes_and_bad_checksums_over_asyncio_streams() -> None:
         asyncio.run(main())
     finally:
         board.close()
+
+
+@pytest.mark.parametrize("version", ["2.1", "2.2"])
+def test_async_robot_reads_the_layout_from_the_board(version: str) -> None:
+    from rcb4hv.rom.layout import LAYOUTS
+
+    async def main() -> None:
+        async with await AsyncRobot.open(f"rcb4emu://?layout={version}&speed=10") as robot:
+            assert robot.layout is None
+            assert (await robot.board_layout()).main_loop == LAYOUTS[version].main_loop
+            await robot.play_motion(1)
+            assert (await robot.motion_status()).motion == 1
+            await robot.wait_motion(timeout=5.0)
+
+    asyncio.run(main())

@@ -26,7 +26,7 @@ from rcb4hv.client.robot import (
     ServoInfo,
     plan_reads,
 )
-from rcb4hv.errors import Rcb4TimeoutError
+from rcb4hv.errors import NakError, Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
     ICS_COUNT,
@@ -39,7 +39,8 @@ from rcb4hv.protocol import (
     SystemRegister,
 )
 from rcb4hv.protocol.memory import SYS
-from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.layout import HTH4_22, OLDER_MAIN_LOOP, MotionLayout
+from rcb4hv.rom.older import main_loop_layout
 from rcb4hv.transport import DEFAULT_BAUD
 
 __all__ = ["AsyncRobot"]
@@ -56,11 +57,12 @@ class AsyncRobot:
         self,
         client: AsyncRcb4Client,
         *,
-        layout: MotionLayout = HTH4_22,
+        layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
     ) -> None:
         self.client = client
         self.layout = layout
+        """The HeartToHeart4 layout; None: read from the board's ROM on first use."""
         self.calibration: dict[int, Calibration] = dict(calibration or {})
         self._servos: dict[int, ServoInfo] | None = None
         self._period: float | None = None
@@ -72,7 +74,7 @@ class AsyncRobot:
         *,
         baudrate: int | None = DEFAULT_BAUD,
         timeout: float = DEFAULT_TIMEOUT,
-        layout: MotionLayout = HTH4_22,
+        layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
     ) -> AsyncRobot:
         """Open ``url`` (see :meth:`AsyncRcb4Client.open`) and wrap it."""
@@ -103,6 +105,18 @@ class AsyncRobot:
 
     async def version(self) -> str:
         return (await self.client.get_version_info()).text
+
+    async def board_layout(self) -> MotionLayout:
+        """The layout given, else the one the board's ROM holds (two 9-byte reads, as
+        :func:`rcb4hv.client.layout.detect_board_layout`), else HeartToHeart4 2.2."""
+        if self.layout is None:
+            try:
+                older = await self.client.read_rom(OLDER_MAIN_LOOP, 9)
+                newer = await self.client.read_rom(HTH4_22.main_loop, 9)
+                self.layout = main_loop_layout(older, newer) or HTH4_22
+            except NakError:
+                self.layout = HTH4_22
+        return self.layout
 
     async def system_register(self) -> SystemRegister:
         return SystemRegister.from_bytes(await self.client.read_ram(ADDR.SYSTEM, 2))
@@ -135,7 +149,7 @@ class AsyncRobot:
     async def wait_ready(self, timeout: float = 5.0, poll: float = 0.02) -> None:
         """Wait until the ROM program is in its main loop (see :meth:`Robot.wait_ready`)."""
         deadline = time.monotonic() + timeout
-        lay = self.layout
+        lay = await self.board_layout()
         while True:
             head = await self.client.read_ram(ADDR.SYSTEM, 6)
             word, pc, depth = head[0] | head[1] << 8, int.from_bytes(head[2:5], "little"), head[5]
@@ -301,13 +315,13 @@ class AsyncRobot:
         raw = await self.client.read_ram(ADDR.PC, 10)
         pc = int.from_bytes(raw[0:3], "little")
         depth, flags = raw[3], bytes(raw[5:10])
-        motion = self.layout.motion_at(pc)
+        motion = (await self.board_layout()).motion_at(pc)
         running = motion is not None and (depth != 0 or any(flags))
         return MotionStatus(pc, depth, flags, motion if running else None, running)
 
     async def play_motion(self, motion: int, *, wait: bool = False, timeout: float = 60.0) -> None:
         """Play ``motion`` the way HeartToHeart4 does (spec 11.4; see :meth:`Robot.play_motion`)."""
-        address = self.layout.address(motion)
+        address = (await self.board_layout()).address(motion)
         word = await self._system_word()
         bits = SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
         await self._set_system_word(word & ~bits)
@@ -318,7 +332,8 @@ class AsyncRobot:
             await self.wait_motion(timeout=timeout)
 
     async def _reset_program(self) -> None:
-        await self.client.write_ram(ADDR.PC, self.layout.main_loop.to_bytes(3, "little") + bytes(7))
+        main_loop = (await self.board_layout()).main_loop
+        await self.client.write_ram(ADDR.PC, main_loop.to_bytes(3, "little") + bytes(7))
 
     async def stop_motion(self, *, reset: bool = True) -> None:
         """Stop the ROM program (``reset``: back to the main loop, running)."""
