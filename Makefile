@@ -17,6 +17,10 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs]'
 	touch $@ $(VENV)/.installed-plot
 
+$(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,bench]'
+	touch $@
+
 demo: $(VENV)/.installed-plot
 	$(BIN)/rcb4hv demo --output demo-servo-angles.png
 
@@ -42,7 +46,7 @@ package: $(VENV)/.installed-dev
 	test -s .build/demo.png && tar tzf .build/dist/*.tar.gz | grep -q 'src/rcb4hv/aio/client.py'
 	@echo "package: wheel and sdist built; the wheel runs rcb4hv --version and the demo"
 
-bench: $(VENV)/.installed-dev
+bench: $(VENV)/.installed-bench
 	$(BIN)/python -m bench.run
 
 fuzz: $(VENV)/.installed-dev

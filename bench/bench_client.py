@@ -8,8 +8,8 @@ baud with 11 bits a byte (8E1), with no board processing time: the best a real l
 ratio = ours / wire: below 1 means we would not be the bottleneck on a real cable.
 
 Cases: ACK check; one RunSingleServo; a bulk read of every servo's measured position (the
-fewest 128-byte MOVE reads, see ``plan_reads``); a control-loop cycle = that read plus one
-RunConstFrameServo commanding every servo.
+cheapest MOVE reads under the robot's link cost model, see ``Robot.read_plan``); a
+control-loop cycle = that read plus one RunConstFrameServo commanding every servo.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from rcb4hv.client import Rcb4Client, Robot, plan_reads
+from rcb4hv.client import Rcb4Client, Robot
 
 BAUD = 1_250_000
 BITS_PER_BYTE = 11
@@ -56,8 +56,7 @@ def run() -> list[dict[str, Any]]:
                 robot = Robot(client)
                 robot.wait_ready(timeout=5.0)
                 ids = robot.servo_ids
-                blocks = [robot._known()[k].block_address for k in ids]
-                reads = plan_reads((a + 4, 2) for a in blocks)
+                reads = robot.read_plan(ids)
                 read_wire = sum(wire_us(10 + n + 3) for _, n in reads)
                 cmd_wire = wire_us(9 + 2 * len(ids) + 4)
                 targets = dict.fromkeys(ids, 7500)

@@ -1,12 +1,15 @@
 """`make reliability`: the long versions of the reliability scenarios, with a table of figures.
 
-Runs (bounded to a few minutes on 2 cores, loopback only): the emulator fuzz properties, the
-link-fault matrix over TCP, SIGKILL cycles of ``rcb4hv emulate --rom``, and load on the TCP and
-pty servers (sequential clients, stalled and flooding clients, a soak of valid traffic).
-The scenario code is shared with the test suite: tests/reliability/scenarios.py.
+Runs (bounded to a few minutes on 2 cores, loopback only): the fast mutation fuzzer over the
+fixture project's real frames (``tests/reliability/fastfuzz.py``, a million inputs over every
+CPU), the emulator fuzz properties (hypothesis), the link-fault matrix over TCP, SIGKILL
+cycles of ``rcb4hv emulate --rom``, and load on the TCP and pty servers (sequential clients,
+stalled and flooding clients, a soak of valid traffic). The scenario code is shared with the
+test suite: tests/reliability/scenarios.py and tests/reliability/fastfuzz.py.
 
-Environment overrides: RCB4HV_REL_FUZZ (examples per property), RCB4HV_REL_KILLS (kill
-cycles), RCB4HV_REL_SOAK (soak seconds), RCB4HV_REL_FAULT_ROUNDS.
+Environment overrides: RCB4HV_REL_MUTATIONS (fast fuzzer inputs), RCB4HV_REL_FUZZ (examples
+per property), RCB4HV_REL_KILLS (kill cycles), RCB4HV_REL_SOAK (soak seconds),
+RCB4HV_REL_FAULT_ROUNDS.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from tests.reliability import fastfuzz
 from tests.reliability import scenarios as sc
 
 
@@ -36,6 +40,7 @@ def _ok(flag: bool) -> str:
 
 def main() -> int:
     logging.basicConfig(level=logging.CRITICAL)  # the client logs discarded junk as warnings
+    mutations = _env("RCB4HV_REL_MUTATIONS", 1_000_000)
     fuzz_examples = _env("RCB4HV_REL_FUZZ", 2000)
     kills = _env("RCB4HV_REL_KILLS", 25)
     soak_s = _env("RCB4HV_REL_SOAK", 30)
@@ -43,6 +48,20 @@ def main() -> int:
     rows: list[tuple[str, str, str]] = []
     failed = False
     t_start = time.monotonic()
+
+    print(f"fast fuzz: {mutations} mutated real frames ...", flush=True)
+    ff = fastfuzz.fuzz_parallel(mutations, seed=1)
+    _row(rows, "fast fuzz inputs (bytes)", f"{ff.inputs} ({ff.bytes_fed})")
+    _row(rows, "fast fuzz inputs per second", f"{ff.rate:,.0f}")
+    _row(
+        rows,
+        "fast fuzz decoded / frames / board replies",
+        f"{ff.decoded} / {ff.frames} / {ff.replies}",
+    )
+    _row(rows, "fast fuzz crashes", len(ff.crashes), _ok(not ff.crashes))
+    for crash in ff.crashes:
+        print("    ", crash)
+    failed |= bool(ff.crashes)
 
     print(f"fuzz: {fuzz_examples} examples per property ...", flush=True)
     fz = sc.run_fuzz_budget(fuzz_examples, memory_iterations=20000)

@@ -88,7 +88,9 @@ def test_random_faults_are_seeded_and_bounded(rig: Rig) -> None:
                 outcomes.append("ok")
             except (Rcb4TimeoutError, ChecksumError, NakError, TransportError) as exc:
                 outcomes.append(type(exc).__name__)
-            assert time.monotonic() - t0 < TIMEOUT + 0.1
+            # no call hangs: it ends near its deadline; the slack absorbs scheduling on a
+            # loaded 2-core machine (0.41 s was seen once at load 3)
+            assert time.monotonic() - t0 < TIMEOUT + 0.35
         histories.append([f for _, f in ft.history])
     assert histories[0] == histories[1]  # same seed, same faults
     assert len(histories[0]) > 5

@@ -8,7 +8,14 @@ import time
 
 import pytest
 
-from rcb4hv.client import CommandNotAllowedError, Rcb4Client, Robot, VerifyError, plan_reads
+from rcb4hv.client import (
+    CommandNotAllowedError,
+    Rcb4Client,
+    Robot,
+    VerifyError,
+    plan_cheapest,
+    plan_reads,
+)
 from rcb4hv.errors import NakError, Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
@@ -168,16 +175,22 @@ def test_discover_servos_matches_the_board(rig: Rig) -> None:
     assert 35 not in [s.ics for s in servos]
 
 
-def test_bulk_positions_use_few_frames(rig: Rig) -> None:
+def test_bulk_positions_use_the_cheapest_plan(rig: Rig) -> None:
     r = rig.robot
     ids = r.servo_ids
     frames_before = _frames(rig)
     pos = r.positions()
     used = _frames(rig) - frames_before
     blocks = [r._known()[k].block_address for k in ids]
-    assert used == len(plan_reads((a + 4, 2) for a in blocks))
-    assert used <= math.ceil((blocks[-1] + 6 - blocks[0] - 4) / 128)
-    assert used < len(ids) / 5
+    spans = [(a + 4, 2) for a in blocks]
+    plan = r.read_plan()
+    assert used == len(plan)
+    assert plan == plan_cheapest(spans, r.link_cost)
+    # never costlier than the fewest frames, nor than one frame per servo
+    cost = r.link_cost.read_seconds
+    assert cost(plan) <= cost(plan_reads(spans)) + 1e-12
+    assert cost(plan) <= cost(spans) + 1e-12
+    assert used < len(ids) / 3
     for k, p in pos.items():
         a = r._known()[k].block_address
         assert p == int.from_bytes(rig.board.ram[a + 4 : a + 6], "little")

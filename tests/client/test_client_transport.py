@@ -275,3 +275,39 @@ def test_cli_servo_list_on_a_fresh_in_process_board_waits_for_start_up() -> None
         18,
         19,
     ]
+
+
+# ---------------------------------------------------------------------------- raw pty path
+
+
+def test_pty_reply_in_pieces_after_stray_bytes() -> None:
+    """POSIX ports are read straight from the fd (one read of the whole reply when it is
+    there); a reply split across reads, after stray bytes, still comes out whole."""
+    import os
+    import pty
+    import threading
+    import tty
+
+    master, slave = pty.openpty()
+    tty.setraw(slave)
+    path = os.ttyname(slave)
+    reply = bytes.fromhex("0C 00 01 02 03 04 05 06 07 08 09") + bytes((0x0C + 45,))
+    assert sum(reply[:-1]) & 0xFF == reply[-1]
+
+    def board() -> None:
+        os.read(master, 64)  # the request
+        os.write(master, b"\x55\x06" + reply[:5])
+        time.sleep(0.05)
+        os.write(master, reply[5:])
+
+    t = threading.Thread(target=board)
+    c = Rcb4Client.open(path, timeout=1.0)
+    try:
+        assert c.transport._raw_fd is not None  # type: ignore[attr-defined]
+        t.start()
+        assert c.read_ram(0x100, 9) == bytes(range(1, 10))
+    finally:
+        t.join()
+        c.close()
+        os.close(master)
+        os.close(slave)

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 import serial
 
+from rcb4hv import protocol as p
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock
 from rcb4hv.emulator.server import PtyServer, TcpServer
 from tests.emulator.test_emu_vectors import VERSION_REPLY
@@ -150,6 +151,23 @@ def test_paced_replies_take_their_wire_time() -> None:
             buf += s.recv(256)
         assert time.monotonic() - t0 >= 131 * 11 / 115200 * 0.9
     board.close()
+
+
+def test_paced_replies_charge_the_request_bytes_too() -> None:
+    """A pty or socket delivers the request at once; pacing charges its wire time as well."""
+    cfg = EmulatorConfig(power_on_system_register=0, pace_replies=True, min_reply_latency_s=0)
+    board = Board(cfg, clock=RealClock())  # COM baud code 0: 115200
+    write = p.Move(p.Ram(0x0300), p.Data(bytes(120))).encode()  # 127-byte request, 4-byte ACK
+    with TcpServer(board) as srv, socket.create_connection(srv.address, timeout=2) as s:
+        t0 = time.monotonic()
+        s.sendall(write)
+        buf = b""
+        while len(buf) < 4:
+            buf += s.recv(16)
+        elapsed = time.monotonic() - t0
+    board.close()
+    assert buf == p.encode_reply(p.Ack(0x00))
+    assert elapsed >= (len(write) + 4) * 11 / 115200 * 0.9
 
 
 def run_cli(*args: str) -> subprocess.Popen[str]:

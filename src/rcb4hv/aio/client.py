@@ -1,8 +1,8 @@
 """The asyncio twin of :class:`rcb4hv.client.Rcb4Client`.
 
-Same commands, same typed errors, same no-hang deadlines: the request bytes, the reply
-matching and the multi-frame memory plans come from :mod:`rcb4hv.client.exchange`, the
-sans-I/O core both clients share; only the waiting differs. Calls from concurrent tasks are
+Same commands, same typed errors, same no-hang deadlines: the reply hunt is the blocking
+client's sans-I/O :class:`~rcb4hv.client.exchange.ReplyMatcher`, and RAM/ROM transfers are the
+plans of :mod:`rcb4hv.client.plans`; only the waiting differs. Calls from concurrent tasks are
 serialised by an :class:`asyncio.Lock`, one transaction at a time.
 """
 
@@ -16,19 +16,14 @@ from types import TracebackType
 from typing import TypeVar
 
 from rcb4hv.aio.transport import AsyncTransport, open_async_transport
-from rcb4hv.client import exchange
-from rcb4hv.client.core import DEFAULT_TIMEOUT
-from rcb4hv.client.exchange import (
-    Plan,
-    Progress,
-    ReplyMatcher,
-    check_reply,
-    new_decoder,
-    request_frame,
-)
+from rcb4hv.client import plans
+from rcb4hv.client.core import DEFAULT_TIMEOUT, CommandNotAllowedError, Progress
+from rcb4hv.client.exchange import ReplyMatcher
+from rcb4hv.client.plans import Plan
 from rcb4hv.errors import FrameError, NakError, ProtocolError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import (
     ALWAYS,
+    MAX_REPLY_SIZE,
     Ack,
     AcknowledgeCheck,
     Add,
@@ -40,11 +35,13 @@ from rcb4hv.protocol import (
     DataReply,
     Destination,
     Div,
+    FrameDecoder,
     GetVersionInfo,
     Jump,
     Mod,
     Move,
     Mul,
+    Nak,
     Not,
     Or,
     Reply,
@@ -59,6 +56,8 @@ from rcb4hv.protocol import (
     Sub,
     VersionReply,
     Xor,
+    decode_reply,
+    reply_length,
 )
 from rcb4hv.transport import BAUD_RATES, DEFAULT_BAUD
 
@@ -97,7 +96,7 @@ class AsyncRcb4Client:
         self.allow_communicate_device = allow_communicate_device
         self.corrupt_grace = corrupt_grace
         self._lock = asyncio.Lock()
-        self._decoder = new_decoder()
+        self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
 
     @classmethod
     async def open(
@@ -165,25 +164,42 @@ class AsyncRcb4Client:
     # ------------------------------------------------------------------ transactions
 
     async def transact(self, command: Command, timeout: float | None = None) -> Reply:
-        """Send ``command`` and return its reply (Ack, DataReply or VersionReply)."""
-        frame = request_frame(command, self.allow_communicate_device)
+        """Send ``command`` and return its reply (Ack, DataReply or VersionReply).
+
+        The reply is found by the blocking client's own hunt
+        (:class:`~rcb4hv.client.exchange.ReplyMatcher`); only the waiting is asyncio's.
+        """
+        if isinstance(command, CommunicateDevice) and not self.allow_communicate_device:
+            raise CommandNotAllowedError(
+                "ICS communication (0Eh) is documented as 'must not be used'; "
+                "create the client with allow_communicate_device=True to send it"
+            )
+        frame = command.encode()
+        name = type(command).__name__
         limit = self.timeout if timeout is None else timeout
         transport = self.transport
         async with self._lock:
             deadline = time.monotonic() + limit
-            matcher = ReplyMatcher(command, self._decoder, self.corrupt_grace)
+            matcher = ReplyMatcher(
+                self._decoder, command.cmd, reply_length(command), name, self.corrupt_grace
+            )
             transport.reset_input()
             transport.write(frame)
+            chunk = b""
             while True:
-                until = deadline
-                if matcher.grace_deadline is not None:
-                    until = min(until, matcher.grace_deadline)
-                chunk = await transport.read(matcher.need, until)
+                raw = matcher.feed(chunk, time.monotonic())
+                if raw is not None:
+                    break
+                chunk = await transport.read(matcher.need, matcher.until(deadline))
                 if not chunk:
                     raise matcher.timeout_error(limit)
-                reply = matcher.feed(chunk, time.monotonic())
-                if reply is not None:
-                    return check_reply(reply, command)
+        try:
+            reply = decode_reply(raw, command)
+        except ProtocolError as exc:
+            raise FrameError(f"bad reply to {name}: {exc}") from exc
+        if isinstance(reply, Nak):
+            raise NakError(f"board answered NAK to {name}", command.cmd)
+        return reply
 
     async def _run(self, plan: Plan[T]) -> T:
         try:
@@ -195,7 +211,7 @@ class AsyncRcb4Client:
             return result
 
     async def _data(self, command: Command) -> bytes:
-        return exchange.data_of(await self.transact(command), command)
+        return plans.data_of(await self.transact(command), command)
 
     # ------------------------------------------------------------------ data commands
 
@@ -337,17 +353,17 @@ class AsyncRcb4Client:
 
     async def read_ram(self, address: int, size: int) -> bytes:
         """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
-        return await self._run(exchange.read_memory("RAM", address, size))
+        return await self._run(plans.read_memory("RAM", address, size))
 
     async def write_ram(self, address: int, data: bytes) -> None:
         """Write ``data`` to RAM (any size; 121 bytes per frame)."""
-        await self._run(exchange.write_ram(address, data))
+        await self._run(plans.write_ram(address, data))
 
     async def read_rom(
         self, address: int, size: int, progress: Progress | None = None
     ) -> bytes:
         """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
-        return await self._run(exchange.read_memory("ROM", address, size, progress))
+        return await self._run(plans.read_memory("ROM", address, size, progress))
 
     async def write_rom(
         self,
@@ -358,4 +374,4 @@ class AsyncRcb4Client:
         progress: Progress | None = None,
     ) -> None:
         """Write ``data`` to ROM in 64-byte page-aligned chunks, verified when ``verify``."""
-        await self._run(exchange.write_rom(address, data, verify, progress))
+        await self._run(plans.write_rom(address, data, verify, progress))

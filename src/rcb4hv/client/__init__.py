@@ -17,6 +17,7 @@ from rcb4hv.client.core import (
     Rcb4Client,
     VerifyError,
 )
+from rcb4hv.client.readplan import FRAME_OVERHEAD_S, LinkCost, plan_cheapest
 from rcb4hv.client.recorder import PositionRecorder, Sample
 from rcb4hv.client.robot import (
     HTH4_20,
@@ -33,6 +34,7 @@ from rcb4hv.client.robot import (
 
 __all__ = [
     "DEFAULT_TIMEOUT",
+    "FRAME_OVERHEAD_S",
     "HTH4_20",
     "HTH4_22",
     "MAX_READ",
@@ -41,6 +43,7 @@ __all__ = [
     "BoardInfo",
     "Calibration",
     "CommandNotAllowedError",
+    "LinkCost",
     "MotionLayout",
     "MotionStatus",
     "PositionRecorder",
@@ -51,5 +54,6 @@ __all__ = [
     "ServoInfo",
     "TimerState",
     "VerifyError",
+    "plan_cheapest",
     "plan_reads",
 ]

@@ -5,50 +5,47 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from types import TracebackType
-from typing import Final, TypeVar
+from typing import Final, NoReturn
 
-from rcb4hv.client import exchange
-from rcb4hv.client.exchange import (
-    MAX_READ,
-    MAX_WRITE,
-    ROM_WRITE_CHUNK,
-    CommandNotAllowedError,
-    Plan,
-    Progress,
-    ReplyMatcher,
-    VerifyError,
-    check_reply,
-    new_decoder,
-    request_frame,
+from rcb4hv.client.exchange import RAM_READS, find_reply, ram_read_frame
+from rcb4hv.errors import (
+    FrameError,
+    NakError,
+    ProtocolError,
+    Rcb4TimeoutError,
+    TransportError,
 )
-from rcb4hv.errors import FrameError, NakError, ProtocolError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import (
     ALWAYS,
-    Ack,
+    MAX_REPLY_SIZE,
     AcknowledgeCheck,
     Add,
     And,
     Call,
+    Com,
     Command,
     CommunicateDevice,
     Condition,
+    Data,
     DataReply,
     Destination,
     Div,
+    FrameDecoder,
     GetVersionInfo,
     Jump,
     Mod,
     Move,
     Mul,
+    Nak,
     Not,
     Or,
+    Ram,
     Reply,
     Return,
-    RunConstFrameServo,
+    Rom,
     RunSeriesServo,
-    RunSingleServo,
     SetSpeed,
     SetStretch,
     Shift,
@@ -56,7 +53,13 @@ from rcb4hv.protocol import (
     Sub,
     VersionReply,
     Xor,
+    decode_reply,
+    reply_length,
 )
+from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+from rcb4hv.protocol.frame import sum_ok
+from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
+from rcb4hv.protocol.servoframes import const_frame_servo_frame, single_servo_frame
 from rcb4hv.transport import (
     BAUD_RATES,
     DEFAULT_BAUD,
@@ -78,9 +81,34 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-T = TypeVar("T")
-
 DEFAULT_TIMEOUT: Final = 0.5
+MAX_READ: Final = 128
+"""Bytes one MOVE to COM can read (its reply frame is 131 bytes)."""
+MAX_WRITE: Final = 121
+"""Literal bytes one MOVE can carry in a 128-byte command frame."""
+ROM_WRITE_CHUNK: Final = 64
+"""ROM writes go in 64-byte chunks aligned on 64-byte boundaries: one chunk fits a MOVE literal
+(at most 121 bytes) and never straddles an EEPROM write page (64 or 128 bytes on the parts
+used in this board family), so no page write ever wraps around inside its page."""
+
+Progress = Callable[[int, int], None]
+"""Progress callback: ``progress(done_bytes, total_bytes)``."""
+
+
+class CommandNotAllowedError(PermissionError):
+    """A command the client refuses unless explicitly enabled (ICS communication, 0Eh)."""
+
+
+class VerifyError(ProtocolError):
+    """Reading back memory just written gave different bytes."""
+
+    def __init__(self, message: str, address: int) -> None:
+        super().__init__(message)
+        self.address = address
+
+
+def _name(command: Command) -> str:
+    return type(command).__name__
 
 
 class Rcb4Client:
@@ -114,7 +142,7 @@ class Rcb4Client:
         self.allow_communicate_device = allow_communicate_device
         self.corrupt_grace = corrupt_grace
         self._lock = threading.Lock()
-        self._decoder = new_decoder()
+        self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -192,37 +220,79 @@ class Rcb4Client:
 
         A NAK raises :class:`NakError`; see the class docstring for the other errors.
         """
-        frame = request_frame(command, self.allow_communicate_device)
-        reply = self._exchange(frame, command, self.timeout if timeout is None else timeout)
-        return check_reply(reply, command)
+        if isinstance(command, CommunicateDevice) and not self.allow_communicate_device:
+            raise CommandNotAllowedError(
+                "ICS communication (0Eh) is documented as 'must not be used'; "
+                "create the client with allow_communicate_device=True to send it"
+            )
+        frame = command.encode()
+        raw = self._roundtrip(
+            frame,
+            command.cmd,
+            reply_length(command),
+            _name(command),
+            self.timeout if timeout is None else timeout,
+        )
+        try:
+            reply = decode_reply(raw, command)
+        except ProtocolError as exc:
+            raise FrameError(f"bad reply to {_name(command)}: {exc}") from exc
+        if isinstance(reply, Nak):
+            raise NakError(f"board answered NAK to {_name(command)}", command.cmd)
+        return reply
 
-    def _exchange(self, frame: bytes, command: Command, timeout: float) -> Reply:
+    def _ack(self, frame: bytes, cmd: int, name: str, timeout: float | None = None) -> None:
+        """Send a command ``frame`` answered by an ACK (fast path of :meth:`transact`)."""
+        raw = self._roundtrip(frame, cmd, 4, name, self.timeout if timeout is None else timeout)
+        if raw[2] != ACK_BYTE:
+            if raw[2] == NAK_BYTE:
+                raise NakError(f"board answered NAK to {name}", cmd)
+            raise FrameError(f"bad reply to {name}: expected ACK or NAK, got {raw.hex(' ')}")
+
+    def _roundtrip(self, frame: bytes, cmd: int, expected: int, name: str, timeout: float) -> bytes:
+        """Send ``frame``; return the reply frame (whole, checksum checked, CMD byte ``cmd``).
+
+        ``expected`` is the length of the successful reply. Fast path: the first read brings
+        exactly that frame. Anything else (a NAK, a reply in pieces, stray bytes before it, a
+        damaged reply) goes through :func:`~rcb4hv.client.exchange.find_reply`.
+        """
         transport = self.transport
         with self._lock:
             deadline = time.monotonic() + timeout
-            matcher = ReplyMatcher(command, self._decoder, self.corrupt_grace)
             transport.reset_input()
             transport.write(frame)
-            while True:
-                until = deadline
-                if matcher.grace_deadline is not None:
-                    until = min(until, matcher.grace_deadline)
-                chunk = transport.read(matcher.need, until)
-                if not chunk:
-                    raise matcher.timeout_error(timeout)
-                reply = matcher.feed(chunk, time.monotonic())
-                if reply is not None:
-                    return reply
+            chunk = transport.read_some(expected, deadline)
+            if (
+                len(chunk) == expected
+                and chunk[0] == expected
+                and chunk[1] == cmd
+                and sum_ok(chunk)
+            ):
+                return chunk
+            return find_reply(
+                transport,
+                self._decoder,
+                chunk,
+                cmd,
+                expected,
+                name,
+                deadline,
+                timeout,
+                self.corrupt_grace,
+            )
 
-    def _run(self, plan: Plan[T]) -> T:
-        """Drive a multi-frame plan (see :mod:`rcb4hv.client.exchange`) to its result."""
-        try:
-            command = next(plan)
-            while True:
-                command = plan.send(self.transact(command))
-        except StopIteration as done:
-            result: T = done.value
-            return result
+    def _data_reply(self, frame: bytes, cmd: int, size: int, name: str) -> bytes:
+        """Send a command ``frame`` answered by ``size`` data bytes; return them."""
+        raw = self._roundtrip(frame, cmd, size + 3, name, self.timeout)
+        if len(raw) == size + 3:
+            return raw[2:-1]
+        return self._data_reply_error(raw, cmd, size, name)
+
+    @staticmethod
+    def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
+        if len(raw) == 4 and raw[2] == NAK_BYTE:
+            raise NakError(f"board answered NAK to {name}", cmd)
+        raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
 
     # ------------------------------------------------------------------ data commands
 
@@ -232,7 +302,10 @@ class Rcb4Client:
         return reply.data if isinstance(reply, DataReply) else None
 
     def _data(self, command: Command) -> bytes:
-        return exchange.data_of(self.transact(command), command)
+        reply = self.transact(command)
+        if not isinstance(reply, DataReply):
+            raise FrameError(f"expected a data reply to {_name(command)}, got {reply}")
+        return reply.data
 
     def and_(
         self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
@@ -304,9 +377,7 @@ class Rcb4Client:
         """0Dh RETURN: pop the PC."""
         self.transact(Return())
 
-    def communicate_device(
-        self, ics: int, tx_count: int, tx_address: int, rx_address: int
-    ) -> None:
+    def communicate_device(self, ics: int, tx_count: int, tx_address: int, rx_address: int) -> None:
         """0Eh ICS communication. Refused (CommandNotAllowedError) unless the client was created
         with ``allow_communicate_device=True``: the reference says it must not be used."""
         self.transact(CommunicateDevice(ics, tx_count, tx_address, rx_address))
@@ -318,7 +389,7 @@ class Rcb4Client:
     ) -> None:
         """0Fh: one servo to ``position`` in ``speed`` output periods (any 7-bit ICS number,
         speed and 16-bit position: the wire layer takes what the board takes)."""
-        self.transact(RunSingleServo(ics, speed, position, set_update_flag))
+        self._ack(single_servo_frame(ics, speed, position, set_update_flag), 0x0F, "RunSingleServo")
 
     def run_const_frame_servo(
         self,
@@ -327,7 +398,8 @@ class Rcb4Client:
         set_update_flag: bool = True,
     ) -> None:
         """10h: several servos, one speed; ``positions`` maps ICS number to position."""
-        self.transact(RunConstFrameServo(speed, positions, set_update_flag))
+        frame = const_frame_servo_frame(speed, positions, set_update_flag)
+        self._ack(frame, 0x10, "RunConstFrameServo")
 
     def run_series_servo(
         self, moves: Iterable[tuple[int, int, int]], set_update_flag: bool = True
@@ -357,23 +429,48 @@ class Rcb4Client:
 
     def acknowledge_check(self, long_form: bool = False, timeout: float | None = None) -> None:
         """FEh: link check; returns when the board ACKs, raises otherwise."""
-        reply = self.transact(AcknowledgeCheck(long_form), timeout)
-        if not isinstance(reply, Ack):
-            raise FrameError(f"expected an ACK, got {reply}")
+        frame = _ACK_LONG if long_form else _ACK_SHORT
+        self._ack(frame, AcknowledgeCheck.cmd, "AcknowledgeCheck", timeout)
 
     # ------------------------------------------------------------------ memory helpers
 
     def read_ram(self, address: int, size: int) -> bytes:
         """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
-        return self._run(exchange.read_memory("RAM", address, size))
+        if (
+            type(address) is int
+            and type(size) is int
+            and 0 < size <= MAX_READ
+            and 0 <= address <= RAM_SIZE - size
+        ):  # fast path: one frame, arguments known good
+            frame = RAM_READS.get((address, size)) or ram_read_frame(address, size)
+            raw = self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
+            if len(raw) == size + 3:
+                return raw[2:-1]
+            return self._data_reply_error(raw, 0x00, size, "Move")
+        _check_span("RAM", address, size, RAM_SIZE)
+        out = bytearray()
+        for a in range(address, address + size, MAX_READ):
+            n = min(MAX_READ, address + size - a)
+            out += self._data_reply(ram_read_frame(a, n), 0x00, n, "Move")
+        return bytes(out)
 
     def write_ram(self, address: int, data: bytes) -> None:
         """Write ``data`` to RAM (any size; 121 bytes per frame)."""
-        self._run(exchange.write_ram(address, data))
+        data = bytes(data)
+        _check_span("RAM", address, len(data), RAM_SIZE)
+        for i in range(0, len(data), MAX_WRITE):
+            self.transact(Move(Ram(address + i), Data(data[i : i + MAX_WRITE])))
 
     def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
         """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
-        return self._run(exchange.read_memory("ROM", address, size, progress))
+        _check_span("ROM", address, size, ROM_SIZE)
+        out = bytearray()
+        for a in range(address, address + size, MAX_READ):
+            n = min(MAX_READ, address + size - a)
+            out += self._data(Move(Com(), Rom(a), n))
+            if progress is not None:
+                progress(len(out), size)
+        return bytes(out)
 
     def write_rom(
         self,
@@ -386,4 +483,35 @@ class Rcb4Client:
         """Write ``data`` to ROM in 64-byte page-aligned chunks (see :data:`ROM_WRITE_CHUNK`),
         reading each chunk back when ``verify`` (raises :class:`VerifyError` on a mismatch).
         ``progress(done, total)`` counts bytes written (and verified)."""
-        self._run(exchange.write_rom(address, data, verify, progress))
+        data = bytes(data)
+        _check_span("ROM", address, len(data), ROM_SIZE)
+        total, done, a = len(data), 0, address
+        while done < total:
+            n = min(ROM_WRITE_CHUNK - a % ROM_WRITE_CHUNK, total - done)
+            chunk = data[done : done + n]
+            self.transact(Move(Rom(a), Data(chunk)))
+            if verify:
+                back = self._data(Move(Com(), Rom(a), n))
+                if back != chunk:
+                    bad = next(i for i in range(n) if back[i] != chunk[i])
+                    raise VerifyError(
+                        f"ROM {a + bad:06X}: wrote {chunk[bad]:02X}, read back {back[bad]:02X}",
+                        a + bad,
+                    )
+            done += n
+            a += n
+            if progress is not None:
+                progress(done, total)
+
+
+_ACK_SHORT: Final = AcknowledgeCheck().encode()
+_ACK_LONG: Final = AcknowledgeCheck(long_form=True).encode()
+
+
+def _check_span(kind: str, address: int, size: int, limit: int) -> None:
+    if not isinstance(address, int) or not isinstance(size, int):
+        raise ValueError(f"{kind} address and size must be ints")
+    if size < 1:
+        raise ValueError(f"{kind} size {size} must be at least 1")
+    if address < 0 or address + size > limit:
+        raise ValueError(f"{kind} {address:#x}+{size} runs outside 0..{limit - 1:#x}")

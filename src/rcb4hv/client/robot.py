@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Final, Literal
 
-from rcb4hv.client.core import DEFAULT_TIMEOUT, MAX_READ, Progress, Rcb4Client
+from rcb4hv.client.core import DEFAULT_TIMEOUT, Progress, Rcb4Client
+from rcb4hv.client.readplan import LinkCost, plan_cheapest, plan_reads
 from rcb4hv.errors import Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
@@ -47,6 +48,7 @@ __all__ = [
     "HTH4_22",
     "BoardInfo",
     "Calibration",
+    "LinkCost",
     "MotionLayout",
     "MotionStatus",
     "Robot",
@@ -60,6 +62,7 @@ log = logging.getLogger(__name__)
 CENTER: Final = 7500
 MAX_SPEED: Final = 255
 SERVO_LIMIT: Final = 35  # ICS 35 is the remote-control receiver slot
+PLANS_KEPT: Final = 64
 
 
 HTH4_20: Final = LAYOUTS["2.0"]
@@ -168,43 +171,16 @@ class BoardInfo:
         }
 
 
-def plan_reads(spans: Iterable[tuple[int, int]], limit: int = MAX_READ) -> list[tuple[int, int]]:
-    """Cover the ``(address, size)`` spans with the fewest reads of at most ``limit`` bytes.
-
-    Greedy sweep over the union of the spans: each read starts at the first needed byte not
-    yet covered and ends at the last needed byte within ``limit`` (optimal for covering
-    points with fixed-length windows).
-    """
-    if limit < 1:
-        raise ValueError("limit must be >= 1")
-    merged: list[list[int]] = []
-    for a, b in sorted((a, a + n) for a, n in spans if n > 0):
-        if merged and a <= merged[-1][1]:
-            merged[-1][1] = max(merged[-1][1], b)
-        else:
-            merged.append([a, b])
-    reads: list[tuple[int, int]] = []
-    i, pos = 0, 0
-    while i < len(merged):
-        start = max(merged[i][0], pos)
-        window_end = start + limit
-        last = start
-        while i < len(merged) and merged[i][0] < window_end:
-            last = min(merged[i][1], window_end)
-            if merged[i][1] > window_end:
-                break
-            i += 1
-        reads.append((start, last - start))
-        pos = last
-    return reads
-
-
 class Robot:
     """The robot-level API. ``with Robot.open("rcb4emu://") as robot: robot.discover_servos()``.
 
     ``calibration`` maps ICS numbers to host-side :class:`Calibration` (trim, direction) used by
     the degree methods. Positions outside 3500..11500 (other than hold/free) raise ValueError
     before anything is sent unless ``check_range=False`` is passed to the call.
+
+    ``link_cost`` is the time model bulk reads are planned with (see
+    :func:`~rcb4hv.client.readplan.plan_cheapest`): windows over several servo blocks or one
+    frame per servo, whichever costs the link less.
     """
 
     def __init__(
@@ -213,8 +189,11 @@ class Robot:
         *,
         layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
+        link_cost: LinkCost | None = None,
     ) -> None:
         self.client = client
+        self.link_cost = link_cost if link_cost is not None else LinkCost()
+        self._plans: dict[tuple[LinkCost, tuple[tuple[int, int], ...]], list[tuple[int, int]]] = {}
         self._layout = layout
         self.calibration: dict[int, Calibration] = dict(calibration or {})
         self._servos: dict[int, ServoInfo] | None = None
@@ -229,10 +208,11 @@ class Robot:
         timeout: float = DEFAULT_TIMEOUT,
         layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
+        link_cost: LinkCost | None = None,
     ) -> Robot:
         """Open ``url`` (see :meth:`Rcb4Client.open`) and wrap it."""
         client = Rcb4Client.open(url, baudrate=baudrate, timeout=timeout)
-        return cls(client, layout=layout, calibration=calibration)
+        return cls(client, layout=layout, calibration=calibration, link_cost=link_cost)
 
     @property
     def layout(self) -> MotionLayout:
@@ -407,8 +387,8 @@ class Robot:
         return out
 
     def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
-        """Read several RAM spans (keyed by anything) in the fewest frames."""
-        reads = plan_reads(spans.values())
+        """Read several RAM spans (keyed by anything) with the cheapest plan (``link_cost``)."""
+        reads = self._plan(tuple(spans.values()))
         if not reads:
             return dict.fromkeys(spans, b"")
         lo = reads[0][0]
@@ -420,6 +400,25 @@ class Robot:
     def _read_field(self, ics: list[int], offset: int, size: int) -> dict[int, bytes]:
         known = self._known()
         return self._read_spans({k: (known[k].block_address + offset, size) for k in ics})
+
+    def read_plan(
+        self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
+    ) -> list[tuple[int, int]]:
+        """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
+        offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
+        known = self._known()
+        spans = tuple((known[k].block_address + offset, 2) for k in self._select(ics))
+        return list(self._plan(spans))
+
+    def _plan(self, spans: tuple[tuple[int, int], ...]) -> list[tuple[int, int]]:
+        """:func:`plan_cheapest` of ``spans``, remembered: a loop reads the same spans."""
+        key = (self.link_cost, spans)
+        plan = self._plans.get(key)
+        if plan is None:
+            if len(self._plans) >= PLANS_KEPT:
+                self._plans.clear()
+            plan = self._plans[key] = plan_cheapest(spans, self.link_cost)
+        return plan
 
     # ------------------------------------------------------------------ positions
 

@@ -19,6 +19,7 @@ from typing import ClassVar, Final, cast
 
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol.frame import MAX_FRAME_SIZE, build_frame, check_frame
+from rcb4hv.protocol.servoframes import pack_const_frame, pack_single_servo, servo_set
 
 __all__ = [
     "ALWAYS",
@@ -630,6 +631,24 @@ def _bitmap(ics_numbers: Iterable[int], flag: bool) -> bytes:
     return m.to_bytes(5, "little")
 
 
+_INT_ONLY: Final = frozenset((int,))
+
+
+def _plain_pairs(items: object, value_max: int) -> tuple[tuple[int, int], ...] | None:
+    """Fast path of :func:`_normalise_pairs`: a non-empty dict of int ICS numbers 0-35 to int
+    values 0..``value_max``, sorted; None for anything else (the slow path decides)."""
+    if type(items) is not dict or not items or not set(map(type, items)) <= _INT_ONLY:
+        return None
+    servos = servo_set(tuple(items))
+    if servos is None:
+        return None
+    keys = servos[0]
+    values = list(map(items.__getitem__, keys))
+    if not set(map(type, values)) <= _INT_ONLY or min(values) < 0 or max(values) > value_max:
+        return None
+    return tuple(zip(keys, values, strict=True))
+
+
 def _normalise_pairs(
     name: str, items: Mapping[int, int] | Iterable[tuple[int, int]], check: Callable[[int], None]
 ) -> tuple[tuple[int, int], ...]:
@@ -665,23 +684,24 @@ class RunSingleServo:
     cmd: ClassVar[int] = Op.SINGLE_SERVO
 
     def __post_init__(self) -> None:
+        ics, speed, position = self.ics, self.speed, self.position
+        if (  # fast path: plain ints in range, checked at once
+            type(ics) is int
+            and type(speed) is int
+            and type(position) is int
+            and 0 <= ics <= 0x7F
+            and 0 <= speed <= 0xFF
+            and 0 <= position <= 0xFFFF
+        ):
+            return
         # bits 6-0 of the ICS byte: any value decodes; ICS 36-127 have no allocation entry and
         # are skipped like an unallocated slot (the robot level and the lint check 0-35)
-        _check_int("ICS number", self.ics, 0, 0x7F)
-        _check_int("speed", self.speed, 0, 255)
-        _check_position(self.position)
+        _check_int("ICS number", ics, 0, 0x7F)
+        _check_int("speed", speed, 0, 255)
+        _check_position(position)
 
     def encode(self) -> bytes:
-        p = self.position
-        b = (
-            7,
-            0x0F,
-            self.ics | (0 if self.set_update_flag else 0x80),
-            self.speed,
-            p & 0xFF,
-            p >> 8,
-        )
-        return bytes((*b, sum(b) & 0xFF))
+        return pack_single_servo(self.ics, self.speed, self.position, bool(self.set_update_flag))
 
     @property
     def reply_data_size(self) -> int | None:
@@ -707,19 +727,21 @@ class RunConstFrameServo:
         positions: Mapping[int, int] | Iterable[tuple[int, int]],
         set_update_flag: bool = True,
     ) -> None:
-        _check_speed(speed)
+        if type(speed) is not int or not 0 <= speed <= 0xFF:
+            _check_speed(speed)
+        pairs = _plain_pairs(positions, 0xFFFF)
+        if pairs is None:
+            pairs = _normalise_pairs("RunConstFrameServo", positions, _check_position)
         object.__setattr__(self, "speed", speed)
-        object.__setattr__(
-            self, "positions", _normalise_pairs("RunConstFrameServo", positions, _check_position)
-        )
+        object.__setattr__(self, "positions", pairs)
         object.__setattr__(self, "set_update_flag", bool(set_update_flag))
 
     def encode(self) -> bytes:
-        body = bytearray(_bitmap((k for k, _ in self.positions), not self.set_update_flag))
-        body.append(self.speed)
-        for _, p in self.positions:
-            body += p.to_bytes(2, "little")
-        return build_frame(self.cmd, body)
+        pairs = self.positions
+        if not pairs:
+            return pack_const_frame(self.speed, (), (), self.set_update_flag)
+        ics, positions = zip(*pairs, strict=True)
+        return pack_const_frame(self.speed, ics, positions, self.set_update_flag)
 
     @property
     def reply_data_size(self) -> int | None:

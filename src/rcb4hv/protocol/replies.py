@@ -93,6 +93,10 @@ class VersionReply:
 
 Reply = Ack | Nak | DataReply | VersionReply
 
+# Replies are frozen: the decoder hands out these instead of building one per ACK.
+_ACKS: Final = tuple(Ack(c) for c in range(256))
+_NAKS: Final = tuple(Nak(c) for c in range(256))
+
 
 def encode_reply(reply: Reply) -> bytes:
     """The frame of ``reply``."""
@@ -124,9 +128,9 @@ def decode_reply(frame: bytes | bytearray, command: _Expects) -> Reply:
         and (4 + cmd + frame[2]) & 0xFF == frame[3]
     ):  # fast path: ACK / NAK
         if frame[2] == ACK_BYTE:
-            return Ack(cmd)
+            return _ACKS[cmd]
         if frame[2] == NAK_BYTE:
-            return Nak(cmd)
+            return _NAKS[cmd]
     frame = bytes(frame)
     check_frame(frame, MAX_REPLY_SIZE)
     if frame[1] != cmd:

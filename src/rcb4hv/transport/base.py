@@ -25,6 +25,13 @@ class Transport(abc.ABC):
         """Return as soon as ``size`` bytes have arrived, or with fewer (maybe none) at
         ``deadline``."""
 
+    def read_some(self, size: int, deadline: float) -> bytes:
+        """Return what has arrived, up to ``size`` bytes, as soon as there is something; or
+        nothing at ``deadline``. The default reads up to 4 bytes with :meth:`read` (no reply
+        frame is shorter, so it never waits for bytes a reply does not have); ports that can
+        take whatever is buffered in one call override it."""
+        return self.read(min(size, 4), deadline)
+
     @abc.abstractmethod
     def reset_input(self) -> None:
         """Discard every byte received but not read yet."""

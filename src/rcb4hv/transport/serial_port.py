@@ -58,6 +58,7 @@ def _port_errors() -> tuple[type[BaseException], ...]:
 
 
 _PORT_ERRORS: Final = _port_errors()
+_POSIX_SERIAL: Final[type | None] = getattr(getattr(serial, "serialposix", None), "Serial", None)
 
 
 def _register_handlers() -> None:
@@ -130,6 +131,10 @@ class SerialTransport(Transport):
             self._fd = int(port.fileno())
         except (AttributeError, OSError, ValueError, serial.SerialException):
             self._fd = None
+        # A POSIX serial port (device, pty) is opened non-blocking by pyserial and keeps no
+        # buffer of its own: its fd is read and written directly (one system call each way
+        # instead of pyserial's select/read loops).
+        self._raw_fd = self._fd if type(port) is _POSIX_SERIAL else None
         wanted = 0 if self._fd is not None else _SLICE
         try:
             if port.timeout != wanted:
@@ -168,6 +173,17 @@ class SerialTransport(Transport):
             raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
 
     def write(self, data: bytes) -> None:
+        fd = self._raw_fd
+        if fd is not None:
+            try:
+                n = os.write(fd, data)
+            except BlockingIOError:
+                n = 0
+            except OSError as exc:
+                raise TransportError(f"{self.url}: write failed: {exc}") from exc
+            if n == len(data):
+                return
+            data = data[n:]
         try:
             self.port.write(data)
         except _PORT_ERRORS as exc:
@@ -191,6 +207,49 @@ class SerialTransport(Transport):
         except TypeError as exc:  # pyserial on a port closed under it (fd None)
             raise TransportError(f"{self.url}: port closed: {exc}") from exc
 
+    def read_some(self, size: int, deadline: float) -> bytes:
+        fd = self._raw_fd
+        if fd is None:
+            return self._read_some_port(size, deadline)
+        try:
+            while True:
+                try:
+                    data = os.read(fd, size)
+                except BlockingIOError:
+                    data = b""
+                if data:
+                    return data
+                remaining = deadline - time.monotonic()
+                if remaining <= 0.0:
+                    return b""
+                select.select((fd,), (), (), remaining)
+        except OSError as exc:
+            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+
+    def _read_some_port(self, size: int, deadline: float) -> bytes:
+        port, fd = self.port, self._fd
+        try:
+            while True:
+                # fd ports have timeout 0 (read returns what is there); the others wait a
+                # slice for the bytes asked, so ask for what is buffered (at least one)
+                want = size if fd is not None else max(1, min(size, port.in_waiting))
+                data = port.read(want)
+                if data:
+                    if fd is None and len(data) < size:  # the rest that came with it
+                        more = min(size - len(data), port.in_waiting)
+                        if more:
+                            data += port.read(more)
+                    return bytes(data)
+                remaining = deadline - time.monotonic()
+                if remaining <= 0.0:
+                    return b""
+                if fd is not None:
+                    select.select((fd,), (), (), remaining)
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+        except TypeError as exc:  # pyserial on a port closed under it (fd None)
+            raise TransportError(f"{self.url}: port closed: {exc}") from exc
+
     def reset_input(self) -> None:
         try:
             self.port.reset_input_buffer()
@@ -198,6 +257,7 @@ class SerialTransport(Transport):
             raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
 
     def close(self) -> None:
+        self._raw_fd = None
         port = self.port
         sock = getattr(port, "_socket", None)
         if isinstance(sock, socket.socket):
@@ -220,3 +280,9 @@ class SerialTransport(Transport):
             self.port.open()
         except _PORT_ERRORS as exc:
             raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
+        try:
+            fd = int(self.port.fileno())
+        except Exception:  # no fd (rcb4emu://, loop://): nothing to refresh
+            return
+        self._fd = fd
+        self._raw_fd = fd if type(self.port) is _POSIX_SERIAL else None
