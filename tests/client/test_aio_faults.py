@@ -13,7 +13,7 @@ import pytest
 from rcb4hv.aio import AsyncRcb4Client, AsyncTransport
 from rcb4hv.transport import Fault, FaultConfig, FaultyTransport, Transport
 from tests.client.conftest import Rig, make_rig
-from tests.client.test_client_faults import EXPECTED, TIMEOUT
+from tests.client.test_client_faults import EXPECTED, SLACK, TIMEOUT
 
 
 class Bridged(AsyncTransport):
@@ -65,7 +65,7 @@ def test_scripted_fault(rig: Rig, fault: Fault) -> None:
         else:
             with pytest.raises(expected):
                 await client.read_ram(0x0462, 4)
-        assert time.monotonic() - t0 < TIMEOUT + 0.1
+        assert time.monotonic() - t0 < TIMEOUT + SLACK
         assert ft.history[-1][1] is fault
         await client.acknowledge_check()
         assert await client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
