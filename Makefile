@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench fuzz reliability screenshots clean
+.PHONY: demo test docs package bench fuzz reliability screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -14,7 +14,7 @@ $(VENV)/.installed-plot: pyproject.toml | $(BIN)/python
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[dev,plot]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs]'
 	touch $@ $(VENV)/.installed-plot
 
 $(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev
@@ -28,6 +28,23 @@ test: $(VENV)/.installed-dev
 	$(BIN)/ruff check src tests bench
 	$(BIN)/mypy --strict src
 	$(BIN)/pytest -q
+	$(MAKE) --no-print-directory docs package
+
+# the documentation site, strictly: a broken link or reference fails the build
+docs: $(VENV)/.installed-dev
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet --site-dir .build/site
+
+# wheel + sdist, then the wheel alone in a fresh venv: `rcb4hv --version` and the demo run
+package: $(VENV)/.installed-dev
+	rm -rf .build/dist .build/venv
+	$(BIN)/python -m build --no-isolation --outdir .build/dist . >/dev/null
+	$(PY) -m venv .build/venv
+	.build/venv/bin/python -m pip install --quiet "$$(ls .build/dist/*.whl)[plot]"
+	.build/venv/bin/rcb4hv --version
+	.build/venv/bin/python -m rcb4hv --version
+	cd .build && venv/bin/rcb4hv demo --speed 4 --output demo.png >/dev/null
+	test -s .build/demo.png && tar tzf .build/dist/*.tar.gz | grep -q 'src/rcb4hv/aio/client.py'
+	@echo "package: wheel and sdist built; the wheel runs rcb4hv --version and the demo"
 
 bench: $(VENV)/.installed-bench
 	$(BIN)/python -m bench.run
@@ -46,4 +63,4 @@ reliability: $(VENV)/.installed-dev
 	$(BIN)/python -m bench.reliability
 
 clean:
-	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache build/screenshots
+	rm -rf $(VENV) .build .mypy_cache .pytest_cache .ruff_cache build/screenshots

@@ -11,8 +11,11 @@ import pytest
 
 from rcb4hv.client import Rcb4Client, Robot
 from rcb4hv.transport import emulator_url
+from tests.client.aio_bridge import BlockingBridge
 
-TRANSPORTS = ("inproc", "pty", "tcp")
+TRANSPORTS = ("inproc", "pty", "tcp", "aio-inproc", "aio-pty", "aio-tcp")
+"""Blocking client over each link; ``aio-*``: the asyncio client (through a blocking bridge,
+so the same tests drive it) over the same links."""
 SPEED = 10.0  # emulator clock speed for the suite: 10x real time keeps start-up short
 
 
@@ -22,7 +25,7 @@ class Rig:
 
     kind: str
     board: Any
-    client: Rcb4Client
+    client: Rcb4Client  # or a BlockingBridge around an AsyncRcb4Client (aio-* kinds)
     robot: Robot
     url: str
 
@@ -37,24 +40,35 @@ def make_board(speed: float = SPEED, **config: Any) -> Any:
     return emu.Board(cfg, clock=emu.RealClock(speed=speed))
 
 
+SYNC_TRANSPORTS = tuple(k for k in TRANSPORTS if not k.startswith("aio-"))
+
+
 @pytest.fixture(params=TRANSPORTS)
 def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
     """One connected client per transport; everything is closed on exit."""
-    kind: str = request.param
+    yield from make_rig(request.param)
+
+
+def make_rig(kind: str) -> Iterator[Rig]:
     emu = _emulator()
     board = make_board()
     with ExitStack() as stack:
         stack.callback(board.close)
-        if kind == "inproc":
+        link = kind.removeprefix("aio-")
+        if link == "inproc":
             url = emulator_url(board)
-        elif kind == "pty":
+        elif link == "pty":
             srv = stack.enter_context(emu.PtyServer(board))
             url = str(srv.path)
         else:
             srv = stack.enter_context(emu.TcpServer(board, "127.0.0.1", 0))
             host, port = srv.address[:2]
             url = f"socket://{host}:{port}"
-        client = Rcb4Client.open(url, timeout=0.5)
+        client: Any
+        if kind.startswith("aio-"):
+            client = BlockingBridge(url, timeout=0.5)
+        else:
+            client = Rcb4Client.open(url, timeout=0.5)
         stack.callback(client.close)
         robot = Robot(client)
         robot.wait_ready(timeout=5.0)

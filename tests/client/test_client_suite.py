@@ -23,13 +23,17 @@ from rcb4hv.protocol import (
     POSITION_HOLD,
     Button,
     Com,
+    Command,
     Condition,
     Data,
+    DataReply,
     Ics,
     Ram,
+    Reply,
     Rom,
     SystemRegister,
 )
+from tests.client.aio_bridge import BlockingBridge
 from tests.client.conftest import Rig
 
 VAR = ADDR.user_variable(0)
@@ -100,7 +104,11 @@ def test_communicate_device_is_opt_in(rig: Rig) -> None:
     with pytest.raises(CommandNotAllowedError):
         rig.client.communicate_device(0, 1, 0x0462, 0x0464)
     assert isinstance(CommandNotAllowedError("x"), PermissionError)
-    opted = Rcb4Client(rig.client.transport, allow_communicate_device=True)
+    if isinstance(rig.client, BlockingBridge):
+        rig.client.inner.allow_communicate_device = True
+        opted = rig.client
+    else:
+        opted = Rcb4Client(rig.client.transport, allow_communicate_device=True)
     with pytest.raises(NakError):  # the emulator refuses 0Eh, as the reference advises
         opted.communicate_device(0, 1, 0x0462, 0x0464)
 
@@ -128,14 +136,29 @@ def test_rom_read_write_verify_progress(rig: Rig) -> None:
     assert all(b - a <= 64 for (a, _), (b, _) in zip([(0, 0), *seen], seen, strict=False))
 
 
+def _lie(reply: Reply) -> Reply:
+    """A data reply with its first byte flipped (what a failing ROM page would read back)."""
+    if isinstance(reply, DataReply):
+        return DataReply(reply.cmd, bytes((reply.data[0] ^ 1,)) + reply.data[1:])
+    return reply
+
+
 def test_rom_verify_detects_a_mismatch(rig: Rig, monkeypatch: pytest.MonkeyPatch) -> None:
-    real = rig.client._data
+    if isinstance(rig.client, BlockingBridge):
+        inner = rig.client.inner
+        real_async = inner.transact
 
-    def lying(command: object) -> bytes:
-        data = real(command)  # type: ignore[arg-type]
-        return bytes((data[0] ^ 1,)) + data[1:]
+        async def lying_async(command: Command, timeout: float | None = None) -> Reply:
+            return _lie(await real_async(command, timeout))
 
-    monkeypatch.setattr(rig.client, "_data", lying)
+        monkeypatch.setattr(inner, "transact", lying_async)
+    else:
+        real = rig.client.transact
+
+        def lying(command: Command, timeout: float | None = None) -> Reply:
+            return _lie(real(command, timeout))
+
+        monkeypatch.setattr(rig.client, "transact", lying)
     with pytest.raises(VerifyError) as info:
         rig.client.write_rom(0x3F100, b"\x01\x02\x03")
     assert info.value.address == 0x3F100

@@ -482,7 +482,7 @@ def register(cli: click.Group) -> None:
 def run_demo(output: Path, port: str | None, speed: float, motion_number: int) -> None:
     """`make demo`: the library at work on the in-process emulator, and a plot of it."""
     t_start = time.monotonic()
-    url = port or f"rcb4emu://?speed={speed:g}"
+    url = port or f"rcb4emu://?speed={speed:g}&boot=live"  # show the start-up too
     click.echo(f"rcb4hv demo on {url}")
     with Robot.open(url, timeout=0.5) as robot:
         click.echo(f"board: {robot.version().text!r}, ACK in {robot.ping() * 1000:.2f} ms")

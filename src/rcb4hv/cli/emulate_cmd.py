@@ -43,6 +43,14 @@ def _parse_hostport(value: str) -> tuple[str, int]:
     default=None,
     help="Minimum reply latency in seconds [default: 0.001].",
 )
+@click.option(
+    "--boot",
+    type=click.Choice(["ready", "live"]),
+    default="ready",
+    show_default=True,
+    help="ready: serve a board whose start-up program has already run (servos homed, main "
+    "loop); live: serve it from power-on, start-up in real time.",
+)
 @click.option("--pace", is_flag=True, help="Pace replies at the configured COM baud.")
 @click.option("--frame-timeout", type=float, default=None, help="Partial-frame timeout in seconds.")
 def emulate(
@@ -52,6 +60,7 @@ def emulate(
     layout: str | None,
     speed: float,
     latency: float | None,
+    boot: str,
     pace: bool,
     frame_timeout: float | None,
 ) -> None:
@@ -59,7 +68,7 @@ def emulate(
 
     Prints one line, ``PTY <path>`` or ``TCP <host>:<port>``, as soon as it is ready.
     """
-    from rcb4hv.emulator import Board, EmulatorConfig, RealClock
+    from rcb4hv.emulator import Board, BootClock, EmulatorConfig, boot_to_main_loop
     from rcb4hv.emulator.server import PtyServer, TcpServer
 
     if use_pty == (tcp is not None):
@@ -75,13 +84,18 @@ def emulate(
         config = EmulatorConfig(**kwargs)  # type: ignore[arg-type]
     except ValueError as exc:
         raise click.UsageError(str(exc)) from exc
-    image = None
+    image, lay = None, None
     if layout is not None:
         from rcb4hv.rom.default import default_image
         from rcb4hv.rom.layout import LAYOUTS
 
-        image = default_image(LAYOUTS[layout])
-    board = Board(config, clock=RealClock(speed), rom_image=image, rom_path=rom)
+        lay = LAYOUTS[layout]
+        image = default_image(lay)
+    clock = BootClock(speed)
+    board = Board(config, clock=clock, rom_image=image, rom_path=rom)
+    if boot == "ready":
+        boot_to_main_loop(board, clock, lay)
+    clock.go_real()
     stop = threading.Event()
 
     def handler(signum: int, frame: FrameType | None) -> None:

@@ -26,6 +26,7 @@ COMMAND_MODULES = (
     "rcb4hv.cli.asm_cmd",
     "rcb4hv.cli.teach_cmd",
     "rcb4hv.cli.ui_cmd",
+    "rcb4hv.cli.hardware_cmd",
 )
 
 

@@ -3,6 +3,9 @@
 :meth:`Rcb4Client._roundtrip` takes the fast path when the first read brings exactly the
 reply frame it expects; anything else (a NAK, a reply in pieces, stray bytes before it, a
 damaged reply) goes through :func:`find_reply`, which hunts for the reply among the bytes.
+
+The hunt itself is sans-I/O (:class:`ReplyMatcher`: bytes in, the reply frame out), so the
+asyncio client (:mod:`rcb4hv.aio`) runs the very same code with its own waiting.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from rcb4hv.errors import ChecksumError, Rcb4TimeoutError
 from rcb4hv.protocol import NEED_DATA, FrameDecoder
 from rcb4hv.transport import Transport
 
-__all__ = ["RAM_READS", "find_reply", "ram_read_frame"]
+__all__ = ["RAM_READS", "ReplyMatcher", "find_reply", "ram_read_frame"]
 
 log = logging.getLogger("rcb4hv.client.core")
 
@@ -38,6 +41,84 @@ def ram_read_frame(address: int, size: int) -> bytes:
     return frame
 
 
+class ReplyMatcher:
+    """Finds the reply frame to one command in the bytes that arrive after it was sent.
+
+    Bytes that cannot start it (a SIZE other than ``expected`` or 4, a CMD other than
+    ``cmd``) are discarded and logged. A damaged candidate is remembered and sets
+    :attr:`grace_deadline` to ``now + corrupt_grace`` (a good copy may still follow).
+    """
+
+    def __init__(
+        self, decoder: FrameDecoder, cmd: int, expected: int, name: str, corrupt_grace: float
+    ) -> None:
+        self.decoder = decoder
+        self.cmd = cmd
+        self.expected = expected
+        self.name = name
+        self.corrupt_grace = corrupt_grace
+        self.corrupt: ChecksumError | None = None
+        self.grace_deadline: float | None = None
+        self.need = 4
+        """How many more bytes to ask the link for."""
+        decoder.reset()
+
+    def feed(self, chunk: bytes, now: float) -> bytes | None:
+        """Take ``chunk``; return the reply frame once it is complete (checksum checked)."""
+        decoder, cmd, expected = self.decoder, self.cmd, self.expected
+        decoder.receive_data(chunk)
+        while True:
+            pending = decoder.pending
+            skip, n = 0, len(pending)
+            while skip < n and not (
+                (pending[skip] == expected or pending[skip] == 4)
+                and (skip + 1 >= n or pending[skip + 1] == cmd)
+            ):
+                skip += 1
+            if skip:
+                log.warning(
+                    "discarded %d stray byte(s) before the reply to %s: %s",
+                    skip,
+                    self.name,
+                    pending[:skip].hex(" "),
+                )
+                decoder.reset()
+                decoder.receive_data(pending[skip:])
+                pending = pending[skip:]
+            if not pending:
+                self.need = 4
+                return None
+            try:
+                frame = decoder.next_frame()
+            except ChecksumError as exc:
+                log.warning("reply to %s with a bad checksum: %s", self.name, exc)
+                self.corrupt = ChecksumError(
+                    f"reply to {self.name} has a bad checksum: {exc.frame.hex(' ')}", exc.frame
+                )
+                limit = now + self.corrupt_grace
+                if self.grace_deadline is None or limit < self.grace_deadline:
+                    self.grace_deadline = limit
+                continue
+            if frame is NEED_DATA:
+                self.need = max(pending[0] - len(pending), 1)
+                return None
+            assert isinstance(frame, bytes)
+            return frame
+
+    def until(self, deadline: float) -> float:
+        """``deadline``, cut to the grace period after a damaged reply."""
+        grace = self.grace_deadline
+        return deadline if grace is None or grace > deadline else grace
+
+    def timeout_error(self, timeout: float) -> Exception:
+        """What to raise at the deadline: the checksum error seen, else a timeout."""
+        partial = self.decoder.reset()
+        if self.corrupt is not None:
+            return self.corrupt
+        got = f" (incomplete: {partial.hex(' ')})" if partial else ""
+        return Rcb4TimeoutError(f"no reply to {self.name} within {timeout:g} s{got}")
+
+
 def find_reply(
     transport: Transport,
     decoder: FrameDecoder,
@@ -49,58 +130,14 @@ def find_reply(
     timeout: float,
     corrupt_grace: float,
 ) -> bytes:
-    """The reply frame to ``cmd`` among ``chunk`` and the bytes still to come.
-
-    Bytes that cannot start it (a SIZE other than ``expected`` or 4, a CMD other than
-    ``cmd``) are discarded and logged; a damaged candidate is remembered and the wait cut to
-    ``corrupt_grace`` (a good copy may follow). Raises the ChecksumError at the deadline if
-    only damaged replies came, else Rcb4TimeoutError.
-    """
-    decoder.reset()
-    decoder.receive_data(chunk)
-    corrupt: ChecksumError | None = None
+    """The reply frame to ``cmd`` among ``chunk`` and the bytes still to come (blocking reads
+    from ``transport``; see :class:`ReplyMatcher`). Raises the ChecksumError at the deadline
+    if only damaged replies came, else Rcb4TimeoutError."""
+    matcher = ReplyMatcher(decoder, cmd, expected, name, corrupt_grace)
     while True:
-        while True:
-            pending = decoder.pending
-            skip = 0
-            n = len(pending)
-            while skip < n and not (
-                (pending[skip] == expected or pending[skip] == 4)
-                and (skip + 1 >= n or pending[skip + 1] == cmd)
-            ):
-                skip += 1
-            if skip:
-                log.warning(
-                    "discarded %d stray byte(s) before the reply to %s: %s",
-                    skip,
-                    name,
-                    pending[:skip].hex(" "),
-                )
-                decoder.reset()
-                decoder.receive_data(pending[skip:])
-                pending = pending[skip:]
-            if not pending:
-                need = 4
-                break
-            try:
-                got_frame = decoder.next_frame()
-            except ChecksumError as exc:
-                log.warning("reply to %s with a bad checksum: %s", name, exc)
-                corrupt = ChecksumError(
-                    f"reply to {name} has a bad checksum: {exc.frame.hex(' ')}", exc.frame
-                )
-                deadline = min(deadline, time.monotonic() + corrupt_grace)
-                continue
-            if got_frame is NEED_DATA:
-                need = max(pending[0] - len(pending), 1)
-                break
-            assert isinstance(got_frame, bytes)
-            return got_frame
-        chunk = transport.read(need, deadline)
+        frame = matcher.feed(chunk, time.monotonic())
+        if frame is not None:
+            return frame
+        chunk = transport.read(matcher.need, matcher.until(deadline))
         if not chunk:
-            partial = decoder.reset()
-            if corrupt is not None:
-                raise corrupt
-            got = f" (incomplete: {partial.hex(' ')})" if partial else ""
-            raise Rcb4TimeoutError(f"no reply to {name} within {timeout:g} s{got}")
-        decoder.receive_data(chunk)
+            raise matcher.timeout_error(timeout)

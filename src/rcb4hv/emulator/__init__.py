@@ -73,6 +73,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from rcb4hv.emulator.board import Board, ServoState
+from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
 from rcb4hv.emulator.clock import Clock, RealClock, VirtualClock
 from rcb4hv.emulator.config import DEFAULT_VERSION, EmulatorConfig
 from rcb4hv.emulator.events import Stop, StopKind
@@ -83,6 +84,7 @@ if TYPE_CHECKING:  # the servers need pty/termios: imported on first use
 __all__ = [
     "DEFAULT_VERSION",
     "Board",
+    "BootClock",
     "Clock",
     "EmulatorConfig",
     "PtyServer",
@@ -92,6 +94,7 @@ __all__ = [
     "StopKind",
     "TcpServer",
     "VirtualClock",
+    "boot_to_main_loop",
 ]
 
 

@@ -1,6 +1,6 @@
 """ROM images in the older HeartToHeart4 layouts (2.0/2.1 and 1.3: main loop at 003FDh).
 
-What is established about these layouts (see the README's spec notes for the evidence):
+What is established about these layouts (see the spec notes, docs/spec-notes.md, for the evidence):
 
 * the main loop starts at **003FDh** and, as in 2.2, begins with a system-register write that
   re-arms VEC_F: libkondo4 sets the PC to 03FDh and polls until VEC_F is set again;

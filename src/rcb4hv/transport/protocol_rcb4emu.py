@@ -13,7 +13,12 @@ Options (query string):
 * ``latency=S`` seconds between a request and its reply (default: the board's
   ``min_reply_latency_s``);
 * ``board=N``   serve a Board registered with :func:`emulator_url` instead of a new one
-  (tests use this to drive a board on a virtual clock and inspect its RAM).
+  (tests use this to drive a board on a virtual clock and inspect its RAM);
+* ``boot=ready`` (default) or ``boot=live``: a new board first runs its start-up program
+  in virtual time, so the port opens on a board whose ROM program has reached its main
+  loop (servo table in RAM, servos homed) — a command sent right after opening finds the
+  servos, as it would on a board powered on a while ago. ``boot=live`` opens at power-on
+  and lets the start-up run in real time, as on a board just switched on.
 
 The handler module is found by pyserial because :mod:`rcb4hv.transport` appends itself to
 ``serial.protocol_handler_packages`` on import.
@@ -105,13 +110,16 @@ class Serial(SerialBase):
             except ImportError as exc:
                 raise SerialException(f"the emulator is not available: {exc}") from exc
             try:
-                clock = emu.RealClock(speed=self._speed)
-                image = None
+                clock = emu.BootClock(self._speed)
+                image, lay = None, None
                 if self._layout is not None:
                     rom = importlib.import_module("rcb4hv.rom.default")
                     lay = importlib.import_module("rcb4hv.rom.layout").LAYOUTS[self._layout]
                     image = rom.default_image(lay)
                 self.board = emu.Board(clock=clock, rom_image=image, rom_path=self._rom)
+                if self._boot_ready:
+                    emu.boot_to_main_loop(self.board, clock, lay)
+                clock.go_real()
             except (OSError, ValueError) as exc:
                 raise SerialException(f"cannot start the emulator: {exc}") from exc
             self._own_board = True
@@ -135,6 +143,7 @@ class Serial(SerialBase):
         if parts.scheme.lower() != SCHEME:
             raise SerialException(f"expected {SCHEME}://[?speed=S&rom=PATH&layout=V], got {url!r}")
         self._speed, self._rom, self._latency, self._board_id = 1.0, None, None, None
+        self._boot_ready = True
         self._layout = None
         try:
             for key, values in urllib.parse.parse_qs(parts.query, True).items():
@@ -155,6 +164,10 @@ class Serial(SerialBase):
                         raise ValueError("latency must be >= 0")
                 elif key == "board":
                     self._board_id = int(value)
+                elif key == "boot":
+                    if value not in ("ready", "live"):
+                        raise ValueError("boot must be 'ready' or 'live'")
+                    self._boot_ready = value == "ready"
                 else:
                     raise ValueError(f"unknown option {key!r}")
         except ValueError as exc:

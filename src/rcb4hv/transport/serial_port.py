@@ -29,6 +29,10 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+# Kondo's USB IDs. 165C:0008 is the Kondo USB adapter HS, the ID the rcb4 library (iory/rcb4:
+# its 99-rcb4-udev.rules and RCB4Interface.from_port) matches to find an RCB-4; 0007 is the
+# older adapter named in the working spec (PROTOCOL.md section 1). Linux's ftdi_sio lists only
+# 165C:0002 (drivers/usb/serial/ftdi_sio_ids.h), hence the new_id line of `rcb4hv udev-rule`.
 KONDO_VID: Final = 0x165C
 KONDO_PIDS: Final = (0x0008, 0x0007)
 BAUD_RATES: Final = (1250000, 625000, 115200)
@@ -92,6 +96,21 @@ def resolve_port(port: str | None) -> str:
     return found[0]
 
 
+def open_8e1(url: str, baudrate: int, write_timeout: float) -> serial.Serial:
+    """``serial_for_url`` at the board's framing, 8 data bits, even parity, 1 stop bit,
+    non-blocking reads (``timeout=0``)."""
+    port: serial.Serial = serial.serial_for_url(
+        url,
+        baudrate=baudrate,
+        bytesize=serial.EIGHTBITS,
+        parity=serial.PARITY_EVEN,
+        stopbits=serial.STOPBITS_ONE,
+        timeout=0,
+        write_timeout=write_timeout,
+    )
+    return port
+
+
 def _disable_nagle(port: object) -> None:
     """pyserial's socket:// leaves Nagle's algorithm on: a frame written in two parts would then
     reach the board ~40 ms apart, past its frame timeout. Send every write at once instead."""
@@ -132,15 +151,7 @@ class SerialTransport(Transport):
         if baudrate <= 0:
             raise ValueError(f"baud rate {baudrate} must be positive")
         try:
-            port = serial.serial_for_url(
-                url,
-                baudrate=baudrate,
-                bytesize=serial.EIGHTBITS,
-                parity=serial.PARITY_EVEN,
-                stopbits=serial.STOPBITS_ONE,
-                timeout=0,
-                write_timeout=2.0,
-            )
+            port = open_8e1(url, baudrate, write_timeout=2.0)
         except _PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
         _disable_nagle(port)

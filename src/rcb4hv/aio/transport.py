@@ -1,0 +1,288 @@
+"""Asyncio links to a board: the same contract as :class:`rcb4hv.transport.Transport`
+(bounded reads with an absolute ``time.monotonic()`` deadline, every failure a
+:class:`~rcb4hv.errors.TransportError`), with coroutines.
+
+* :class:`StreamTransport` — an asyncio protocol fed by the event loop: ``socket://`` via
+  :meth:`asyncio.loop.create_connection` (asyncio sets TCP_NODELAY), serial device paths
+  (and the emulator's pty) via ``pyserial-asyncio-fast``, which watches the port's file
+  descriptor;
+* :class:`PolledTransport` — pyserial ports without a file descriptor (``rcb4emu://`` in
+  process, ``loop://``, ``rfc2217://``), read without blocking and polled every millisecond.
+
+:func:`open_async_transport` picks one for a URL.
+"""
+
+from __future__ import annotations
+
+import abc
+import asyncio
+import contextlib
+import logging
+import time
+import urllib.parse
+from typing import Final
+
+import serial
+
+from rcb4hv.errors import TransportError
+from rcb4hv.transport import DEFAULT_BAUD, resolve_port
+from rcb4hv.transport.faults import FAULT_SCHEME
+
+__all__ = ["AsyncTransport", "PolledTransport", "StreamTransport", "open_async_transport"]
+
+log = logging.getLogger(__name__)
+
+POLL_INTERVAL: Final = 0.001
+"""Seconds between two polls of a port without a file descriptor."""
+
+
+class AsyncTransport(abc.ABC):
+    """A bidirectional byte link to one board, for asyncio."""
+
+    url: str = ""
+
+    @abc.abstractmethod
+    def write(self, data: bytes) -> None:
+        """Queue ``data`` for sending (the whole of it)."""
+
+    @abc.abstractmethod
+    async def read(self, size: int, deadline: float) -> bytes:
+        """Return as soon as ``size`` bytes have arrived, or with fewer (maybe none) at
+        ``deadline`` (``time.monotonic()`` seconds)."""
+
+    @abc.abstractmethod
+    def reset_input(self) -> None:
+        """Discard every byte received but not read yet."""
+
+    @abc.abstractmethod
+    async def close(self) -> None:
+        """Release the link; idempotent."""
+
+    @property
+    @abc.abstractmethod
+    def is_open(self) -> bool:
+        """Whether the link is usable."""
+
+    def set_baudrate(self, baudrate: int) -> None:
+        """Change the line rate (serial ports only)."""
+        raise ValueError(f"{self.url}: baud detection needs a serial port")
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.url!r}>"
+
+
+class _LinkProtocol(asyncio.Protocol):
+    """Collects received bytes and wakes the reader."""
+
+    def __init__(self) -> None:
+        self.buffer = bytearray()
+        self.arrived = asyncio.Event()
+        self.lost: str | None = None
+        self.transport: asyncio.BaseTransport | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        self.transport = transport
+
+    def data_received(self, data: bytes) -> None:
+        self.buffer += data
+        self.arrived.set()
+
+    def eof_received(self) -> bool | None:
+        self.lost = "the peer closed the connection"
+        self.arrived.set()
+        return None
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        if self.lost is None:
+            self.lost = f"connection lost: {exc}" if exc else "connection closed"
+        self.arrived.set()
+
+
+class StreamTransport(AsyncTransport):
+    """A link whose bytes the event loop delivers (TCP socket or serial file descriptor)."""
+
+    def __init__(
+        self,
+        transport: asyncio.Transport,
+        protocol: _LinkProtocol,
+        url: str,
+        port: serial.Serial | None = None,
+    ) -> None:
+        self._transport = transport
+        self._protocol = protocol
+        self._port = port
+        self.url = url
+
+    @property
+    def is_open(self) -> bool:
+        return self._protocol.lost is None and not self._transport.is_closing()
+
+    def _check(self) -> None:
+        if self._protocol.lost is not None:
+            raise TransportError(f"{self.url}: {self._protocol.lost}")
+        if self._transport.is_closing():
+            raise TransportError(f"{self.url}: port closed")
+
+    def write(self, data: bytes) -> None:
+        self._check()
+        try:
+            self._transport.write(data)
+        except (OSError, RuntimeError, serial.SerialException) as exc:
+            raise TransportError(f"{self.url}: write failed: {exc}") from exc
+
+    async def read(self, size: int, deadline: float) -> bytes:
+        proto = self._protocol
+        while len(proto.buffer) < size:
+            self._check()
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            proto.arrived.clear()
+            with contextlib.suppress(asyncio.TimeoutError):
+                await asyncio.wait_for(proto.arrived.wait(), remaining)
+        out = bytes(proto.buffer[:size])
+        del proto.buffer[:size]
+        return out
+
+    def reset_input(self) -> None:
+        self._check()
+        self._protocol.buffer.clear()
+        if self._port is not None:
+            try:
+                self._port.reset_input_buffer()
+            except (OSError, serial.SerialException) as exc:
+                raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
+
+    def set_baudrate(self, baudrate: int) -> None:
+        if self._port is None:
+            super().set_baudrate(baudrate)
+            return
+        try:
+            self._port.baudrate = baudrate
+        except (OSError, ValueError, serial.SerialException) as exc:
+            raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
+
+    async def close(self) -> None:
+        if not self._transport.is_closing():
+            self._transport.close()
+            await asyncio.sleep(0)  # let the loop run connection_lost
+
+
+class PolledTransport(AsyncTransport):
+    """A pyserial port without a file descriptor, opened with ``timeout=0`` and polled."""
+
+    def __init__(self, port: serial.Serial, url: str) -> None:
+        self._port = port
+        self.url = url
+
+    @property
+    def is_open(self) -> bool:
+        return bool(self._port.is_open)
+
+    def write(self, data: bytes) -> None:
+        try:
+            self._port.write(data)
+        except (OSError, serial.SerialException) as exc:
+            raise TransportError(f"{self.url}: write failed: {exc}") from exc
+
+    async def read(self, size: int, deadline: float) -> bytes:
+        buf = b""
+        try:
+            while True:
+                buf += self._port.read(size - len(buf))
+                if len(buf) >= size:
+                    return buf
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return buf
+                await asyncio.sleep(min(POLL_INTERVAL, remaining))
+        except (OSError, ValueError, TypeError, serial.SerialException) as exc:
+            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+
+    def reset_input(self) -> None:
+        try:
+            self._port.reset_input_buffer()
+        except (OSError, serial.SerialException) as exc:
+            raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
+
+    def set_baudrate(self, baudrate: int) -> None:
+        try:
+            self._port.baudrate = baudrate
+        except (OSError, ValueError, serial.SerialException) as exc:
+            raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
+
+    async def close(self) -> None:
+        with contextlib.suppress(OSError, serial.SerialException):
+            self._port.close()
+
+
+def _has_fd(port: serial.Serial) -> bool:
+    try:
+        return int(port.fileno()) >= 0
+    except (AttributeError, OSError, ValueError, TypeError, serial.SerialException):
+        return False
+
+
+async def _open_socket(url: str) -> StreamTransport:
+    parts = urllib.parse.urlsplit(url)
+    if not parts.hostname or parts.port is None:
+        raise ValueError(f"expected socket://HOST:PORT, got {url!r}")
+    loop = asyncio.get_running_loop()
+    try:
+        transport, protocol = await loop.create_connection(
+            _LinkProtocol, parts.hostname, parts.port
+        )
+    except OSError as exc:
+        raise TransportError(f"cannot open {url}: {exc}") from exc
+    return StreamTransport(transport, protocol, url)
+
+
+async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
+    # Import here: the package is only needed for serial devices. pyserial-asyncio-fast
+    # watches the port's file descriptor with the event loop (no thread, no polling).
+    import serial_asyncio_fast
+
+    from rcb4hv.transport import serial_port  # registers the rcb4emu:// handler
+
+    loop = asyncio.get_running_loop()
+
+    try:
+        port = await loop.run_in_executor(None, serial_port.open_8e1, url, baudrate, 0)
+    except serial_port._PORT_ERRORS as exc:
+        raise TransportError(f"cannot open {url}: {exc}") from exc
+    if not _has_fd(port):
+        return PolledTransport(port, url)
+    # pyserial-asyncio-fast sets timeout = write_timeout = 0, which pyserial applies with a
+    # second tcsetattr; at custom rates such as 1,250,000 some drivers (ptys included) refuse
+    # it. The port was opened with both at 0 already, so skip that no-op reconfiguration.
+    setattr(port, "_reconfigure_port", lambda *args, **kwargs: None)  # noqa: B010
+    try:
+        transport, protocol = await serial_asyncio_fast.connection_for_serial(
+            loop, _LinkProtocol, port
+        )
+    except serial_port._PORT_ERRORS as exc:
+        port.close()
+        raise TransportError(f"cannot use {url}: {exc}") from exc
+    finally:
+        delattr(port, "_reconfigure_port")
+    assert isinstance(protocol, _LinkProtocol)
+    return StreamTransport(transport, protocol, url, port)
+
+
+async def open_async_transport(
+    url: str | None = None, baudrate: int = DEFAULT_BAUD
+) -> AsyncTransport:
+    """Open ``url`` (None: ``$RCB4HV_PORT`` or the Kondo adapter, as the blocking client) at
+    8E1 and ``baudrate`` (ignored by ``socket://`` and ``rcb4emu://``)."""
+    url = resolve_port(url)
+    if baudrate <= 0:
+        raise ValueError(f"baud rate {baudrate} must be positive")
+    if url.startswith(FAULT_SCHEME):
+        raise ValueError(
+            "fault:// links are for the blocking client (rcb4hv.client.Rcb4Client) only"
+        )
+    if url.lower().startswith("socket://"):
+        return await _open_socket(url)
+    transport = await _open_serial(url, baudrate)
+    log.debug("opened %s (%s)", url, type(transport).__name__)
+    return transport

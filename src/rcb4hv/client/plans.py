@@ -1,0 +1,91 @@
+"""RAM and ROM transfers as *plans*: generators that yield the command frames to send and are
+sent each reply (``reply = yield command``), so a client of any kind (the asyncio one, a test
+driver) runs the same chunking and verifying without owning a link.
+
+The chunk sizes are the blocking client's (:data:`~rcb4hv.client.core.MAX_READ`,
+:data:`~rcb4hv.client.core.MAX_WRITE`, :data:`~rcb4hv.client.core.ROM_WRITE_CHUNK`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator
+from typing import TypeVar
+
+from rcb4hv.client.core import MAX_READ, MAX_WRITE, ROM_WRITE_CHUNK, Progress, VerifyError
+from rcb4hv.errors import FrameError
+from rcb4hv.protocol import Com, Command, Data, DataReply, Move, Ram, Reply, Rom
+from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+
+__all__ = ["Plan", "check_span", "data_of", "read_memory", "write_ram", "write_rom"]
+
+T = TypeVar("T")
+Plan = Generator[Command, Reply, T]
+"""A multi-frame operation: yields each command, is sent its reply, returns the result."""
+
+
+
+
+def check_span(kind: str, address: int, size: int, limit: int) -> None:
+    if not isinstance(address, int) or not isinstance(size, int):
+        raise ValueError(f"{kind} address and size must be ints")
+    if size < 1:
+        raise ValueError(f"{kind} size {size} must be at least 1")
+    if address < 0 or address + size > limit:
+        raise ValueError(f"{kind} {address:#x}+{size} runs outside 0..{limit - 1:#x}")
+
+
+def data_of(reply: Reply, command: Command) -> bytes:
+    """The data of a data reply; FrameError for any other reply."""
+    if not isinstance(reply, DataReply):
+        raise FrameError(f"expected a data reply to {type(command).__name__}, got {reply}")
+    return reply.data
+
+
+def read_memory(
+    kind: str, address: int, size: int, progress: Progress | None = None
+) -> Plan[bytes]:
+    """Read ``size`` bytes of ``"RAM"`` or ``"ROM"`` in 128-byte MOVEs to COM."""
+    rom = kind == "ROM"
+    check_span(kind, address, size, ROM_SIZE if rom else RAM_SIZE)
+    out = bytearray()
+    for a in range(address, address + size, MAX_READ):
+        n = min(MAX_READ, address + size - a)
+        command = Move(Com(), Rom(a) if rom else Ram(a), n)
+        out += data_of((yield command), command)
+        if progress is not None:
+            progress(len(out), size)
+    return bytes(out)
+
+
+def write_ram(address: int, data: bytes) -> Plan[None]:
+    """Write ``data`` to RAM, 121 bytes per MOVE literal."""
+    data = bytes(data)
+    check_span("RAM", address, len(data), RAM_SIZE)
+    for i in range(0, len(data), MAX_WRITE):
+        yield Move(Ram(address + i), Data(data[i : i + MAX_WRITE]))
+
+
+def write_rom(
+    address: int, data: bytes, verify: bool = True, progress: Progress | None = None
+) -> Plan[None]:
+    """Write ``data`` to ROM in page-aligned 64-byte chunks, reading each back if ``verify``."""
+    data = bytes(data)
+    check_span("ROM", address, len(data), ROM_SIZE)
+    total, done, a = len(data), 0, address
+    while done < total:
+        n = min(ROM_WRITE_CHUNK - a % ROM_WRITE_CHUNK, total - done)
+        chunk = data[done : done + n]
+        yield Move(Rom(a), Data(chunk))
+        if verify:
+            command = Move(Com(), Rom(a), n)
+            back = data_of((yield command), command)
+            if back != chunk:
+                bad = next(i for i in range(n) if back[i] != chunk[i])
+                raise VerifyError(
+                    f"ROM {a + bad:06X}: wrote {chunk[bad]:02X}, read back {back[bad]:02X}",
+                    a + bad,
+                )
+        done += n
+        a += n
+        if progress is not None:
+            progress(done, total)
