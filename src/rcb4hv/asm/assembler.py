@@ -14,7 +14,7 @@ from typing import Final
 
 from rcb4hv.asm.errors import AsmError
 from rcb4hv.asm.symbols import RAM_SCALARS, RAM_TABLES, SERVO_FIELDS
-from rcb4hv.asm.syntax import BINARY_MNEMONICS, POSITION_WORDS
+from rcb4hv.asm.syntax import POSITION_WORDS, SHIFT_WORDS
 from rcb4hv.protocol import (
     ROM_SIZE,
     AcknowledgeCheck,
@@ -42,6 +42,7 @@ from rcb4hv.protocol import (
     Source,
     encode_command,
 )
+from rcb4hv.protocol.registry import BY_MNEMONIC
 
 __all__ = ["AsmItem", "AssembledProgram", "assemble"]
 
@@ -450,7 +451,9 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
     """One command from a mnemonic (upper case, without flags) and its operand text."""
     allowed: set[str] = set()
     cmd: Command
-    if mnemonic in ("JUMP", "CALL"):
+    spec = BY_MNEMONIC.get(SHIFT_WORDS.get(mnemonic, mnemonic))
+    cls = spec.cls if spec is not None else None
+    if cls is Jump or cls is Call:
         target_t, *cond = _IF.split(ops.text, maxsplit=1)
         target = _Text(target_t, ops.column, ops.line).strip()
         if not target.text:
@@ -459,12 +462,12 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
         if cond:
             condition = _condition(ops.sub(len(ops.text) - len(cond[0])))
         address = _check_range(target, "branch target", _eval(target, "rom", labels), 0, 0xFFFFFF)
-        cmd = Jump(address, condition) if mnemonic == "JUMP" else Call(address, condition)
+        cmd = cls(address, condition)
         _no_flags(flags, allowed, where)
         return cmd
     parts = _split_operands(ops)
-    if mnemonic in BINARY_MNEMONICS or mnemonic == "MOVE":
-        allowed = set() if mnemonic == "MOVE" else {"NW"}
+    if spec is not None and (spec.symbol is not None or cls is Move):
+        allowed = set() if cls is Move else {"NW"}
         _want(parts, 2, 3, f"{mnemonic} DEST, SOURCE[, SIZE]", where)
         dst = _destination(parts[0], labels)
         src = _source(parts[1], labels)
@@ -472,15 +475,14 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
         if size is None and not isinstance(src, Data):
             raise where.error(f"{mnemonic} from {parts[1].text} needs a size: add ', SIZE'")
         _no_flags(flags, allowed, where)
-        if mnemonic == "MOVE":
+        if cls is Move:
             return Move(dst, src, size)
-        cls = BINARY_MNEMONICS[mnemonic]
-        result: Command = cls(dst, src, size, "NW" in flags)
+        result: Command = spec.cls(dst, src, size, "NW" in flags)
         return result
-    if mnemonic in ("NOT", "SHL", "SHR", "SHIFT"):
+    if cls is Not or cls is Shift:
         allowed = {"NW"}
         _no_flags(flags, allowed, where)
-        if mnemonic == "NOT":
+        if cls is Not:
             _want(parts, 2, 2, "NOT DEST, SIZE", where)
             dst = _destination(parts[0], labels)
             return Not(dst, _eval(parts[1]), "NW" in flags)
@@ -500,43 +502,42 @@ def _build(mnemonic: str, flags: set[str], ops: _Text, labels: Labels, where: _T
             _check_range(parts[1], "left shift", bits, 1, 128)
             return Shift.left(dst, bits, size, "NW" in flags)
         return Shift(dst, size, "NW" in flags, _check_range(parts[1], "count", bits, 0, 255))
-    if mnemonic == "RETURN":
+    if cls is Return:
         _want(parts, 0, 0, "RETURN without operands", where)
         cmd = Return()
-    elif mnemonic == "VERSION":
+    elif cls is GetVersionInfo:
         _want(parts, 0, 0, "VERSION without operands", where)
         cmd = GetVersionInfo()
-    elif mnemonic == "ACKCHECK":
+    elif cls is AcknowledgeCheck:
         allowed = {"LONG"}
         _want(parts, 0, 0, "ACKCHECK without operands", where)
         cmd = AcknowledgeCheck("LONG" in flags)
-    elif mnemonic == "ICSCOMM":
+    elif cls is CommunicateDevice:
         _want(parts, 4, 4, "ICSCOMM ICS, COUNT, RAM[TX], RAM[RX]", where)
         ics, count = _eval(parts[0]), _eval(parts[1])
         tx, rx = (_destination(p, labels) for p in parts[2:])
         if not isinstance(tx, Ram) or not isinstance(rx, Ram):
             raise where.error("ICSCOMM buffers must be RAM[..] operands")
         cmd = CommunicateDevice(ics, count, tx.address, rx.address)
-    elif mnemonic == "SERVO":
+    elif cls is RunSingleServo:
         allowed = {"KEEP"}
         _want(parts, 3, 3, "SERVO ICS, SPEED, POSITION", where)
         cmd = RunSingleServo(
             _eval(parts[0]), _eval(parts[1]), _position(parts[2]), "KEEP" not in flags
         )
-    elif mnemonic == "SERVOS":
+    elif cls is RunConstFrameServo:
         allowed = {"KEEP"}
         if not parts:
             raise where.error("expected SERVOS SPEED[, ICS=POSITION ...]")
         cmd = RunConstFrameServo(_eval(parts[0]), _pairs(parts[1:], _position), "KEEP" not in flags)
-    elif mnemonic == "SERIES":
+    elif cls is RunSeriesServo:
         allowed = {"KEEP"}
         moves = []
         for ics, packed in _pairs(parts, lambda t: _pack_series(t)):
             moves.append((ics, packed >> 16, packed & 0xFFFF))
         cmd = RunSeriesServo(moves, "KEEP" not in flags)
-    elif mnemonic in ("SPEED", "STRETCH"):
-        values = _pairs(parts, _eval)
-        cmd = SetSpeed(values) if mnemonic == "SPEED" else SetStretch(values)
+    elif cls is SetSpeed or cls is SetStretch:
+        cmd = cls(_pairs(parts, _eval))
     else:
         raise where.error(f"unknown mnemonic {mnemonic!r}")
     _no_flags(flags, allowed, where)

@@ -12,29 +12,23 @@ from dataclasses import dataclass
 from typing import Final
 
 from rcb4hv.asm.symbols import field_text, ram_text
-from rcb4hv.asm.syntax import BINARY_MNEMONICS, condition_text, position_text, rom_text
+from rcb4hv.asm.syntax import SHIFT_LEFT, SHIFT_RIGHT, condition_text, position_text, rom_text
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol import (
     ADDR,
     ROM_SIZE,
     AcknowledgeCheck,
-    Add,
-    And,
     Button,
     Call,
     Command,
     CommunicateDevice,
     Data,
     Destination,
-    Div,
     GetVersionInfo,
     Ics,
     Jump,
-    Mod,
     Move,
-    Mul,
     Not,
-    Or,
     Ram,
     Return,
     Rom,
@@ -45,13 +39,13 @@ from rcb4hv.protocol import (
     SetStretch,
     Shift,
     Source,
-    Sub,
     SystemRegister,
-    Xor,
     decode_command,
     encode_command,
     frame_at,
 )
+from rcb4hv.protocol.datacmds import BinaryOp
+from rcb4hv.protocol.registry import spec_of
 
 __all__ = ["disassemble", "disassemble_frames", "format_command", "operand_text"]
 
@@ -60,8 +54,7 @@ BYTES_PER_LINE: Final = 16
 RUN_MIN: Final = 16
 """Runs of at least this many equal bytes become ``.fill`` (or are skipped if erased)."""
 
-_MNEMONIC_OF: Final = {cls: name for name, cls in BINARY_MNEMONICS.items()}
-_DATA_COMMANDS: Final = (Move, And, Or, Xor, Add, Sub, Mul, Div, Mod)
+_DATA_COMMANDS: Final = (Move, BinaryOp)
 
 
 def operand_text(op: Destination | Source, symbols: bool = True) -> str:
@@ -94,47 +87,46 @@ def format_command(
     def op(o: Destination | Source) -> str:
         return operand_text(o, symbols)
 
+    name = spec_of(type(cmd)).mnemonic
     if isinstance(cmd, _DATA_COMMANDS):
-        name = "MOVE" if isinstance(cmd, Move) else _MNEMONIC_OF[type(cmd)]
         nw = not isinstance(cmd, Move) and cmd.no_write
         size = "" if isinstance(cmd.src, Data) else f", {cmd.nbytes}"
         return f"{name}{_flags((nw, 'NW'))} {op(cmd.dst)}, {op(cmd.src)}{size}"
     if isinstance(cmd, Shift):
         bits = cmd.right_bits
-        name = "SHR" if bits >= 0 else "SHL"
+        name = SHIFT_RIGHT if bits >= 0 else SHIFT_LEFT
         return f"{name}{_flags((cmd.no_write, 'NW'))} {op(cmd.dst)}, {abs(bits)}, {cmd.size}"
     if isinstance(cmd, Not):
-        return f"NOT{_flags((cmd.no_write, 'NW'))} {op(cmd.dst)}, {cmd.size}"
+        return f"{name}{_flags((cmd.no_write, 'NW'))} {op(cmd.dst)}, {cmd.size}"
     if isinstance(cmd, (Jump, Call)):
         label = label_for(cmd.address) if label_for is not None else None
         target = label if label is not None else rom_text(cmd.address)
         cond = condition_text(cmd.condition)
         when = "" if cond == "ALWAYS" else f" IF {cond}"
-        return f"{'JUMP' if isinstance(cmd, Jump) else 'CALL'} {target}{when}"
+        return f"{name} {target}{when}"
     if isinstance(cmd, Return):
-        return "RETURN"
+        return name
     if isinstance(cmd, CommunicateDevice):
         tx, rx = ram_text(cmd.tx_address, symbols), ram_text(cmd.rx_address, symbols)
-        return f"ICSCOMM {cmd.ics}, {cmd.tx_count}, RAM[{tx}], RAM[{rx}]"
+        return f"{name} {cmd.ics}, {cmd.tx_count}, RAM[{tx}], RAM[{rx}]"
     keep = ""
     if isinstance(cmd, (RunSingleServo, RunConstFrameServo, RunSeriesServo)):
         keep = _flags((not cmd.set_update_flag, "KEEP"))
     if isinstance(cmd, RunSingleServo):
-        return f"SERVO{keep} {cmd.ics}, {cmd.speed}, {position_text(cmd.position)}"
+        return f"{name}{keep} {cmd.ics}, {cmd.speed}, {position_text(cmd.position)}"
     if isinstance(cmd, RunConstFrameServo):
         pairs = "".join(f", {k}={position_text(p)}" for k, p in cmd.positions)
-        return f"SERVOS{keep} {cmd.speed}{pairs}"
+        return f"{name}{keep} {cmd.speed}{pairs}"
     if isinstance(cmd, RunSeriesServo):
         moves = ", ".join(f"{k}={position_text(p)}@{s}" for k, s, p in cmd.moves)
-        return f"SERIES{keep}" + (f" {moves}" if moves else "")
+        return f"{name}{keep}" + (f" {moves}" if moves else "")
     if isinstance(cmd, (SetSpeed, SetStretch)):
         values = ", ".join(f"{k}={v}" for k, v in cmd.values)
-        name = "SPEED" if isinstance(cmd, SetSpeed) else "STRETCH"
         return name + (f" {values}" if values else "")
     if isinstance(cmd, GetVersionInfo):
-        return "VERSION"
+        return name
     assert isinstance(cmd, AcknowledgeCheck)
-    return "ACKCHECK" + _flags((cmd.long_form, "LONG"))
+    return name + _flags((cmd.long_form, "LONG"))
 
 
 def _hint(cmd: Command) -> str:

@@ -4,37 +4,22 @@ from __future__ import annotations
 
 from typing import Final
 
-from rcb4hv.protocol import (
-    POSITION_FREE,
-    POSITION_HOLD,
-    Add,
-    And,
-    Condition,
-    Div,
-    Mod,
-    Mul,
-    Or,
-    Sub,
-    Xor,
-)
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, Condition
 
 __all__ = [
-    "BINARY_MNEMONICS",
+    "SHIFT_LEFT",
+    "SHIFT_RIGHT",
+    "SHIFT_WORDS",
     "condition_text",
     "position_text",
     "rom_text",
 ]
 
-BINARY_MNEMONICS: Final[dict[str, type]] = {
-    "AND": And,
-    "OR": Or,
-    "XOR": Xor,
-    "ADD": Add,
-    "SUB": Sub,
-    "MUL": Mul,
-    "DIV": Div,
-    "MOD": Mod,
-}
+SHIFT_LEFT: Final = "SHL"
+SHIFT_RIGHT: Final = "SHR"
+SHIFT_WORDS: Final[dict[str, str]] = {SHIFT_LEFT: "SHIFT", SHIFT_RIGHT: "SHIFT"}
+"""Spellings of SHIFT by direction; every other mnemonic is the command table's
+(:data:`rcb4hv.protocol.registry.BY_MNEMONIC`)."""
 
 POSITION_WORDS: Final[dict[str, int]] = {"FREE": POSITION_FREE, "HOLD": POSITION_HOLD}
 

@@ -8,8 +8,6 @@ from rcb4hv.protocol.commands import (
     POSITION_FREE,
     POSITION_HOLD,
     AcknowledgeCheck,
-    Add,
-    And,
     Call,
     Com,
     Command,
@@ -17,15 +15,11 @@ from rcb4hv.protocol.commands import (
     Condition,
     Data,
     Destination,
-    Div,
     GetVersionInfo,
     Ics,
     Jump,
-    Mod,
     Move,
-    Mul,
     Not,
-    Or,
     Ram,
     Return,
     Rom,
@@ -36,24 +30,13 @@ from rcb4hv.protocol.commands import (
     SetStretch,
     Shift,
     Source,
-    Sub,
-    Xor,
 )
+from rcb4hv.protocol.datacmds import BinaryOp
 from rcb4hv.protocol.memory import position_to_degrees
+from rcb4hv.protocol.registry import spec_of
 from rcb4hv.protocol.replies import Ack, DataReply, Nak, Reply, VersionReply
 
 __all__ = ["command_fields", "command_name", "describe_command", "describe_reply", "operand_text"]
-
-_OPS: dict[type, str] = {
-    And: "&=",
-    Or: "|=",
-    Xor: "^=",
-    Add: "+=",
-    Sub: "-=",
-    Mul: "*=",
-    Div: "/=",
-    Mod: "%=",
-}
 
 
 def command_name(cmd: Command) -> str:
@@ -101,10 +84,10 @@ def describe_command(cmd: Command) -> str:
     if isinstance(cmd, Not):
         nw = " (flags only)" if cmd.no_write else ""
         return f"Not{nw}: {operand_text(cmd.dst)} = ~{operand_text(cmd.dst)} ({cmd.size} byte(s))"
-    if isinstance(cmd, (And, Or, Xor, Add, Sub, Mul, Div, Mod)):
+    if isinstance(cmd, BinaryOp):
         nw = " (flags only, no write-back)" if cmd.no_write else ""
         return (
-            f"{name}{nw}: {operand_text(cmd.dst)} {_OPS[type(cmd)]} "
+            f"{name}{nw}: {operand_text(cmd.dst)} {spec_of(type(cmd)).symbol} "
             f"{operand_text(cmd.src)} ({cmd.nbytes} byte(s))"
         )
     if isinstance(cmd, (Jump, Call)):
