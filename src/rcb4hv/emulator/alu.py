@@ -16,19 +16,9 @@ import enum
 from collections.abc import Callable
 from typing import Final
 
-from rcb4hv.protocol import (
-    Add,
-    And,
-    Div,
-    Mod,
-    Mul,
-    Not,
-    Or,
-    Shift,
-    Sub,
-    Xor,
-)
+from rcb4hv.protocol import Op
 from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol.registry import COMMANDS
 
 __all__ = [
     "ALU",
@@ -47,30 +37,25 @@ C_BIT: Final = SYS.CARRY >> 8
 
 
 class AluOp(enum.IntEnum):
-    AND = 0
-    OR = 1
-    XOR = 2
-    ADD = 3
-    SUB = 4
-    MUL = 5
-    DIV = 6
-    MOD = 7
-    NOT = 8
-    SHIFT = 9
+    """The ALU operations, numbered by the command byte that runs them (spec section 4)."""
+
+    AND = Op.AND
+    OR = Op.OR
+    XOR = Op.XOR
+    NOT = Op.NOT
+    SHIFT = Op.SHIFT
+    ADD = Op.ADD
+    SUB = Op.SUB
+    MUL = Op.MUL
+    DIV = Op.DIV
+    MOD = Op.MOD
 
 
-#: the operation of each data command class
+_ALU_BYTES: Final = frozenset(int(op) for op in AluOp)
+
+#: the operation of each data command class, derived from the command table by command byte
 OP_OF: Final[dict[type, AluOp]] = {
-    And: AluOp.AND,
-    Or: AluOp.OR,
-    Xor: AluOp.XOR,
-    Add: AluOp.ADD,
-    Sub: AluOp.SUB,
-    Mul: AluOp.MUL,
-    Div: AluOp.DIV,
-    Mod: AluOp.MOD,
-    Not: AluOp.NOT,
-    Shift: AluOp.SHIFT,
+    s.cls: AluOp(s.opcode) for s in COMMANDS if s.opcode in _ALU_BYTES
 }
 
 # (a, b, mask) -> (result, carry or None = unchanged); a and b are unsigned, result masked

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import Final
+from typing import Any, Final
 
 from rcb4hv.emulator import accel
 from rcb4hv.emulator.alu import OP_OF, AluOp, alu, condition_table, set_flags
@@ -71,6 +71,7 @@ from rcb4hv.protocol import (
     frame_at,
 )
 from rcb4hv.protocol.describe import describe_command
+from rcb4hv.protocol.registry import COMMANDS
 
 __all__ = ["STACK_DEPTH", "Interpreter"]
 
@@ -88,6 +89,9 @@ OK: Final = 0
 ROMERR: Final = 1
 CMDERR: Final = 2
 Entry = tuple[Command | None, int, int, accel.Executor | None, str]
+Handler = Callable[[Any, int | None], Reply | None]
+"""Runs one command (``next_pc`` None: from COM); the interpreter's dispatch is keyed by class."""
+ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
 Operand = Ram | Ics | Rom | Data | Com
 
 
@@ -118,6 +122,7 @@ class Interpreter:
         self._logic_clear = config.logic_carry == "clear"
         self.cache: dict[int, Entry] = {}
         self.loop_memo: dict[tuple[int, int], int] = {}
+        self.dispatch = self._dispatch_table()
         self.instructions_executed = 0
         self.reset(0)
 
@@ -207,51 +212,74 @@ class Interpreter:
 
     def execute(self, cmd: Command, next_pc: int | None) -> Reply | None:
         """Run one command; ``next_pc`` is None from COM, else the address after it in ROM."""
-        from_com = next_pc is None
-        if isinstance(cmd, Move):
-            data = self.read(cmd.src, cmd.nbytes)
-            if isinstance(cmd.dst, Com):
-                return DataReply(cmd.cmd, data)
-            self.write(cmd.dst, data)
+        return self.dispatch[type(cmd)](cmd, next_pc)
+
+    def _dispatch_table(self) -> dict[type, Handler]:
+        """Class -> handler, one per row of the protocol's command table: the ALU commands
+        (by command byte) run :meth:`_exec_alu`, every other one ``_exec_<mnemonic>``."""
+        table: dict[type, Handler] = {}
+        for spec in COMMANDS:
+            if spec.cls in OP_OF:
+                table[spec.cls] = self._exec_alu
+            else:
+                table[spec.cls] = getattr(self, "_exec_" + spec.mnemonic.lower())
+        return table
+
+    def _exec_move(self, cmd: Move, next_pc: int | None) -> Reply | None:
+        data = self.read(cmd.src, cmd.nbytes)
+        if isinstance(cmd.dst, Com):
+            return DataReply(cmd.cmd, data)
+        self.write(cmd.dst, data)
+        return Ack(cmd.cmd)
+
+    def _exec_alu(self, cmd: accel.DataCommand, next_pc: int | None) -> Reply | None:
+        result = self.data_op(cmd, OP_OF[type(cmd)])
+        if self.config.logic_reply == "ack":
             return Ack(cmd.cmd)
-        op = OP_OF.get(type(cmd))
-        if op is not None:
-            result = self.data_op(cmd, op)  # type: ignore[arg-type]
-            if self.config.logic_reply == "ack":
-                return Ack(cmd.cmd)
-            return DataReply(cmd.cmd, result)
-        if isinstance(cmd, (RunSingleServo, RunConstFrameServo, RunSeriesServo)):
-            self.servos.command(cmd)
-            return Ack(cmd.cmd)
-        if isinstance(cmd, (SetSpeed, SetStretch)):
-            s = self.servos
-            values = s.stretch if isinstance(cmd, SetStretch) else s.speed_parameter
-            for ics, v in cmd.values:
-                values[ics] = v
-            return Ack(cmd.cmd)
-        if isinstance(cmd, Jump):
-            if self.holds(cmd.condition.to_byte()):
-                self.set_pc(cmd.address % ROM_SIZE)
-            return Ack(cmd.cmd)
-        if isinstance(cmd, Call):
-            if self.holds(cmd.condition.to_byte()):
-                self.push(self.pc if next_pc is None else next_pc, host=from_com)
-                self.set_pc(cmd.address % ROM_SIZE)
-            return Ack(cmd.cmd)
-        if isinstance(cmd, Return):
-            target, host = self.pop()
-            self.set_pc(target)
-            if host and next_pc is not None:
-                at = (next_pc - _RETURN_SIZE) % ROM_SIZE
-                self._record("return-to-host", at, f"returned to {target:05X}h for the host", cmd)
-            return Ack(cmd.cmd)
-        if isinstance(cmd, GetVersionInfo):
-            return VersionReply(self.config.version_string) if from_com else None
-        if isinstance(cmd, AcknowledgeCheck):
-            return Ack(cmd.cmd) if from_com else None
-        if isinstance(cmd, CommunicateDevice):
-            raise CommandError("ICS communication (0Eh): no device answers")
-        raise CommandError(f"unsupported command {cmd!r}")  # pragma: no cover
+        return DataReply(cmd.cmd, result)
+
+    def _exec_servo(self, cmd: ServoCommand, next_pc: int | None) -> Reply | None:
+        self.servos.command(cmd)
+        return Ack(cmd.cmd)
+
+    _exec_servos = _exec_series = _exec_servo
+
+    def _exec_stretch(self, cmd: SetSpeed | SetStretch, next_pc: int | None) -> Reply | None:
+        s = self.servos
+        values = s.stretch if isinstance(cmd, SetStretch) else s.speed_parameter
+        for ics, v in cmd.values:
+            values[ics] = v
+        return Ack(cmd.cmd)
+
+    _exec_speed = _exec_stretch
+
+    def _exec_jump(self, cmd: Jump, next_pc: int | None) -> Reply | None:
+        if self.holds(cmd.condition.to_byte()):
+            self.set_pc(cmd.address % ROM_SIZE)
+        return Ack(cmd.cmd)
+
+    def _exec_call(self, cmd: Call, next_pc: int | None) -> Reply | None:
+        if self.holds(cmd.condition.to_byte()):
+            self.push(self.pc if next_pc is None else next_pc, host=next_pc is None)
+            self.set_pc(cmd.address % ROM_SIZE)
+        return Ack(cmd.cmd)
+
+    def _exec_return(self, cmd: Return, next_pc: int | None) -> Reply | None:
+        target, host = self.pop()
+        self.set_pc(target)
+        if host and next_pc is not None:
+            at = (next_pc - _RETURN_SIZE) % ROM_SIZE
+            self._record("return-to-host", at, f"returned to {target:05X}h for the host", cmd)
+        return Ack(cmd.cmd)
+
+    def _exec_version(self, cmd: GetVersionInfo, next_pc: int | None) -> Reply | None:
+        return VersionReply(self.config.version_string) if next_pc is None else None
+
+    def _exec_ackcheck(self, cmd: AcknowledgeCheck, next_pc: int | None) -> Reply | None:
+        return Ack(cmd.cmd) if next_pc is None else None
+
+    def _exec_icscomm(self, cmd: CommunicateDevice, next_pc: int | None) -> Reply | None:
+        raise CommandError("ICS communication (0Eh): no device answers")
 
     def data_op(self, cmd: accel.DataCommand, op: AluOp) -> bytes:
         """AND..SHIFT: compute through the ALU, write back unless NW, set Z and C."""
@@ -307,9 +335,10 @@ class Interpreter:
             return (None, len(frame), CMDERR, None, f"not a command: {frame.hex(' ')} ({exc})")
         fn = accel.compile_command(cmd, self) if self.accelerate else None
         if fn is None:
+            handler = self.dispatch[type(cmd)]
 
             def generic(nxt: int) -> object:
-                return self.execute(cmd, nxt)
+                return handler(cmd, nxt)
 
             fn = generic
         return (cmd, len(frame), OK, fn, "")

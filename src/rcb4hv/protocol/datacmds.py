@@ -153,7 +153,6 @@ class BinaryOp:
     size: int | None = None
     no_write: bool = False
     cmd: ClassVar[int] = -1
-    name: ClassVar[str] = ""
     max_size: ClassVar[int] = 128
     allowed_dst: ClassVar[tuple[type, ...]] = (Ram, Ics, Rom)
 
@@ -162,7 +161,9 @@ class BinaryOp:
         object.__setattr__(self, "size", size)
         if not isinstance(self.no_write, bool):
             raise ValueError("no_write must be a bool")
-        _validate_operands(self.name, self.dst, self.src, size, self.max_size, self.allowed_dst)
+        _validate_operands(
+            type(self).__name__.upper(), self.dst, self.src, size, self.max_size, self.allowed_dst
+        )
 
     @property
     def nbytes(self) -> int:
@@ -190,7 +191,6 @@ class And(BinaryOp):
     """01h AND: ``dst &= src``; Z = result is zero."""
 
     cmd: ClassVar[int] = Op.AND
-    name: ClassVar[str] = "AND"
 
 
 @dataclass(frozen=True, slots=True)
@@ -198,7 +198,6 @@ class Or(BinaryOp):
     """02h OR: ``dst |= src``; Z = result is zero."""
 
     cmd: ClassVar[int] = Op.OR
-    name: ClassVar[str] = "OR"
 
 
 @dataclass(frozen=True, slots=True)
@@ -206,7 +205,6 @@ class Xor(BinaryOp):
     """03h XOR: ``dst ^= src``; Z = result is zero."""
 
     cmd: ClassVar[int] = Op.XOR
-    name: ClassVar[str] = "XOR"
 
 
 _ARITH_DST: Final = (Ram, Ics, Com, Rom)
@@ -217,7 +215,6 @@ class Add(BinaryOp):
     """06h ADD (1 or 2 bytes): C = carry out of the width."""
 
     cmd: ClassVar[int] = Op.ADD
-    name: ClassVar[str] = "ADD"
     max_size: ClassVar[int] = 2
     allowed_dst: ClassVar[tuple[type, ...]] = _ARITH_DST
 
@@ -227,7 +224,6 @@ class Sub(BinaryOp):
     """07h SUB (1 or 2 bytes): C = 1 unless it borrowed (C = dst >= src)."""
 
     cmd: ClassVar[int] = Op.SUB
-    name: ClassVar[str] = "SUB"
     max_size: ClassVar[int] = 2
     allowed_dst: ClassVar[tuple[type, ...]] = _ARITH_DST
 
@@ -237,7 +233,6 @@ class Mul(BinaryOp):
     """08h MUL (1 or 2 bytes, low bytes kept): C = the product overflowed."""
 
     cmd: ClassVar[int] = Op.MUL
-    name: ClassVar[str] = "MUL"
     max_size: ClassVar[int] = 2
     allowed_dst: ClassVar[tuple[type, ...]] = _ARITH_DST
 
@@ -247,7 +242,6 @@ class Div(BinaryOp):
     """09h DIV (1 or 2 bytes, unsigned integer division)."""
 
     cmd: ClassVar[int] = Op.DIV
-    name: ClassVar[str] = "DIV"
     max_size: ClassVar[int] = 2
     allowed_dst: ClassVar[tuple[type, ...]] = _ARITH_DST
 
@@ -257,7 +251,6 @@ class Mod(BinaryOp):
     """0Ah MOD (1 or 2 bytes, unsigned remainder)."""
 
     cmd: ClassVar[int] = Op.MOD
-    name: ClassVar[str] = "MOD"
     max_size: ClassVar[int] = 2
     allowed_dst: ClassVar[tuple[type, ...]] = _ARITH_DST
 
@@ -268,12 +261,13 @@ class UnaryOp:
     size: int
     no_write: bool = False
     cmd: ClassVar[int] = -1
-    name: ClassVar[str] = ""
 
     def __post_init__(self) -> None:
         if not isinstance(self.no_write, bool):
             raise ValueError("no_write must be a bool")
-        _validate_operands(self.name, self.dst, None, self.size, 128, (Ram, Ics, Rom))
+        _validate_operands(
+            type(self).__name__.upper(), self.dst, None, self.size, 128, (Ram, Ics, Rom)
+        )
 
     @property
     def nbytes(self) -> int:
@@ -293,7 +287,7 @@ class UnaryOp:
     def _unary_header(cls, frame: bytes, operand_free: bool) -> tuple[bool, Destination]:
         nw, dst, src_kind = _data_header(frame)
         if len(frame) != 10 or src_kind != KIND_RAM or frame[6] != 0 or (operand_free and frame[7]):
-            raise ProtocolError(f"malformed {cls.name} frame")
+            raise ProtocolError(f"malformed {cls.__name__.upper()} frame")
         return nw, dst
 
     @classmethod
@@ -311,7 +305,6 @@ class Not(UnaryOp):
     """04h NOT: ``dst = ~dst`` (frame ``0A 04 TYPE D0 D1 D2 00 00 SIZE SUM``)."""
 
     cmd: ClassVar[int] = Op.NOT
-    name: ClassVar[str] = "NOT"
 
 
 @dataclass(frozen=True, slots=True)
@@ -324,7 +317,6 @@ class Shift(UnaryOp):
 
     count: int = 0
     cmd: ClassVar[int] = Op.SHIFT
-    name: ClassVar[str] = "SHIFT"
 
     def __post_init__(self) -> None:
         check_int("SHIFT count", self.count, 0, 0xFF)
