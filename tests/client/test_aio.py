@@ -15,9 +15,9 @@ from contextlib import ExitStack
 import pytest
 
 from rcb4hv.aio import AsyncRcb4Client, AsyncRobot, PolledTransport, StreamTransport
+from rcb4hv.emulator import emulator_url
 from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import Button, Com, Data, Ics, Ram
-from rcb4hv.transport import emulator_url
 from tests.client.conftest import make_board
 
 LINKS = ("inproc", "pty", "tcp")
