@@ -11,10 +11,12 @@ import click
 
 from rcb4hv.cli import _output
 from rcb4hv.cli._util import (
-    connection_options,
+    ADDRESS,
+    INTEGER,
+    Connection,
     handle_errors,
-    open_robot,
     parse_int,
+    pass_connection,
     print_json,
     print_table,
 )
@@ -59,12 +61,12 @@ def register(cli: click.Group) -> None:
     """Add this module's commands to ``cli``."""
 
     @cli.command()
-    @connection_options
+    @pass_connection
     @click.option("-n", "--count", type=click.IntRange(min=1), default=1, show_default=True)
     @handle_errors
-    def ping(port: str | None, baud: str, timeout: float, count: int) -> None:
+    def ping(conn: Connection, count: int) -> None:
         """ACK check: is a board there? Prints the round-trip time."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             times = [robot.ping() for _ in range(count)]
         url = robot.client.transport.url
         if count == 1:
@@ -76,12 +78,12 @@ def register(cli: click.Group) -> None:
             )
 
     @cli.command()
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def version(port: str | None, baud: str, timeout: float, as_json: bool) -> None:
+    def version(conn: Connection, as_json: bool) -> None:
         """The board's version string."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             v = robot.version()
         if as_json:
             print_json({"text": v.text, "raw": v.version.hex()})
@@ -89,12 +91,12 @@ def register(cli: click.Group) -> None:
             click.echo(v.text)
 
     @cli.command()
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def info(port: str | None, baud: str, timeout: float, as_json: bool) -> None:
+    def info(conn: Connection, as_json: bool) -> None:
         """System register, ROM program state and servo table."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             board = robot.info()
             if as_json:
                 print_json(board.describe())
@@ -125,16 +127,14 @@ def register(cli: click.Group) -> None:
         """Read and write board RAM (0000h-048Fh)."""
 
     @ram.command("read")
-    @click.argument("address", type=parse_int)
-    @click.argument("size", type=parse_int, default=16)
-    @connection_options
+    @click.argument("address", type=ADDRESS)
+    @click.argument("size", type=INTEGER, default=16)
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def ram_read(
-        address: int, size: int, port: str | None, baud: str, timeout: float, as_json: bool
-    ) -> None:
+    def ram_read(conn: Connection, address: int, size: int, as_json: bool) -> None:
         """Read SIZE bytes at ADDRESS (decimal, 0x.. or ..h)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             data = robot.read_ram(address, size)
         if as_json:
             print_json({"address": address, "size": size, "hex": data.hex()})
@@ -142,14 +142,14 @@ def register(cli: click.Group) -> None:
             _hexdump(address, data)
 
     @ram.command("write")
-    @click.argument("address", type=parse_int)
+    @click.argument("address", type=ADDRESS)
     @click.argument("data")
-    @connection_options
+    @pass_connection
     @handle_errors
-    def ram_write(address: int, data: str, port: str | None, baud: str, timeout: float) -> None:
+    def ram_write(conn: Connection, address: int, data: str) -> None:
         """Write hex DATA (e.g. "0a ff 10") at ADDRESS."""
         raw = bytes.fromhex(data.replace(":", " "))
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.write_ram(address, raw)
         click.echo(f"wrote {len(raw)} byte(s) at {address:04X}")
 
@@ -160,16 +160,14 @@ def register(cli: click.Group) -> None:
         """Read, write and dump the 256 KB ROM (EEPROM)."""
 
     @rom.command("read")
-    @click.argument("address", type=parse_int)
-    @click.argument("size", type=parse_int, default=64)
-    @connection_options
+    @click.argument("address", type=ADDRESS)
+    @click.argument("size", type=INTEGER, default=64)
+    @pass_connection
     @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path))
     @handle_errors
-    def rom_read(
-        address: int, size: int, port: str | None, baud: str, timeout: float, output: Path | None
-    ) -> None:
+    def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> None:
         """Read SIZE bytes of ROM at ADDRESS (hex dump, or raw bytes to --output)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             data = robot.read_rom(address, size)
         if output is not None:
             output.write_bytes(data)
@@ -178,26 +176,20 @@ def register(cli: click.Group) -> None:
             _hexdump(address, data)
 
     @rom.command("write")
-    @click.argument("address", type=parse_int)
+    @click.argument("address", type=ADDRESS)
     @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @connection_options
+    @pass_connection
     @click.option("--verify/--no-verify", default=True, show_default=True)
     @click.option("--progress/--no-progress", default=True, show_default=True)
     @handle_errors
     def rom_write(
-        address: int,
-        image: Path,
-        port: str | None,
-        baud: str,
-        timeout: float,
-        verify: bool,
-        progress: bool,
+        conn: Connection, address: int, image: Path, verify: bool, progress: bool
     ) -> None:
         """Write the bytes of IMAGE to ROM at ADDRESS (64-byte chunks, read back)."""
         data = image.read_bytes()
         if not data:
             raise ValueError(f"{image} is empty")
-        with open_robot(port, baud, timeout) as robot, _output.progress(
+        with conn.open() as robot, _output.progress(
             len(data), "rom write", progress
         ) as bar:
             robot.write_rom(address, data, verify=verify, progress=bar)
@@ -208,22 +200,14 @@ def register(cli: click.Group) -> None:
     @click.option(
         "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True
     )
-    @click.option("--start", type=parse_int, default=0, show_default=True)
-    @click.option("--size", type=parse_int, default=ROM_SIZE, show_default=True)
-    @connection_options
+    @click.option("--start", type=ADDRESS, default=0, show_default=True)
+    @click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
+    @pass_connection
     @click.option("--progress/--no-progress", default=True, show_default=True)
     @handle_errors
-    def rom_dump(
-        output: Path,
-        start: int,
-        size: int,
-        port: str | None,
-        baud: str,
-        timeout: float,
-        progress: bool,
-    ) -> None:
+    def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool) -> None:
         """Save ROM (default: all 256 KB) to an image file."""
-        with open_robot(port, baud, timeout) as robot, _output.progress(
+        with conn.open() as robot, _output.progress(
             size, "rom dump", progress
         ) as bar:
             data = robot.read_rom(start, size, progress=bar)
@@ -237,12 +221,12 @@ def register(cli: click.Group) -> None:
         """List, move, free and hold servos (by ICS number = ID x 2 + port group)."""
 
     @servo.command("list")
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def servo_list(port: str | None, baud: str, timeout: float, as_json: bool) -> None:
+    def servo_list(conn: Connection, as_json: bool) -> None:
         """Servos found through the ICS allocation table."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             servos = robot.discover_servos()
             if as_json:
                 print_json([s.describe() for s in servos])
@@ -257,17 +241,16 @@ def register(cli: click.Group) -> None:
     @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.5, show_default=True)
     @click.option("--wait/--no-wait", default=True, show_default=True)
     @click.option("--unchecked", is_flag=True, help="Allow positions outside 3500..11500.")
-    @connection_options
+    @pass_connection
     @handle_errors
     def servo_move(
-        targets: tuple[str, ...],
+        conn: Connection,
+        targets: tuple[str,
+        ...],
         deg: bool,
         duration: float,
         wait: bool,
         unchecked: bool,
-        port: str | None,
-        baud: str,
-        timeout: float,
     ) -> None:
         """Move servos, e.g. `servo move 2=8000 4=7000` or `servo move --deg 2=30`."""
         values: dict[int, float] = {}
@@ -279,7 +262,7 @@ def register(cli: click.Group) -> None:
                 values[parse_int(k)] = float(v)
             except ValueError as exc:
                 raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             if deg:
                 positions = {k: robot.to_position(k, a) for k, a in values.items()}
             else:
@@ -290,22 +273,22 @@ def register(cli: click.Group) -> None:
         click.echo("moved " + ", ".join(f"ICS {k} -> {p}" for k, p in sorted(positions.items())))
 
     @servo.command("free")
-    @click.argument("ics", nargs=-1, type=parse_int)
-    @connection_options
+    @click.argument("ics", nargs=-1, type=INTEGER)
+    @pass_connection
     @handle_errors
-    def servo_free(ics: tuple[int, ...], port: str | None, baud: str, timeout: float) -> None:
+    def servo_free(conn: Connection, ics: tuple[int, ...]) -> None:
         """Torque off (all servos if no ICS number is given)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.free(ics or None)
             click.echo(f"freed {len(ics) if ics else len(robot.servo_ids)} servo(s)")
 
     @servo.command("hold")
-    @click.argument("ics", nargs=-1, type=parse_int)
-    @connection_options
+    @click.argument("ics", nargs=-1, type=INTEGER)
+    @pass_connection
     @handle_errors
-    def servo_hold(ics: tuple[int, ...], port: str | None, baud: str, timeout: float) -> None:
+    def servo_hold(conn: Connection, ics: tuple[int, ...]) -> None:
         """Torque on at the current position (all servos if no ICS number is given)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.hold(ics or None)
             click.echo(f"holding {len(ics) if ics else len(robot.servo_ids)} servo(s)")
 
@@ -328,19 +311,13 @@ def register(cli: click.Group) -> None:
     @click.option("--wait/--no-wait", default=False, show_default=True)
     @click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
     @layout_option
-    @connection_options
+    @pass_connection
     @handle_errors
     def motion_play(
-        number: int,
-        wait: bool,
-        wait_timeout: float,
-        layout: str,
-        port: str | None,
-        baud: str,
-        timeout: float,
+        conn: Connection, number: int, wait: bool, wait_timeout: float, layout: str
     ) -> None:
         """Play motion NUMBER (1-120)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.play_motion(number)
@@ -352,34 +329,32 @@ def register(cli: click.Group) -> None:
     @motion.command("stop")
     @click.option("--pause", is_flag=True, help="Only pause (resume continues it).")
     @layout_option
-    @connection_options
+    @pass_connection
     @handle_errors
-    def motion_stop(pause: bool, layout: str, port: str | None, baud: str, timeout: float) -> None:
+    def motion_stop(conn: Connection, pause: bool, layout: str) -> None:
         """Stop the motion: back to the main loop (or --pause the ROM program)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             robot.stop_motion(reset=not pause)
         click.echo("paused" if pause else "stopped; board back in its main loop")
 
     @motion.command("resume")
-    @connection_options
+    @pass_connection
     @handle_errors
-    def motion_resume(port: str | None, baud: str, timeout: float) -> None:
+    def motion_resume(conn: Connection) -> None:
         """Let a paused ROM program run on."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.resume_motion()
         click.echo("resumed")
 
     @motion.command("wait")
     @click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
     @layout_option
-    @connection_options
+    @pass_connection
     @handle_errors
-    def motion_wait(
-        wait_timeout: float, layout: str, port: str | None, baud: str, timeout: float
-    ) -> None:
+    def motion_wait(conn: Connection, wait_timeout: float, layout: str) -> None:
         """Wait until no motion plays (exit status 1 on timeout)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.wait_motion(timeout=wait_timeout)
@@ -387,14 +362,12 @@ def register(cli: click.Group) -> None:
 
     @motion.command("status")
     @layout_option
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def motion_status(
-        layout: str, port: str | None, baud: str, timeout: float, as_json: bool
-    ) -> None:
+    def motion_status(conn: Connection, layout: str, as_json: bool) -> None:
         """The motion being played (if any), PC, call depth, update flags."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             st = robot.motion_status()
         if as_json:
@@ -418,16 +391,14 @@ def register(cli: click.Group) -> None:
     @button.command("press")
     @click.argument("names", nargs=-1, required=True, metavar="BUTTON...")
     @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.3, show_default=True)
-    @connection_options
+    @pass_connection
     @handle_errors
-    def button_press(
-        names: tuple[str, ...], duration: float, port: str | None, baud: str, timeout: float
-    ) -> None:
+    def button_press(conn: Connection, names: tuple[str, ...], duration: float) -> None:
         """Hold BUTTONs (up, down, left, right, triangle, cross, circle, square, s1-s4)."""
         pressed = Button.NONE
         for n in names:
             pressed |= _parse_button(n)
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.press_button(pressed, duration)
         label = "+".join(b.name or "" for b in Button if b and b in pressed)
         click.echo(f"pressed {label} for {duration:g} s")

@@ -9,9 +9,9 @@ import click
 
 from rcb4hv.cli import _output, project_check_cmd
 from rcb4hv.cli._util import (
-    connection_options,
+    Connection,
     handle_errors,
-    open_robot,
+    pass_connection,
     print_json,
     print_table,
 )
@@ -295,7 +295,7 @@ def register(cli: click.Group) -> None:
 
     @project.command("upload")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @connection_options
+    @pass_connection
     @click.option(
         "--only-changed",
         is_flag=True,
@@ -317,10 +317,8 @@ def register(cli: click.Group) -> None:
     @build_options
     @handle_errors
     def upload(
+        conn: Connection,
         file: Path,
-        port: str | None,
-        baud: str,
-        timeout: float,
         only_changed: bool,
         verify: bool,
         restart: bool,
@@ -330,7 +328,7 @@ def register(cli: click.Group) -> None:
         from rcb4hv.project.upload import upload_image
 
         image, _, _ = load_image(file)
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             if only_changed:
                 with _output.progress(len(image), "read", progress) as rbar:
                     current = robot.read_rom(0, len(image), progress=rbar)
