@@ -21,7 +21,7 @@ from rcb4hv.cli._util import (
     print_table,
 )
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
-from rcb4hv.protocol import ROM_SIZE, Button
+from rcb4hv.protocol import POSITION_HOLD, ROM_SIZE, Button
 from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
 
 LAYOUTS: dict[str, MotionLayout] = {v: ROM_LAYOUTS[v] for v in ("1.3", "2.0", "2.1", "2.2")}
@@ -41,7 +41,7 @@ def servo_rows(servos: list[ServoInfo], robot: Robot) -> list[list[object]]:
         deg = robot.to_degrees(s.ics, b.measured)
         rows.append(
             [s.ics, s.servo_id, s.port, f"{s.block_address:04X}", b.base, b.measured,
-             f"{deg:+.1f}", f"{b.output:04X}" if b.output >= 0x7FFF else b.output, s.state]
+             f"{deg:+.1f}", f"{b.output:04X}" if b.output >= POSITION_HOLD else b.output, s.state]
         )
     return rows
 
