@@ -10,7 +10,7 @@ from typing import Any
 import pytest
 
 from rcb4hv.client import Rcb4Client, Robot
-from rcb4hv.transport import emulator_url
+from rcb4hv.emulator import emulator_url
 from tests.client.aio_bridge import BlockingBridge
 
 TRANSPORTS = ("inproc", "pty", "tcp", "aio-inproc", "aio-pty", "aio-tcp")

@@ -15,9 +15,9 @@ from contextlib import ExitStack
 import pytest
 
 from rcb4hv.aio import AsyncRcb4Client, AsyncRobot, PolledTransport, StreamTransport
+from rcb4hv.emulator import emulator_url
 from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import Button, Com, Data, Ics, Ram
-from rcb4hv.transport import emulator_url
 from tests.client.conftest import make_board
 
 LINKS = ("inproc", "pty", "tcp")
@@ -257,3 +257,49 @@ def test_async_robot_reads_the_layout_from_the_board(version: str) -> None:
             await robot.wait_motion(timeout=5.0)
 
     asyncio.run(main())
+
+
+def test_async_play_stop_and_resume_send_the_host_sequences() -> None:
+    """The async robot sends exactly the frames of rcb4hv.protocol.sequences (as Robot does)."""
+    from rcb4hv.protocol import Command, Move
+    from rcb4hv.protocol import sequences as seq
+    from rcb4hv.protocol.memory import SYS
+
+    board = make_board()
+
+    async def main() -> None:
+        async with await AsyncRobot.open(emulator_url(board)) as robot:
+            await robot.wait_ready(timeout=5.0)
+            lay = await robot.board_layout()
+            sent: list[Command] = []
+            transact = robot.client.transact
+
+            async def recording(command: Command, timeout: float | None = None) -> object:
+                if not (isinstance(command, Move) and isinstance(command.dst, Com)):
+                    sent.append(command)  # reads excluded: only what the sequence writes
+                return await transact(command, timeout)
+
+            robot.client.transact = recording  # type: ignore[method-assign,assignment]
+            word = await robot.system_word()
+            await robot.play_motion(1)
+            assert sent == seq.play_motion(word, lay.address(1), lay.main_loop)
+            assert (await robot.motion_status()).motion == 1
+            sent.clear()
+            word = await robot.system_word()
+            await robot.stop_motion(reset=False)
+            assert sent == seq.stop_program(word, lay.main_loop, reset=False)
+            assert not (await robot.system_register()).rom_run
+            assert (await robot.motion_status()).motion == 1
+            sent.clear()
+            await robot.resume_motion()
+            assert sent == seq.resume_program(word & ~SYS.ROM_RUN)
+            await robot.wait_motion(timeout=5.0)
+            await robot.play_motion(1)
+            await robot.stop_motion()
+            status = await robot.motion_status()
+            assert status.motion is None and lay.main_loop <= status.pc < lay.motion_base
+
+    try:
+        asyncio.run(main())
+    finally:
+        board.close()

@@ -14,8 +14,9 @@ from hypothesis import strategies as st
 
 from rcb4hv.cli.main import cli
 from rcb4hv.client import Rcb4Client, Robot, plan_reads
+from rcb4hv.emulator import emulator_url
 from rcb4hv.errors import Rcb4TimeoutError, TransportError
-from rcb4hv.transport import SerialTransport, emulator_url, find_kondo_ports, resolve_port
+from rcb4hv.transport import SerialTransport, find_kondo_ports, resolve_port
 from rcb4hv.transport import serial_port as sp
 from tests.client.conftest import make_board
 

@@ -13,10 +13,9 @@ import pytest
 from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
-from rcb4hv.emulator import Board, EmulatorConfig, PtyServer, RealClock
+from rcb4hv.emulator import Board, EmulatorConfig, PtyServer, RealClock, emulator_url
 from rcb4hv.hardware import Host, PortInfo, all_passed, install_commands, run_doctor, udev_rule
 from rcb4hv.protocol.memory import ADDR, SYS
-from rcb4hv.transport import emulator_url
 
 
 def _run(*args: str) -> tuple[int, str, str]:

@@ -10,11 +10,10 @@ from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
 from rcb4hv.client import Robot
-from rcb4hv.emulator import Board, EmulatorConfig, PtyServer, RealClock, TcpServer
+from rcb4hv.emulator import Board, EmulatorConfig, PtyServer, RealClock, TcpServer, emulator_url
 from rcb4hv.project.upload import PAGE_SIZE, changed_pages, upload_image
 from rcb4hv.protocol import Move, Rom, decode_command
 from rcb4hv.rom import default_image, layout
-from rcb4hv.transport.protocol_rcb4emu import emulator_url
 
 
 def _board() -> Board:

@@ -156,6 +156,15 @@ def test_program_state_and_reset() -> None:
     assert m.program_reset(0x00044B) == bytes.fromhex("4b 04 00 00 00 00 00 00 00 00")
 
 
+def test_update_flags_read_as_one_integer_bit_n_is_ics_n() -> None:
+    ram = bytearray(m.ADDR.RAM_SIZE)
+    ram[m.ADDR.UPDATE_FLAGS : m.ADDR.UPDATE_FLAGS + 5] = bytes.fromhex("01 00 00 00 80")
+    assert m.read_update_flags(ram) == 1 | 1 << 39
+    span = bytes(3) + bytes.fromhex("00 04 00 00 00")  # read from the board at 0004h
+    assert m.read_update_flags(span, m.ADDR.UPDATE_FLAGS - 4) == 1 << 10
+
+
+
 @given(st.integers(0, 0x7FFF), st.booleans())
 def test_timer_round_trip(count: int, running: bool) -> None:
     t = m.TimerState(count, running)

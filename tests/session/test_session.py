@@ -8,10 +8,9 @@ from collections.abc import Iterator
 
 import pytest
 
-from rcb4hv.emulator import Board, EmulatorConfig, RealClock
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock, emulator_url
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
 from rcb4hv.session import BoardSession, MeteredTransport, wire_seconds
-from rcb4hv.transport import emulator_url
 
 
 @pytest.fixture

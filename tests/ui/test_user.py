@@ -14,10 +14,9 @@ from nicegui import ui
 from nicegui.testing.user import User
 from nicegui.testing.user_simulation import user_simulation
 
-from rcb4hv.emulator import Board, EmulatorConfig, RealClock
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock, emulator_url
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
 from rcb4hv.session import BoardSession
-from rcb4hv.transport import emulator_url
 from rcb4hv.ui.app import build_root
 from rcb4hv.ui.context import UiContext
 

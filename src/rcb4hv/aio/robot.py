@@ -29,16 +29,30 @@ from rcb4hv.client.robot import (
 from rcb4hv.errors import NakError, Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
-    ICS_COUNT,
     POSITION_FREE,
     POSITION_HOLD,
     RAM_SIZE,
     SERVO,
     Button,
+    Command,
     ServoBlock,
     SystemRegister,
 )
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol import sequences as seq
+from rcb4hv.protocol.memory import (
+    RUN_STATE_SIZE,
+    SYS,
+    U16_BE,
+    ad_volts,
+    read_buttons,
+    read_pc,
+    read_run_state,
+    read_s16,
+    read_system,
+    read_u16,
+    u16_bytes,
+    unpack_alloc,
+)
 from rcb4hv.rom.layout import HTH4_22, OLDER_MAIN_LOOP, MotionLayout
 from rcb4hv.rom.older import main_loop_layout
 from rcb4hv.transport import DEFAULT_BAUD
@@ -121,11 +135,15 @@ class AsyncRobot:
     async def system_register(self) -> SystemRegister:
         return SystemRegister.from_bytes(await self.client.read_ram(ADDR.SYSTEM, 2))
 
-    async def _system_word(self) -> int:
-        return int.from_bytes(await self.client.read_ram(ADDR.SYSTEM, 2), "little")
+    async def system_word(self) -> int:
+        """The system register as its raw word (what :mod:`rcb4hv.protocol.sequences` takes)."""
+        return read_system(await self.client.read_ram(ADDR.SYSTEM, 2), 0)
 
-    async def _set_system_word(self, word: int) -> None:
-        await self.client.write_ram(ADDR.SYSTEM, (word & 0xFFFF).to_bytes(2, "little"))
+    async def send_sequence(self, commands: Iterable[Command]) -> None:
+        """Send a host sequence (:mod:`rcb4hv.protocol.sequences`) command by command; each
+        must be acknowledged (:class:`~rcb4hv.errors.NakError` otherwise)."""
+        for cmd in commands:
+            await self.client.transact(cmd)
 
     async def output_period(self) -> float:
         """Servo output period in seconds (system register bits 5-4), cached."""
@@ -151,8 +169,8 @@ class AsyncRobot:
         deadline = time.monotonic() + timeout
         lay = await self.board_layout()
         while True:
-            head = await self.client.read_ram(ADDR.SYSTEM, 6)
-            word, pc, depth = head[0] | head[1] << 8, int.from_bytes(head[2:5], "little"), head[5]
+            head = await self.client.read_ram(ADDR.SYSTEM, ADDR.CALL_DEPTH + 1)
+            word, pc, depth = read_system(head), read_pc(head), head[ADDR.CALL_DEPTH]
             if not word & SYS.ROM_RUN or (lay.main_loop <= pc < lay.motion_base and depth == 0):
                 return
             if time.monotonic() >= deadline:
@@ -165,9 +183,8 @@ class AsyncRobot:
 
     async def allocation_table(self) -> list[int | None]:
         """``alloc[0..35]``: the RAM address of each ICS number's block, or None."""
-        raw = await self.client.read_ram(ADDR.ICS_ALLOC, 2 * ICS_COUNT)
-        words = (raw[2 * k] | raw[2 * k + 1] << 8 for k in range(ICS_COUNT))
-        return [None if v == 0xFFFF else v for v in words]
+        raw = await self.client.read_ram(ADDR.ICS_ALLOC, 2 * ADDR.ICS_ALLOC_COUNT)
+        return unpack_alloc(raw, 0)
 
     async def discover_servos(self) -> list[ServoInfo]:
         """Servos from the allocation table (see :meth:`Robot.discover_servos`)."""
@@ -227,7 +244,7 @@ class AsyncRobot:
         offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
         sel = await self._select(ics)
         raw = await self._read_field(sel, offset, 2)
-        return {k: int.from_bytes(raw[k], "little") for k in sel}
+        return {k: read_u16(raw[k], 0) for k in sel}
 
     async def angles(
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
@@ -312,36 +329,28 @@ class AsyncRobot:
 
     async def motion_status(self) -> MotionStatus:
         """PC, call depth and update flags (one frame), and the motion being played."""
-        raw = await self.client.read_ram(ADDR.PC, 10)
-        pc = int.from_bytes(raw[0:3], "little")
-        depth, flags = raw[3], bytes(raw[5:10])
+        pc, depth, flags = read_run_state(await self.client.read_ram(ADDR.PC, RUN_STATE_SIZE), 0)
         motion = (await self.board_layout()).motion_at(pc)
         running = motion is not None and (depth != 0 or any(flags))
         return MotionStatus(pc, depth, flags, motion if running else None, running)
 
     async def play_motion(self, motion: int, *, wait: bool = False, timeout: float = 60.0) -> None:
         """Play ``motion`` the way HeartToHeart4 does (spec 11.4; see :meth:`Robot.play_motion`)."""
-        address = (await self.board_layout()).address(motion)
-        word = await self._system_word()
-        bits = SYS.ICS_OUTPUT | SYS.ROM_RUN | SYS.VECTOR_JUMP
-        await self._set_system_word(word & ~bits)
-        await self._reset_program()
-        await self.client.call(address)
-        await self._set_system_word(word | bits)
+        lay = await self.board_layout()
+        address = lay.address(motion)
+        await self.send_sequence(seq.play_motion(await self.system_word(), address, lay.main_loop))
         if wait:
             await self.wait_motion(timeout=timeout)
 
-    async def _reset_program(self) -> None:
-        main_loop = (await self.board_layout()).main_loop
-        await self.client.write_ram(ADDR.PC, main_loop.to_bytes(3, "little") + bytes(7))
-
     async def stop_motion(self, *, reset: bool = True) -> None:
         """Stop the ROM program (``reset``: back to the main loop, running)."""
-        word = await self._system_word()
-        await self._set_system_word(word & ~SYS.ROM_RUN)
-        if reset:
-            await self._reset_program()
-            await self._set_system_word(word | SYS.ROM_RUN)
+        main_loop = (await self.board_layout()).main_loop
+        word = await self.system_word()
+        await self.send_sequence(seq.stop_program(word, main_loop, reset=reset))
+
+    async def resume_motion(self) -> None:
+        """Let the ROM program run again (sets ROM_F)."""
+        await self.send_sequence(seq.resume_program(await self.system_word()))
 
     async def wait_motion(self, *, timeout: float = 60.0, poll: float = 0.02) -> None:
         """Wait until no motion plays; Rcb4TimeoutError after ``timeout`` seconds."""
@@ -360,14 +369,14 @@ class AsyncRobot:
 
     async def buttons(self) -> Button:
         """The remote-control button word (0350h, high byte first)."""
-        return Button.from_ram(await self.client.read_ram(ADDR.BUTTONS, 2))
+        return read_buttons(await self.client.read_ram(ADDR.BUTTONS, 2), 0)
 
     async def set_buttons(self, buttons: Button | int) -> None:
         """Write the button word: a virtual remote control."""
         value = int(buttons)
         if not 0 <= value <= 0xFFFF:
             raise ValueError("the button word is 16 bits")
-        await self.client.write_ram(ADDR.BUTTONS, value.to_bytes(2, "big"))
+        await self.client.write_ram(ADDR.BUTTONS, U16_BE.pack(value))
 
     async def press_button(self, buttons: Button | int, duration: float = 0.2) -> None:
         """Hold ``buttons`` for ``duration`` seconds, then release."""
@@ -381,15 +390,13 @@ class AsyncRobot:
 
     async def battery_voltage(self) -> float:
         """Supply voltage from AD0: AD0 * 25 / 1024 volts."""
-        raw = await self.client.read_ram(ADDR.AD_VALUES, 2)
-        return ((raw[0] | raw[1] << 8) & 0x3FF) * 25 / 1024
+        return ad_volts(read_u16(await self.client.read_ram(ADDR.ad(0), 2), 0))
 
     async def variable(self, n: int) -> int:
         """User variable ``n`` (0-19), a signed 16-bit value."""
-        raw = await self.client.read_ram(ADDR.user_variable(n), 2)
-        return int.from_bytes(raw, "little", signed=True)
+        return read_s16(await self.client.read_ram(ADDR.user_variable(n), 2), 0)
 
     async def set_variable(self, n: int, value: int) -> None:
         if not -0x8000 <= value <= 0xFFFF:
             raise ValueError("user variables are 16 bits")
-        await self.client.write_ram(ADDR.user_variable(n), (value & 0xFFFF).to_bytes(2, "little"))
+        await self.client.write_ram(ADDR.user_variable(n), u16_bytes(value))

@@ -6,7 +6,8 @@ import functools
 import json
 import sys
 from collections.abc import Callable, Sequence
-from typing import Any, TypeVar
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Final, TypeVar
 
 import click
 
@@ -15,11 +16,19 @@ from rcb4hv.errors import Rcb4Error
 from rcb4hv.transport import BAUD_RATES, DEFAULT_BAUD
 
 __all__ = [
+    "ADDRESS",
+    "BAUD",
+    "INTEGER",
+    "AddressType",
+    "BaudType",
+    "Connection",
+    "IntegerType",
     "connection_options",
     "error_line",
     "handle_errors",
     "open_robot",
     "parse_int",
+    "pass_connection",
     "print_json",
     "print_table",
 ]
@@ -49,16 +58,56 @@ def handle_errors(func: F) -> F:
     return wrapper  # type: ignore[return-value]
 
 
-def _baud(value: str) -> int | None:
-    if value == "auto":
-        return None
-    try:
-        rate = int(value)
-    except ValueError as exc:
-        raise click.BadParameter(f"{value!r} is not a baud rate or 'auto'") from exc
-    if rate not in BAUD_RATES:
-        raise click.BadParameter(f"{rate} is not one of {', '.join(map(str, BAUD_RATES))}")
-    return rate
+if TYPE_CHECKING:  # click >= 8.2 types ParamType by its value; older click is not generic
+    _IntParam = click.ParamType[int, Any]
+    _BaudParam = click.ParamType[int | None, Any]
+else:
+    _IntParam = _BaudParam = click.ParamType
+
+
+class IntegerType(_IntParam):
+    """An integer in decimal, ``0x..`` or ``..h`` hex (``_`` separators allowed)."""
+
+    name = "integer"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        if isinstance(value, int):  # a default given as an int
+            return value
+        try:
+            return _to_int(str(value))
+        except ValueError:
+            self.fail(f"{value!r} is not a number (decimal, 0x.. or ..h)", param, ctx)
+
+
+class AddressType(IntegerType):
+    """A board address: ``0B80h``, ``0x0B80`` or ``2944`` (decimal)."""
+
+    name = "address"
+
+
+class BaudType(_BaudParam):
+    """A baud rate of the board (115200, 625000, 1250000), or ``auto``: ``None``, found by an
+    ACK check at each rate."""
+
+    name = "baud"
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> int | None:
+        if value is None or value == "auto":
+            return None
+        try:
+            rate = int(value)
+        except ValueError:
+            self.fail(f"{value!r} is not a baud rate or 'auto'", param, ctx)
+        if rate not in BAUD_RATES:
+            self.fail(f"{rate} is not one of {', '.join(map(str, BAUD_RATES))}", param, ctx)
+        return rate
+
+
+INTEGER: Final = IntegerType()
+ADDRESS: Final = AddressType()
+BAUD: Final = BaudType()
 
 
 def connection_options(func: F) -> F:
@@ -72,6 +121,7 @@ def connection_options(func: F) -> F:
     )(func)
     func = click.option(
         "--baud",
+        type=BAUD,
         default=str(DEFAULT_BAUD),
         show_default=True,
         help="115200, 625000, 1250000, or 'auto' (ACK check at each rate).",
@@ -89,11 +139,11 @@ def connection_options(func: F) -> F:
     return func
 
 
-def open_robot(port: str | None, baud: str, timeout: float) -> Robot:
+def open_robot(port: str | None, baud: int | None, timeout: float) -> Robot:
     """Open the board. An in-process ``rcb4emu://`` board is new for every command, so wait for
     its start-up program (it copies the servo table to RAM) before the command looks at it; a
     real board, or an emulator served by ``rcb4hv emulate``, is used as it is."""
-    robot = Robot.open(port, baudrate=_baud(baud), timeout=timeout)
+    robot = Robot.open(port, baudrate=baud, timeout=timeout)
     if port is not None and port.startswith("rcb4emu:"):
         try:
             robot.wait_ready(timeout=10.0)
@@ -103,17 +153,51 @@ def open_robot(port: str | None, baud: str, timeout: float) -> Robot:
     return robot
 
 
-def parse_int(text: str | int) -> int:
-    """An integer in decimal, ``0x..`` or ``..h`` hex (click passes int defaults as they are)."""
-    if isinstance(text, int):
-        return text
+@dataclass(frozen=True, slots=True)
+class Connection:
+    """The link a command was given (``--port``, ``--baud``, ``--timeout``): the context object
+    :func:`pass_connection` hands to a command. :meth:`open` opens the board when the command
+    needs it (after it has checked its own arguments)."""
+
+    port: str | None
+    baud: int | None
+    timeout: float
+
+    def open(self) -> Robot:
+        return open_robot(self.port, self.baud, self.timeout)
+
+
+_pass_connection_object = click.make_pass_decorator(Connection)
+
+
+def pass_connection(func: Callable[..., Any]) -> Callable[..., Any]:
+    """The connection options on a command, and its :class:`Connection` as the first argument.
+
+    The options become ``ctx.obj`` and reach the command through
+    ``click.make_pass_decorator(Connection)``, so every command that talks to a board takes
+    one object instead of three options.
+    """
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, port: str | None, baud: int | None, timeout: float, **kw: Any) -> Any:
+        ctx = click.get_current_context()
+        ctx.obj = Connection(port, baud, timeout)
+        return ctx.invoke(_pass_connection_object(func), *args, **kw)
+
+    return connection_options(wrapper)
+
+
+def _to_int(text: str) -> int:
     t = text.strip().lower().replace("_", "")
-    try:
-        if t.endswith("h"):
-            return int(t[:-1], 16)
-        return int(t, 0)
-    except ValueError as exc:
-        raise click.BadParameter(f"{text!r} is not a number (decimal, 0x.. or ..h)") from exc
+    if t.endswith("h"):
+        return int(t[:-1], 16)
+    return int(t, 0)
+
+
+def parse_int(text: str | int) -> int:
+    """An integer in decimal, ``0x..`` or ``..h`` hex (as :data:`INTEGER`, for values found
+    inside another argument such as ``ICS=VALUE``)."""
+    return INTEGER.convert(text, None, None)
 
 
 def print_json(data: object) -> None:

@@ -1,45 +1,30 @@
 """``rcb4hv`` commands that talk to a board: ping, version, info, ram, rom, servo, motion,
-button, demo."""
+button (``rcb4hv demo`` is in :mod:`rcb4hv.cli.demo_cmd`)."""
 
 from __future__ import annotations
 
-import math
 import statistics
-import sys
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 import click
 
+from rcb4hv.cli import _output
 from rcb4hv.cli._util import (
-    connection_options,
+    ADDRESS,
+    INTEGER,
+    Connection,
     handle_errors,
-    open_robot,
     parse_int,
+    pass_connection,
     print_json,
     print_table,
 )
-from rcb4hv.client import MotionLayout, PositionRecorder, Robot, ServoInfo
-from rcb4hv.protocol import ROM_SIZE, Button
+from rcb4hv.client import MotionLayout, Robot, ServoInfo
+from rcb4hv.protocol import POSITION_HOLD, ROM_SIZE, Button
 from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
 
 LAYOUTS: dict[str, MotionLayout] = {v: ROM_LAYOUTS[v] for v in ("1.3", "2.0", "2.1", "2.2")}
-
-
-@contextmanager
-def _progress(total: int, desc: str, enabled: bool) -> Iterator[Callable[[int, int], None]]:
-    from tqdm import tqdm
-
-    with tqdm(
-        total=total, desc=desc, unit="B", unit_scale=True, disable=not enabled, file=sys.stderr
-    ) as bar:
-
-        def update(done: int, _total: int) -> None:
-            bar.update(done - bar.n)
-
-        yield update
 
 
 def _hexdump(address: int, data: bytes) -> None:
@@ -49,14 +34,14 @@ def _hexdump(address: int, data: bytes) -> None:
         click.echo(f"{address + i:06X}  {row.hex(' '):<47}  {text}")
 
 
-def _servo_rows(servos: list[ServoInfo], robot: Robot) -> list[list[object]]:
+def servo_rows(servos: list[ServoInfo], robot: Robot) -> list[list[object]]:
     rows: list[list[object]] = []
     for s in servos:
         b = s.block
         deg = robot.to_degrees(s.ics, b.measured)
         rows.append(
             [s.ics, s.servo_id, s.port, f"{s.block_address:04X}", b.base, b.measured,
-             f"{deg:+.1f}", f"{b.output:04X}" if b.output >= 0x7FFF else b.output, s.state]
+             f"{deg:+.1f}", f"{b.output:04X}" if b.output >= POSITION_HOLD else b.output, s.state]
         )
     return rows
 
@@ -76,12 +61,12 @@ def register(cli: click.Group) -> None:
     """Add this module's commands to ``cli``."""
 
     @cli.command()
-    @connection_options
+    @pass_connection
     @click.option("-n", "--count", type=click.IntRange(min=1), default=1, show_default=True)
     @handle_errors
-    def ping(port: str | None, baud: str, timeout: float, count: int) -> None:
+    def ping(conn: Connection, count: int) -> None:
         """ACK check: is a board there? Prints the round-trip time."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             times = [robot.ping() for _ in range(count)]
         url = robot.client.transport.url
         if count == 1:
@@ -93,12 +78,12 @@ def register(cli: click.Group) -> None:
             )
 
     @cli.command()
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def version(port: str | None, baud: str, timeout: float, as_json: bool) -> None:
+    def version(conn: Connection, as_json: bool) -> None:
         """The board's version string."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             v = robot.version()
         if as_json:
             print_json({"text": v.text, "raw": v.version.hex()})
@@ -106,12 +91,12 @@ def register(cli: click.Group) -> None:
             click.echo(v.text)
 
     @cli.command()
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def info(port: str | None, baud: str, timeout: float, as_json: bool) -> None:
+    def info(conn: Connection, as_json: bool) -> None:
         """System register, ROM program state and servo table."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             board = robot.info()
             if as_json:
                 print_json(board.describe())
@@ -133,7 +118,7 @@ def register(cli: click.Group) -> None:
             click.echo(f"servos         {len(board.servos)}")
             if board.servos:
                 click.echo()
-                print_table(SERVO_HEADERS, _servo_rows(board.servos, robot))
+                print_table(SERVO_HEADERS, servo_rows(board.servos, robot))
 
     # ------------------------------------------------------------------ ram
 
@@ -142,16 +127,14 @@ def register(cli: click.Group) -> None:
         """Read and write board RAM (0000h-048Fh)."""
 
     @ram.command("read")
-    @click.argument("address", type=parse_int)
-    @click.argument("size", type=parse_int, default=16)
-    @connection_options
+    @click.argument("address", type=ADDRESS)
+    @click.argument("size", type=INTEGER, default=16)
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def ram_read(
-        address: int, size: int, port: str | None, baud: str, timeout: float, as_json: bool
-    ) -> None:
+    def ram_read(conn: Connection, address: int, size: int, as_json: bool) -> None:
         """Read SIZE bytes at ADDRESS (decimal, 0x.. or ..h)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             data = robot.read_ram(address, size)
         if as_json:
             print_json({"address": address, "size": size, "hex": data.hex()})
@@ -159,14 +142,14 @@ def register(cli: click.Group) -> None:
             _hexdump(address, data)
 
     @ram.command("write")
-    @click.argument("address", type=parse_int)
+    @click.argument("address", type=ADDRESS)
     @click.argument("data")
-    @connection_options
+    @pass_connection
     @handle_errors
-    def ram_write(address: int, data: str, port: str | None, baud: str, timeout: float) -> None:
+    def ram_write(conn: Connection, address: int, data: str) -> None:
         """Write hex DATA (e.g. "0a ff 10") at ADDRESS."""
         raw = bytes.fromhex(data.replace(":", " "))
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.write_ram(address, raw)
         click.echo(f"wrote {len(raw)} byte(s) at {address:04X}")
 
@@ -177,16 +160,14 @@ def register(cli: click.Group) -> None:
         """Read, write and dump the 256 KB ROM (EEPROM)."""
 
     @rom.command("read")
-    @click.argument("address", type=parse_int)
-    @click.argument("size", type=parse_int, default=64)
-    @connection_options
+    @click.argument("address", type=ADDRESS)
+    @click.argument("size", type=INTEGER, default=64)
+    @pass_connection
     @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path))
     @handle_errors
-    def rom_read(
-        address: int, size: int, port: str | None, baud: str, timeout: float, output: Path | None
-    ) -> None:
+    def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> None:
         """Read SIZE bytes of ROM at ADDRESS (hex dump, or raw bytes to --output)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             data = robot.read_rom(address, size)
         if output is not None:
             output.write_bytes(data)
@@ -195,26 +176,20 @@ def register(cli: click.Group) -> None:
             _hexdump(address, data)
 
     @rom.command("write")
-    @click.argument("address", type=parse_int)
+    @click.argument("address", type=ADDRESS)
     @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @connection_options
+    @pass_connection
     @click.option("--verify/--no-verify", default=True, show_default=True)
     @click.option("--progress/--no-progress", default=True, show_default=True)
     @handle_errors
     def rom_write(
-        address: int,
-        image: Path,
-        port: str | None,
-        baud: str,
-        timeout: float,
-        verify: bool,
-        progress: bool,
+        conn: Connection, address: int, image: Path, verify: bool, progress: bool
     ) -> None:
         """Write the bytes of IMAGE to ROM at ADDRESS (64-byte chunks, read back)."""
         data = image.read_bytes()
         if not data:
             raise ValueError(f"{image} is empty")
-        with open_robot(port, baud, timeout) as robot, _progress(
+        with conn.open() as robot, _output.progress(
             len(data), "rom write", progress
         ) as bar:
             robot.write_rom(address, data, verify=verify, progress=bar)
@@ -225,22 +200,14 @@ def register(cli: click.Group) -> None:
     @click.option(
         "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True
     )
-    @click.option("--start", type=parse_int, default=0, show_default=True)
-    @click.option("--size", type=parse_int, default=ROM_SIZE, show_default=True)
-    @connection_options
+    @click.option("--start", type=ADDRESS, default=0, show_default=True)
+    @click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
+    @pass_connection
     @click.option("--progress/--no-progress", default=True, show_default=True)
     @handle_errors
-    def rom_dump(
-        output: Path,
-        start: int,
-        size: int,
-        port: str | None,
-        baud: str,
-        timeout: float,
-        progress: bool,
-    ) -> None:
+    def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool) -> None:
         """Save ROM (default: all 256 KB) to an image file."""
-        with open_robot(port, baud, timeout) as robot, _progress(
+        with conn.open() as robot, _output.progress(
             size, "rom dump", progress
         ) as bar:
             data = robot.read_rom(start, size, progress=bar)
@@ -254,19 +221,19 @@ def register(cli: click.Group) -> None:
         """List, move, free and hold servos (by ICS number = ID x 2 + port group)."""
 
     @servo.command("list")
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def servo_list(port: str | None, baud: str, timeout: float, as_json: bool) -> None:
+    def servo_list(conn: Connection, as_json: bool) -> None:
         """Servos found through the ICS allocation table."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             servos = robot.discover_servos()
             if as_json:
                 print_json([s.describe() for s in servos])
             elif not servos:
                 click.echo("no servo allocated")
             else:
-                print_table(SERVO_HEADERS, _servo_rows(servos, robot))
+                print_table(SERVO_HEADERS, servo_rows(servos, robot))
 
     @servo.command("move")
     @click.argument("targets", nargs=-1, required=True, metavar="ICS=VALUE...")
@@ -274,17 +241,16 @@ def register(cli: click.Group) -> None:
     @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.5, show_default=True)
     @click.option("--wait/--no-wait", default=True, show_default=True)
     @click.option("--unchecked", is_flag=True, help="Allow positions outside 3500..11500.")
-    @connection_options
+    @pass_connection
     @handle_errors
     def servo_move(
-        targets: tuple[str, ...],
+        conn: Connection,
+        targets: tuple[str,
+        ...],
         deg: bool,
         duration: float,
         wait: bool,
         unchecked: bool,
-        port: str | None,
-        baud: str,
-        timeout: float,
     ) -> None:
         """Move servos, e.g. `servo move 2=8000 4=7000` or `servo move --deg 2=30`."""
         values: dict[int, float] = {}
@@ -296,7 +262,7 @@ def register(cli: click.Group) -> None:
                 values[parse_int(k)] = float(v)
             except ValueError as exc:
                 raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             if deg:
                 positions = {k: robot.to_position(k, a) for k, a in values.items()}
             else:
@@ -307,22 +273,22 @@ def register(cli: click.Group) -> None:
         click.echo("moved " + ", ".join(f"ICS {k} -> {p}" for k, p in sorted(positions.items())))
 
     @servo.command("free")
-    @click.argument("ics", nargs=-1, type=parse_int)
-    @connection_options
+    @click.argument("ics", nargs=-1, type=INTEGER)
+    @pass_connection
     @handle_errors
-    def servo_free(ics: tuple[int, ...], port: str | None, baud: str, timeout: float) -> None:
+    def servo_free(conn: Connection, ics: tuple[int, ...]) -> None:
         """Torque off (all servos if no ICS number is given)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.free(ics or None)
             click.echo(f"freed {len(ics) if ics else len(robot.servo_ids)} servo(s)")
 
     @servo.command("hold")
-    @click.argument("ics", nargs=-1, type=parse_int)
-    @connection_options
+    @click.argument("ics", nargs=-1, type=INTEGER)
+    @pass_connection
     @handle_errors
-    def servo_hold(ics: tuple[int, ...], port: str | None, baud: str, timeout: float) -> None:
+    def servo_hold(conn: Connection, ics: tuple[int, ...]) -> None:
         """Torque on at the current position (all servos if no ICS number is given)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.hold(ics or None)
             click.echo(f"holding {len(ics) if ics else len(robot.servo_ids)} servo(s)")
 
@@ -345,19 +311,13 @@ def register(cli: click.Group) -> None:
     @click.option("--wait/--no-wait", default=False, show_default=True)
     @click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
     @layout_option
-    @connection_options
+    @pass_connection
     @handle_errors
     def motion_play(
-        number: int,
-        wait: bool,
-        wait_timeout: float,
-        layout: str,
-        port: str | None,
-        baud: str,
-        timeout: float,
+        conn: Connection, number: int, wait: bool, wait_timeout: float, layout: str
     ) -> None:
         """Play motion NUMBER (1-120)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.play_motion(number)
@@ -369,34 +329,32 @@ def register(cli: click.Group) -> None:
     @motion.command("stop")
     @click.option("--pause", is_flag=True, help="Only pause (resume continues it).")
     @layout_option
-    @connection_options
+    @pass_connection
     @handle_errors
-    def motion_stop(pause: bool, layout: str, port: str | None, baud: str, timeout: float) -> None:
+    def motion_stop(conn: Connection, pause: bool, layout: str) -> None:
         """Stop the motion: back to the main loop (or --pause the ROM program)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             robot.stop_motion(reset=not pause)
         click.echo("paused" if pause else "stopped; board back in its main loop")
 
     @motion.command("resume")
-    @connection_options
+    @pass_connection
     @handle_errors
-    def motion_resume(port: str | None, baud: str, timeout: float) -> None:
+    def motion_resume(conn: Connection) -> None:
         """Let a paused ROM program run on."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.resume_motion()
         click.echo("resumed")
 
     @motion.command("wait")
     @click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
     @layout_option
-    @connection_options
+    @pass_connection
     @handle_errors
-    def motion_wait(
-        wait_timeout: float, layout: str, port: str | None, baud: str, timeout: float
-    ) -> None:
+    def motion_wait(conn: Connection, wait_timeout: float, layout: str) -> None:
         """Wait until no motion plays (exit status 1 on timeout)."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.wait_motion(timeout=wait_timeout)
@@ -404,14 +362,12 @@ def register(cli: click.Group) -> None:
 
     @motion.command("status")
     @layout_option
-    @connection_options
+    @pass_connection
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
     @handle_errors
-    def motion_status(
-        layout: str, port: str | None, baud: str, timeout: float, as_json: bool
-    ) -> None:
+    def motion_status(conn: Connection, layout: str, as_json: bool) -> None:
         """The motion being played (if any), PC, call depth, update flags."""
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             st = robot.motion_status()
         if as_json:
@@ -435,155 +391,16 @@ def register(cli: click.Group) -> None:
     @button.command("press")
     @click.argument("names", nargs=-1, required=True, metavar="BUTTON...")
     @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.3, show_default=True)
-    @connection_options
+    @pass_connection
     @handle_errors
-    def button_press(
-        names: tuple[str, ...], duration: float, port: str | None, baud: str, timeout: float
-    ) -> None:
+    def button_press(conn: Connection, names: tuple[str, ...], duration: float) -> None:
         """Hold BUTTONs (up, down, left, right, triangle, cross, circle, square, s1-s4)."""
         pressed = Button.NONE
         for n in names:
             pressed |= _parse_button(n)
-        with open_robot(port, baud, timeout) as robot:
+        with conn.open() as robot:
             robot.press_button(pressed, duration)
         label = "+".join(b.name or "" for b in Button if b and b in pressed)
         click.echo(f"pressed {label} for {duration:g} s")
 
     # ------------------------------------------------------------------ demo
-
-    @cli.command()
-    @click.option(
-        "-o",
-        "--output",
-        type=click.Path(dir_okay=False, path_type=Path),
-        default=Path("demo-servo-angles.png"),
-        show_default=True,
-        help="Where to write the plot of servo angles over time.",
-    )
-    @click.option(
-        "--port",
-        default=None,
-        metavar="URL",
-        help="Run on this board instead of the in-process emulator (careful: it moves!).",
-    )
-    @click.option("--speed", type=click.FloatRange(min=0.1), default=1.0, show_default=True,
-                  help="Emulator clock speed factor.")
-    @click.option("--motion", "motion_number", type=click.IntRange(1, 120), default=1,
-                  show_default=True)
-    @handle_errors
-    def demo(output: Path, port: str | None, speed: float, motion_number: int) -> None:
-        """Drive a virtual robot end to end and plot its servo angles."""
-        run_demo(output, port, speed, motion_number)
-
-
-# ---------------------------------------------------------------------------- the demo
-
-
-def run_demo(output: Path, port: str | None, speed: float, motion_number: int) -> None:
-    """`make demo`: the library at work on the in-process emulator, and a plot of it."""
-    t_start = time.monotonic()
-    url = port or f"rcb4emu://?speed={speed:g}&boot=live"  # show the start-up too
-    click.echo(f"rcb4hv demo on {url}")
-    with Robot.open(url, timeout=0.5) as robot:
-        click.echo(f"board: {robot.version().text!r}, ACK in {robot.ping() * 1000:.2f} ms")
-        sysreg = robot.system_register()
-        click.echo(
-            f"system register {sysreg.to_word():04X}h: output period "
-            f"{sysreg.frame_period_ms} ms, ROM program {'running' if sysreg.rom_run else 'idle'}"
-        )
-        t0 = time.monotonic()
-        robot.wait_ready(timeout=10.0)
-        click.echo(f"ROM start-up program finished after {time.monotonic() - t0:.2f} s")
-        servos = robot.discover_servos()
-        click.echo(f"\n{len(servos)} servos found through the ICS allocation table:")
-        print_table(SERVO_HEADERS, _servo_rows(servos, robot))
-        if not servos:
-            raise ValueError("the board has no servo to move")
-        ids = [s.ics for s in servos]
-        # a few joints to move by hand: the first four servos after the head (if any)
-        joints = ids[1:5] if len(ids) > 4 else ids[:4]
-        recorder = PositionRecorder(robot, period=0.02)
-        with recorder:
-            recorder.mark("hold")
-            robot.hold()
-            time.sleep(0.2 / speed)
-            recorder.mark("move")
-            angles = (30.0, -20.0, 45.0, -40.0)
-            targets = {k: angles[i % 4] for i, k in enumerate(joints)}
-            click.echo(
-                "\nmoving " + ", ".join(f"ICS {k} to {a:+.0f} deg" for k, a in targets.items())
-                + " in 0.8 s"
-            )
-            t0 = time.monotonic()
-            robot.move_angles(targets, 0.8, wait=True)
-            click.echo(f"  done after {time.monotonic() - t0:.2f} s")
-            back = {k: -a / 2 for k, a in targets.items()}
-            click.echo("then to half the opposite angle in 0.5 s")
-            robot.move_angles(back, 0.5, wait=True)
-            click.echo("then all servos to neutral in 0.6 s")
-            robot.neutral(duration=0.6, wait=True)
-            recorder.mark("motion")
-            click.echo(f"\nplaying motion {motion_number}")
-            t0 = time.monotonic()
-            robot.play_motion(motion_number)
-            time.sleep(0.05)
-            robot.wait_motion(timeout=30.0)
-            click.echo(f"  motion {motion_number} ended after {time.monotonic() - t0:.2f} s")
-            time.sleep(0.2)
-        click.echo(
-            f"\nsampled {len(recorder.samples)} bulk position reads "
-            f"({recorder.errors} failed) through the client while it worked"
-        )
-        path = _plot(recorder, robot, output, joints)
-    click.echo(f"plot written to {path.resolve()}")
-    click.echo(f"demo finished in {time.monotonic() - t_start:.1f} s")
-
-
-def _plot(recorder: PositionRecorder, robot: Robot, output: Path, joints: list[int]) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    samples = recorder.samples
-    if not samples:
-        raise ValueError("no position samples were recorded")
-    ids = sorted(samples[-1].angles)
-    moved = [
-        k for k in ids
-        if max(_finite(s.angles.get(k)) for s in samples)
-        - min(_finite(s.angles.get(k)) for s in samples) > 1.0
-    ]
-    fig, ax = plt.subplots(figsize=(11, 6), dpi=110)
-    for k in moved or ids:
-        ts = [s.t for s in samples]
-        ys = [s.angles.get(k, math.nan) for s in samples]
-        style = "-" if k in joints else "--"
-        sid, grp = divmod(k, 2)
-        ax.plot(ts, ys, style, lw=1.6 if k in joints else 1.0,
-                label=f"ICS {k} (ID {sid}, {'SIO1-4' if grp == 0 else 'SIO5-8'})")
-    marks = recorder.marks
-    colours = {"hold": "#eeeeee", "move": "#e3f0ff", "motion": "#fff1dd"}
-    for i, (t, label) in enumerate(marks):
-        t_end = marks[i + 1][0] if i + 1 < len(marks) else samples[-1].t
-        ax.axvspan(t, t_end, color=colours.get(label, "#f5f5f5"), zorder=0)
-        text = {"hold": "hold", "move": "timed moves", "motion": "ROM motion"}.get(label, label)
-        ax.text(t + 0.02, 1.01, text, transform=ax.get_xaxis_transform(), fontsize=9)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("measured angle [deg]")
-    ax.set_title(
-        f"rcb4hv demo: servo angles read through the client ({len(samples)} bulk reads, "
-        f"output period {robot.output_period() * 1000:.0f} ms)",
-        fontsize=11, pad=18,
-    )
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.tight_layout()
-    output.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(output)
-    plt.close(fig)
-    return output
-
-
-def _finite(v: float | None) -> float:
-    return 0.0 if v is None or math.isnan(v) else v

@@ -2,19 +2,16 @@
 
 from __future__ import annotations
 
-import sys
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 import click
 
-from rcb4hv.cli import project_check_cmd
+from rcb4hv.cli import _output, project_check_cmd
 from rcb4hv.cli._util import (
-    connection_options,
+    Connection,
     handle_errors,
-    open_robot,
+    pass_connection,
     print_json,
     print_table,
 )
@@ -25,24 +22,7 @@ from rcb4hv.rom.layout import HTH4_22, MotionLayout
 STATUS_EXIT = {"error": 1, "timeout": 2, "stalled": 2}
 
 
-@contextmanager
-def _progress(total: int, desc: str, enabled: bool) -> Iterator[Callable[[int, int], None]]:
-    from tqdm import tqdm
-
-    with tqdm(
-        total=total, desc=desc, unit="B", unit_scale=True, disable=not enabled, file=sys.stderr
-    ) as bar:
-
-        def update(done: int, new_total: int) -> None:
-            if new_total != bar.total:
-                bar.total = new_total
-                bar.refresh()
-            bar.update(done - bar.n)
-
-        yield update
-
-
-def _parse_buttons(text: str) -> int:
+def parse_buttons(text: str) -> int:
     value = 0
     for part in text.replace("|", "+").replace(",", "+").split("+"):
         name = part.strip().upper()
@@ -75,7 +55,7 @@ LAYOUT_OPTION = click.option(
 )
 
 
-def _load(
+def load_image(
     path: Path, layout_name: str | None = None
 ) -> tuple[bytes, MotionLayout, dict[int, str]]:
     """(image, layout, names by slot) of a .h4p project or a raw 256 KB image file."""
@@ -103,6 +83,9 @@ def register(cli: click.Group) -> None:
         """HeartToHeart4 projects (.h4p): build, inspect, check, simulate and upload ROM images."""
 
     project_check_cmd.register(project)
+    from rcb4hv.cli import project_sim_cmd  # it builds on this module's helpers
+
+    project_sim_cmd.register(project)
 
     # ------------------------------------------------------------------ build
 
@@ -308,155 +291,11 @@ def register(cli: click.Group) -> None:
             ],
         )
 
-    # ------------------------------------------------------------------ simulate
-
-    @project.command("simulate")
-    @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option(
-        "--motion",
-        "motion",
-        type=click.IntRange(1, 120),
-        multiple=True,
-        help="Motion slot to play (repeatable; default: every used slot).",
-    )
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @click.option(
-        "--plot",
-        type=click.Path(dir_okay=False, path_type=Path),
-        help="Draw servo angles over virtual time into this PNG.",
-    )
-    @click.option(
-        "--hold-button",
-        "hold_button",
-        metavar="NAME",
-        help="Hold remote button(s) while each motion plays (UP, CIRCLE, UP+S1...).",
-    )
-    @click.option(
-        "--for",
-        "hold_for",
-        type=click.FloatRange(min=0),
-        default=1.0,
-        show_default=True,
-        help="Seconds to hold --hold-button, then release it.",
-    )
-    @click.option(
-        "--limit",
-        type=click.FloatRange(min=0.001),
-        default=60.0,
-        show_default=True,
-        help="Virtual seconds per motion before it counts as a timeout.",
-    )
-    @build_options
-    @LAYOUT_OPTION
-    @handle_errors
-    def simulate(
-        file: Path,
-        motion: tuple[int, ...],
-        as_json: bool,
-        plot: Path | None,
-        hold_button: str | None,
-        hold_for: float,
-        limit: float,
-        layout_name: str | None,
-    ) -> None:
-        """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
-
-        Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
-        completed (returned to the main loop), waiting (loops reading an input, e.g. a button
-        or AD sensor, as its program defines), stalled (repeats itself without reading any
-        input), timeout (--limit reached) or error (ROMERR, command error, call-stack
-        overflow/underflow; with the PC and the instruction). A boot that fails is reported with
-        its cause and the motions are still played from the host. Exit status 0 when the boot
-        and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
-        """
-        from rcb4hv.project.simulate import Simulator
-
-        image, lay, names = _load(file, layout_name)
-        hold = _parse_buttons(hold_button) if hold_button else 0
-        slots = list(motion)
-        if not slots:
-            slots = sorted(names) if names else _image_slots(image, lay)
-        samples: list[tuple[float, dict[int, int | None]]] = []
-        sim: Simulator
-
-        def record(t: float, outs: dict[int, int]) -> None:
-            # free / hold outputs have no angle
-            samples.append(
-                (
-                    t,
-                    {
-                        k: None
-                        if (st := sim.board.servo_state(k)) is None or st.output >= 0x7FFF
-                        else v
-                        for k, v in outs.items()
-                    },
-                )
-            )
-
-        sim = Simulator(image, listener=record if plot else None, motion_layout=lay)
-        boot = sim.boot()
-        starts: list[tuple[float, int]] = []
-        results = []
-        # a failed boot is reported; every motion is still played from the host (spec 11.4)
-        for slot in slots:
-            starts.append((sim.now, slot))
-            results.append(
-                sim.play(
-                    lay.address(slot),
-                    slot=slot,
-                    name=names.get(slot, ""),
-                    hold=hold,
-                    hold_for=hold_for,
-                    limit=limit,
-                )
-            )
-        summary: dict[str, int] = {}
-        for r in results:
-            summary[r.status] = summary.get(r.status, 0) + 1
-        virtual = sum(r.duration for r in results)
-        if as_json:
-            print_json(
-                {
-                    "boot": boot.to_dict(),
-                    "motions": [r.to_dict() for r in results],
-                    "summary": summary,
-                    "virtual_seconds": round(virtual, 6),
-                }
-            )
-        else:
-            click.echo(
-                f"boot: {boot.status} after {boot.duration:.3f} s virtual"
-                + (f" ({boot.detail})" if boot.detail else "")
-            )
-            print_table(
-                ("slot", "address", "name", "status", "virtual s", "instr", "detail"),
-                [
-                    [
-                        r.slot or "-",
-                        f"{r.address:05X}",
-                        r.name,
-                        r.status,
-                        f"{r.duration:.3f}",
-                        r.instructions,
-                        r.detail,
-                    ]
-                    for r in results
-                ],
-            )
-            parts = ", ".join(f"{n} {s}" for s, n in sorted(summary.items()))
-            click.echo(f"{len(results)} motions: {parts or 'none'}; {virtual:.3f} s virtual")
-        if plot is not None:
-            _plot(plot, samples, starts)
-            if not as_json:
-                click.echo(f"wrote {plot}")
-        codes = {STATUS_EXIT.get(r.status, 0) for r in [boot, *results]}
-        sys.exit(1 if 1 in codes else max(codes))
-
     # ------------------------------------------------------------------ upload
 
     @project.command("upload")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @connection_options
+    @pass_connection
     @click.option(
         "--only-changed",
         is_flag=True,
@@ -478,10 +317,8 @@ def register(cli: click.Group) -> None:
     @build_options
     @handle_errors
     def upload(
+        conn: Connection,
         file: Path,
-        port: str | None,
-        baud: str,
-        timeout: float,
         only_changed: bool,
         verify: bool,
         restart: bool,
@@ -490,15 +327,15 @@ def register(cli: click.Group) -> None:
         """Write the ROM image of FILE (.h4p or a 256 KB image) to the board at --port."""
         from rcb4hv.project.upload import upload_image
 
-        image, _, _ = _load(file)
-        with open_robot(port, baud, timeout) as robot:
+        image, _, _ = load_image(file)
+        with conn.open() as robot:
             if only_changed:
-                with _progress(len(image), "read", progress) as rbar:
+                with _output.progress(len(image), "read", progress) as rbar:
                     current = robot.read_rom(0, len(image), progress=rbar)
                 from rcb4hv.project.upload import changed_pages
 
                 n = len(changed_pages(current, image))
-                with _progress(n * 128, "write", progress) as bar:
+                with _output.progress(n * 128, "write", progress) as bar:
                     res = upload_image(
                         robot,
                         image,
@@ -509,7 +346,7 @@ def register(cli: click.Group) -> None:
                         known=current,
                     )
             else:
-                with _progress(len(image), "write", progress) as bar:
+                with _output.progress(len(image), "write", progress) as bar:
                     res = upload_image(robot, image, verify=verify, restart=restart, progress=bar)
         checked = " and verified" if verify else ""
         click.echo(
@@ -518,40 +355,7 @@ def register(cli: click.Group) -> None:
         )
 
 
-def _image_slots(image: bytes, lay: MotionLayout = HTH4_22) -> list[int]:
+def image_slots(image: bytes, lay: MotionLayout = HTH4_22) -> list[int]:
     from rcb4hv.project.image import read_image
 
     return [m.slot for m in read_image(image, lay).motions]
-
-
-def _plot(
-    path: Path, samples: list[tuple[float, dict[int, int | None]]], starts: list[tuple[float, int]]
-) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from rcb4hv.protocol import position_to_degrees
-
-    channels = sorted({k for _, outs in samples for k in outs})
-    fig, ax = plt.subplots(figsize=(max(8.0, min(60.0, len(samples) / 150)), 6))
-    times = [t for t, _ in samples]
-    for ics in channels:
-        ys = []
-        for _, outs in samples:
-            v = outs.get(ics)
-            ys.append(float("nan") if v is None else position_to_degrees(v))
-        ax.plot(times, ys, linewidth=0.8, label=f"ICS {ics}")
-    for t, slot in starts:
-        ax.axvline(t, color="grey", linewidth=0.5, linestyle=":")
-        ax.annotate(
-            str(slot), (t, 1.0), xycoords=("data", "axes fraction"), fontsize=6, va="bottom"
-        )
-    ax.set_xlabel("virtual time (s)")
-    ax.set_ylabel("servo angle (degrees, trim included)")
-    if channels:
-        ax.legend(fontsize=6, ncol=2, loc="upper right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)

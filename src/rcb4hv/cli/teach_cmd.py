@@ -82,7 +82,7 @@ def add_motion_command(
 ) -> None:
     """Save KEYFRAMES (JSON: time in seconds and ICS -> position per pose) as a new motion of
     project FILE, in a free slot, as HeartToHeart4 compiles a chain of Pos boxes."""
-    from rcb4hv.cli.project_cmd import _parse_buttons
+    from rcb4hv.cli.project_cmd import parse_buttons
 
     project = load_project(file)
     frames = parse_keyframes(json.loads(keyframes.read_text(encoding="utf-8")))
@@ -92,7 +92,7 @@ def add_motion_command(
             raise ValueError(f"{file} has no free motion slot")
         slot = free[0]
     period = SystemRegister.from_word(project.system_register).frame_period_ms
-    word = _parse_buttons(button) if button else 0
+    word = parse_buttons(button) if button else 0
     from rcb4hv.project.relocate import project_layout
 
     motion = motion_from_keyframes(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from rcb4hv.cli._util import _baud
+from rcb4hv.cli._util import BAUD
 from rcb4hv.transport import EMULATOR_URL
 
 
@@ -22,6 +22,7 @@ def register(cli: click.Group) -> None:
 )
 @click.option(
     "--baud",
+    type=BAUD,
     default="auto",
     show_default=True,
     help="Board baud rate (115200, 625000, 1250000) or 'auto' (an ACK check at each).",
@@ -40,7 +41,7 @@ def register(cli: click.Group) -> None:
 @click.option("--open", "open_browser", is_flag=True, help="Open the dashboard in a browser.")
 @click.option("--poll-hz", default=10.0, show_default=True, help="Board polling rate.")
 def ui_command(
-    url: str, baud: str, bind: str, allow_remote: bool, open_browser: bool, poll_hz: float
+    url: str, baud: int | None, bind: str, allow_remote: bool, open_browser: bool, poll_hz: float
 ) -> None:
     """Browser dashboard for a board or the emulator (servos, remote, motions, projects,
     teaching). Needs the 'ui' extra: pip install 'rcb4hv[ui]'."""
@@ -51,7 +52,7 @@ def ui_command(
         raise click.ClickException(
             f"the dashboard needs the 'ui' extra (pip install 'rcb4hv[ui]'): {exc}"
         ) from None
-    baudrate = _baud(baud)
+    baudrate = baud
     try:
         host, _ = parse_bind(bind)
     except ValueError as exc:

@@ -77,6 +77,7 @@ from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
 from rcb4hv.emulator.clock import Clock, RealClock, VirtualClock
 from rcb4hv.emulator.config import DEFAULT_VERSION, EmulatorConfig
 from rcb4hv.emulator.events import Stop, StopKind
+from rcb4hv.emulator.protocol_rcb4emu import emulator_url
 
 if TYPE_CHECKING:  # the servers need pty/termios: imported on first use
     from rcb4hv.emulator.server import PtyServer, TcpServer
@@ -95,6 +96,7 @@ __all__ = [
     "TcpServer",
     "VirtualClock",
     "boot_to_main_loop",
+    "emulator_url",
 ]
 
 

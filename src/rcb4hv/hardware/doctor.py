@@ -17,7 +17,8 @@ from typing import Literal
 from rcb4hv.client import Rcb4Client, Robot
 from rcb4hv.errors import NakError, Rcb4Error
 from rcb4hv.hardware.host import LATENCY_GOAL_MS, Host, latency_command
-from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, Com, Ics
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, SERVO, Com, Ics
+from rcb4hv.protocol.memory import read_u16
 from rcb4hv.transport import BAUD_RATES, KONDO_PIDS, KONDO_VID, SerialTransport
 from rcb4hv.transport.serial_port import PORT_ENV
 
@@ -210,11 +211,11 @@ def _servos(robot: Robot, client: Rcb4Client) -> Check:
     silent = []
     for k in servos:
         try:
-            raw = client.move(Com(), Ics(4, k), 2) or b"\x00\x00"
+            raw = client.move(Com(), Ics(SERVO.MEASURED, k), 2) or bytes(2)
         except NakError:
             silent.append(k)
             continue
-        if not POSITION_MIN <= int.from_bytes(raw, "little") <= POSITION_MAX:
+        if not POSITION_MIN <= read_u16(raw, 0) <= POSITION_MAX:
             silent.append(k)
     detail = (
         f"{len(allocated)} ICS numbers allocated, {len(servos)} servo blocks, "

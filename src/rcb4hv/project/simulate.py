@@ -73,6 +73,7 @@ from rcb4hv.protocol.memory import (
     read_alloc,
     read_system,
     read_u16,
+    read_update_flags,
 )
 from rcb4hv.rom import layout
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
@@ -223,8 +224,7 @@ class Simulator:
         return round(self.board.output_period * 1e6)
 
     def _flags(self) -> int:
-        a = ADDR.UPDATE_FLAGS
-        return int.from_bytes(self.board.ram[a : a + ADDR.UPDATE_FLAGS_SIZE], "little")
+        return read_update_flags(self.board.ram)
 
     def _depth(self) -> int:
         return self.board.ram[ADDR.CALL_DEPTH]

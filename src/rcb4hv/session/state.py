@@ -13,14 +13,20 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
-from rcb4hv.protocol import ADDR, POSITION_FREE, POSITION_HOLD, Button, SystemRegister
-from rcb4hv.protocol.memory import SYS
+from rcb4hv.protocol import ADDR, POSITION_FREE, POSITION_HOLD, SystemRegister
+from rcb4hv.protocol.memory import (
+    PA_VALUES,
+    ProgramState,
+    ad_volts,
+    read_buttons,
+    read_u16,
+)
 
 __all__ = ["AngleHistory", "BoardState", "ServoRow", "poll_state"]
 
 HEAD_SIZE = ADDR.AD_VALUES + 2
 """Bytes 0000h..0023h: system register, PC, depth, update flags, AD references, AD0."""
-REMOTE_SIZE = 6
+REMOTE_SIZE = ADDR.PA[-1] + 1 - ADDR.BUTTONS
 """Button word (2) and PA1-PA4 at 0350h."""
 
 
@@ -110,18 +116,16 @@ def poll_state(
     ``between()`` runs between the reads (the session sends pending servo moves there, so a
     poll never delays a slider by more than one read).
     """
-    head = robot.read_ram(0, HEAD_SIZE)
+    head = robot.read_ram(ADDR.SYSTEM, HEAD_SIZE)
     between()
     remote = robot.read_ram(ADDR.BUTTONS, REMOTE_SIZE)
     between()
     servos = robot.servo_states() if robot.servo_ids else []
-    word = head[0] | head[1] << 8
-    pc = int.from_bytes(head[2:5], "little")
-    depth, flags = head[5], bytes(head[7:12])
+    program = ProgramState.unpack(head, 0)
+    pc, depth, flags = program.pc, program.call_depth, program.update_flags
     layout: MotionLayout = robot.layout
     motion = layout.motion_at(pc)
-    running = motion is not None and (depth != 0 or any(flags)) and bool(word & SYS.ROM_RUN)
-    ad0 = (head[ADDR.AD_VALUES] | head[ADDR.AD_VALUES + 1] << 8) & 0x3FF
+    running = motion is not None and (depth != 0 or program.waiting) and program.running
     return BoardState(
         url=base.url,
         connected=True,
@@ -129,14 +133,14 @@ def poll_state(
         t=t,
         baudrate=base.baudrate,
         version=base.version,
-        system=SystemRegister.from_word(word),
-        battery=ad0 * 25 / 1024,
+        system=SystemRegister.from_word(program.system),
+        battery=ad_volts(read_u16(head, ADDR.ad(0) - ADDR.SYSTEM)),
         pc=pc,
         call_depth=depth,
         update_flags=flags,
         motion=motion if running else None,
-        buttons=int(Button.from_ram(remote[0:2])),
-        pa=(remote[2], remote[3], remote[4], remote[5]),
+        buttons=int(read_buttons(remote, 0)),
+        pa=PA_VALUES.unpack_from(remote, ADDR.PA[0] - ADDR.BUTTONS),
         servos=tuple(ServoRow.from_info(robot, s) for s in servos),
         polls=base.polls + 1,
     )

@@ -2,7 +2,8 @@
 
 * :class:`SerialTransport` — any pyserial ``serial_for_url`` port: device paths,
   ``socket://host:port`` (e.g. ``rcb4hv emulate --tcp``), ``rfc2217://``, ``spy://`` (hex
-  trace of the traffic) and ``rcb4emu://`` (the emulator in process, no pty needed);
+  trace of the traffic) and ``rcb4emu://`` (the emulator in process, no pty needed; its
+  handler lives in :mod:`rcb4hv.emulator.protocol_rcb4emu`, found by pyserial by name);
 * :class:`FaultyTransport` — wraps another transport and injects faults.
 
 :func:`open_transport` picks the right one for a URL, including ``fault://SPEC@URL``.
@@ -18,7 +19,6 @@ from rcb4hv.transport.faults import (
     FaultyTransport,
     parse_fault_url,
 )
-from rcb4hv.transport.protocol_rcb4emu import emulator_url
 from rcb4hv.transport.serial_port import (
     BAUD_RATES,
     DEFAULT_BAUD,
@@ -40,7 +40,6 @@ __all__ = [
     "FaultyTransport",
     "SerialTransport",
     "Transport",
-    "emulator_url",
     "find_kondo_ports",
     "open_transport",
     "parse_fault_url",

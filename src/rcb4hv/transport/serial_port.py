@@ -61,9 +61,16 @@ _PORT_ERRORS: Final = _port_errors()
 _POSIX_SERIAL: Final[type | None] = getattr(getattr(serial, "serialposix", None), "Serial", None)
 
 
+# pyserial's URL-handler registry, by package name: ``rcb4emu://`` is served by
+# rcb4hv.emulator.protocol_rcb4emu, which pyserial imports when such a URL is opened. This layer
+# imports no emulator code; the emulator plugs in through pyserial's own extension point.
+URL_HANDLER_PACKAGES: Final = ("rcb4hv.emulator",)
+
+
 def _register_handlers() -> None:
-    if "rcb4hv.transport" not in serial.protocol_handler_packages:
-        serial.protocol_handler_packages.append("rcb4hv.transport")
+    for package in URL_HANDLER_PACKAGES:
+        if package not in serial.protocol_handler_packages:
+            serial.protocol_handler_packages.append(package)
 
 
 _register_handlers()

@@ -16,7 +16,7 @@ from rcb4hv.project.image import build_project_image
 from rcb4hv.project.relocate import project_layout
 from rcb4hv.project.simulate import MotionResult, Simulator
 from rcb4hv.project.upload import UploadResult, upload_image
-from rcb4hv.protocol import COUNTS_PER_DEGREE
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, position_to_degrees
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.plot import angle_chart, set_series
 
@@ -57,10 +57,10 @@ def simulate_motion(project: Project, slot: int, *, limit: float = 60.0) -> Simu
         if count[0] % SAMPLE_EVERY:
             return
         for k, v in values.items():
-            if v in (0x7FFF, 0x8000):
+            if v in (POSITION_HOLD, POSITION_FREE):
                 continue
             series.setdefault(k, []).append(
-                (round(t - t0[0], 3), round((v - 7500) / COUNTS_PER_DEGREE, 2))
+                (round(t - t0[0], 3), round(position_to_degrees(v), 2))
             )
 
     sim = Simulator(image, listener=listen)

@@ -8,6 +8,7 @@ import time
 
 from nicegui import ui
 
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
 from rcb4hv.session import BoardState
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.plot import angle_chart, set_series
@@ -28,7 +29,7 @@ def servo_rows(state: BoardState) -> list[dict[str, object]]:
             "trim": s.trim,
             "measured": s.measured,
             "degrees": "-" if math.isnan(s.degrees) else f"{s.degrees:.1f}",
-            "output": {0x7FFF: "hold", 0x8000: "free"}.get(s.output, s.output),
+            "output": {POSITION_HOLD: "hold", POSITION_FREE: "free"}.get(s.output, s.output),
             "state": s.state,
         }
         for s in state.servos

@@ -45,6 +45,7 @@ __all__ = [
     "read_pc",
     "read_run_state",
     "read_system",
+    "read_update_flags",
     "system_word_bytes",
     "write_buttons",
     "write_system",
@@ -113,6 +114,11 @@ def read_run_state(buf: ReadBuffer, at: int = ADDR.PC) -> tuple[int, int, bytes]
 def read_pc(buf: ReadBuffer, at: int = ADDR.PC) -> int:
     """The 24-bit program counter."""
     return read_u24(buf, at)
+
+
+def read_update_flags(buf: ReadBuffer, at: int = ADDR.UPDATE_FLAGS) -> int:
+    """The 40 servo update flags (5 bytes, bit n = ICS n) as one integer."""
+    return int.from_bytes(buf[at : at + ADDR.UPDATE_FLAGS_SIZE], "little")
 
 
 def program_reset(pc: int) -> bytes:

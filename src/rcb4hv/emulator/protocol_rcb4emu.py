@@ -20,13 +20,14 @@ Options (query string):
   servos, as it would on a board powered on a while ago. ``boot=live`` opens at power-on
   and lets the start-up run in real time, as on a board just switched on.
 
-The handler module is found by pyserial because :mod:`rcb4hv.transport` appends itself to
-``serial.protocol_handler_packages`` on import.
+The handler lives with the emulator it serves. pyserial finds it by name: :mod:`rcb4hv.transport`
+adds ``rcb4hv.emulator`` to ``serial.protocol_handler_packages`` on import, and pyserial imports
+``rcb4hv.emulator.protocol_rcb4emu`` when a ``rcb4emu://`` URL is opened. The transport layer
+itself imports no emulator code (see the architecture notes in ``docs/architecture.md``).
 """
 
 from __future__ import annotations
 
-import importlib
 import itertools
 import threading
 import time
@@ -35,6 +36,11 @@ import weakref
 from typing import TYPE_CHECKING, Any, Protocol
 
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+
+from rcb4hv.emulator.board import Board
+from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
+from rcb4hv.rom.default import default_image
+from rcb4hv.rom.layout import LAYOUTS
 
 if TYPE_CHECKING:
     from typing_extensions import Buffer
@@ -106,19 +112,14 @@ class Serial(SerialBase):
             self.board, self._own_board = board, False
         else:
             try:
-                emu = importlib.import_module("rcb4hv.emulator")
-            except ImportError as exc:
-                raise SerialException(f"the emulator is not available: {exc}") from exc
-            try:
-                clock = emu.BootClock(self._speed)
+                clock = BootClock(self._speed)
                 image, lay = None, None
                 if self._layout is not None:
-                    rom = importlib.import_module("rcb4hv.rom.default")
-                    lay = importlib.import_module("rcb4hv.rom.layout").LAYOUTS[self._layout]
-                    image = rom.default_image(lay)
-                self.board = emu.Board(clock=clock, rom_image=image, rom_path=self._rom)
+                    lay = LAYOUTS[self._layout]
+                    image = default_image(lay)
+                self.board = Board(clock=clock, rom_image=image, rom_path=self._rom)
                 if self._boot_ready:
-                    emu.boot_to_main_loop(self.board, clock, lay)
+                    boot_to_main_loop(self.board, clock, lay)
                 clock.go_real()
             except (OSError, ValueError) as exc:
                 raise SerialException(f"cannot start the emulator: {exc}") from exc

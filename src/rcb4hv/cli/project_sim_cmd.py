@@ -1,0 +1,191 @@
+"""``rcb4hv project simulate``: play a project's motions in the emulator, in virtual time."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from rcb4hv.cli._output import plot_to
+from rcb4hv.cli._util import handle_errors, print_json, print_table
+from rcb4hv.cli.project_check_cmd import build_options
+from rcb4hv.cli.project_cmd import (
+    LAYOUT_OPTION,
+    STATUS_EXIT,
+    image_slots,
+    load_image,
+    parse_buttons,
+)
+from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
+
+
+@click.command("simulate")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option(
+    "--motion",
+    "motion",
+    type=click.IntRange(1, 120),
+    multiple=True,
+    help="Motion slot to play (repeatable; default: every used slot).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Draw servo angles over virtual time into this PNG.",
+)
+@click.option(
+    "--hold-button",
+    "hold_button",
+    metavar="NAME",
+    help="Hold remote button(s) while each motion plays (UP, CIRCLE, UP+S1...).",
+)
+@click.option(
+    "--for",
+    "hold_for",
+    type=click.FloatRange(min=0),
+    default=1.0,
+    show_default=True,
+    help="Seconds to hold --hold-button, then release it.",
+)
+@click.option(
+    "--limit",
+    type=click.FloatRange(min=0.001),
+    default=60.0,
+    show_default=True,
+    help="Virtual seconds per motion before it counts as a timeout.",
+)
+@build_options
+@LAYOUT_OPTION
+@handle_errors
+def simulate(
+    file: Path,
+    motion: tuple[int, ...],
+    as_json: bool,
+    plot: Path | None,
+    hold_button: str | None,
+    hold_for: float,
+    limit: float,
+    layout_name: str | None,
+) -> None:
+    """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
+
+    Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
+    completed (returned to the main loop), waiting (loops reading an input, e.g. a button
+    or AD sensor, as its program defines), stalled (repeats itself without reading any
+    input), timeout (--limit reached) or error (ROMERR, command error, call-stack
+    overflow/underflow; with the PC and the instruction). A boot that fails is reported with
+    its cause and the motions are still played from the host. Exit status 0 when the boot
+    and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
+    """
+    from rcb4hv.project.simulate import Simulator
+
+    image, lay, names = load_image(file, layout_name)
+    hold = parse_buttons(hold_button) if hold_button else 0
+    slots = list(motion)
+    if not slots:
+        slots = sorted(names) if names else image_slots(image, lay)
+    samples: list[tuple[float, dict[int, int | None]]] = []
+    sim: Simulator
+
+    def record(t: float, outs: dict[int, int]) -> None:
+        # free / hold outputs have no angle
+        samples.append(
+            (
+                t,
+                {
+                    k: None
+                    if (st := sim.board.servo_state(k)) is None or st.output >= POSITION_HOLD
+                    else v
+                    for k, v in outs.items()
+                },
+            )
+        )
+
+    sim = Simulator(image, listener=record if plot else None, motion_layout=lay)
+    boot = sim.boot()
+    starts: list[tuple[float, int]] = []
+    results = []
+    # a failed boot is reported; every motion is still played from the host (spec 11.4)
+    for slot in slots:
+        starts.append((sim.now, slot))
+        results.append(
+            sim.play(
+                lay.address(slot),
+                slot=slot,
+                name=names.get(slot, ""),
+                hold=hold,
+                hold_for=hold_for,
+                limit=limit,
+            )
+        )
+    summary: dict[str, int] = {}
+    for r in results:
+        summary[r.status] = summary.get(r.status, 0) + 1
+    virtual = sum(r.duration for r in results)
+    if as_json:
+        print_json(
+            {
+                "boot": boot.to_dict(),
+                "motions": [r.to_dict() for r in results],
+                "summary": summary,
+                "virtual_seconds": round(virtual, 6),
+            }
+        )
+    else:
+        click.echo(
+            f"boot: {boot.status} after {boot.duration:.3f} s virtual"
+            + (f" ({boot.detail})" if boot.detail else "")
+        )
+        print_table(
+            ("slot", "address", "name", "status", "virtual s", "instr", "detail"),
+            [
+                [
+                    r.slot or "-",
+                    f"{r.address:05X}",
+                    r.name,
+                    r.status,
+                    f"{r.duration:.3f}",
+                    r.instructions,
+                    r.detail,
+                ]
+                for r in results
+            ],
+        )
+        parts = ", ".join(f"{n} {s}" for s, n in sorted(summary.items()))
+        click.echo(f"{len(results)} motions: {parts or 'none'}; {virtual:.3f} s virtual")
+    if plot is not None:
+        _plot(plot, samples, starts)
+        if not as_json:
+            click.echo(f"wrote {plot}")
+    codes = {STATUS_EXIT.get(r.status, 0) for r in [boot, *results]}
+    sys.exit(1 if 1 in codes else max(codes))
+
+
+def _plot(
+    path: Path, samples: list[tuple[float, dict[int, int | None]]], starts: list[tuple[float, int]]
+) -> None:
+    channels = sorted({k for _, outs in samples for k in outs})
+    with plot_to(path, (max(8.0, min(60.0, len(samples) / 150)), 6)) as ax:
+        times = [t for t, _ in samples]
+        for ics in channels:
+            ys = []
+            for _, outs in samples:
+                v = outs.get(ics)
+                ys.append(float("nan") if v is None else position_to_degrees(v))
+            ax.plot(times, ys, linewidth=0.8, label=f"ICS {ics}")
+        for t, slot in starts:
+            ax.axvline(t, color="grey", linewidth=0.5, linestyle=":")
+            ax.annotate(
+                str(slot), (t, 1.0), xycoords=("data", "axes fraction"), fontsize=6, va="bottom"
+            )
+        ax.set_xlabel("virtual time (s)")
+        ax.set_ylabel("servo angle (degrees, trim included)")
+        if channels:
+            ax.legend(fontsize=6, ncol=2, loc="upper right")
+
+
+def register(project: click.Group) -> None:
+    """Add ``simulate`` to the ``project`` group."""
+    project.add_command(simulate)

@@ -1,0 +1,68 @@
+"""The CLI's shared pieces: address / integer / baud parameter types and the connection
+object every board command receives (``click.make_pass_decorator``)."""
+
+from __future__ import annotations
+
+import click
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli._util import ADDRESS, BAUD, INTEGER, Connection, pass_connection
+from rcb4hv.cli.main import cli
+from rcb4hv.client import DEFAULT_TIMEOUT
+from rcb4hv.transport import DEFAULT_BAUD
+
+
+@pytest.mark.parametrize("text", ["0B80h", "0b80H", "0x0B80", "2944", "2_944", 2944])
+def test_address_forms(text: str | int) -> None:
+    assert ADDRESS.convert(text, None, None) == 0x0B80
+
+
+@pytest.mark.parametrize("text", ["", "B80", "0x", "12hh", "1.5"])
+def test_bad_numbers_are_usage_errors(text: str) -> None:
+    with pytest.raises(click.BadParameter, match="is not a number"):
+        INTEGER.convert(text, None, None)
+
+
+def test_baud_type() -> None:
+    assert BAUD.convert("auto", None, None) is None
+    assert BAUD.convert("625000", None, None) == 625000
+    with pytest.raises(click.BadParameter, match="is not one of"):
+        BAUD.convert("9600", None, None)
+    with pytest.raises(click.BadParameter, match="not a baud rate"):
+        BAUD.convert("fast", None, None)
+
+
+def test_a_bad_baud_is_refused_before_any_port_is_opened() -> None:
+    r = CliRunner().invoke(cli, ["ping", "--port", "/nonexistent/tty", "--baud", "9600"])
+    assert r.exit_code == 2
+    assert "Invalid value for '--baud': 9600 is not one of" in r.output
+
+
+def test_pass_connection_hands_the_options_to_the_command() -> None:
+    seen: list[tuple[Connection, int]] = []
+
+    @click.command()
+    @pass_connection
+    @click.option("--n", type=INTEGER, default=1)
+    def probe(conn: Connection, n: int) -> None:
+        assert click.get_current_context().obj is conn
+        seen.append((conn, n))
+
+    runner = CliRunner()
+    r = runner.invoke(probe, ["--port", "rcb4emu://", "--baud", "auto", "--n", "0x10"])
+    assert r.exit_code == 0, r.output
+    assert seen[-1] == (Connection("rcb4emu://", None, DEFAULT_TIMEOUT), 16)
+    r = runner.invoke(probe, ["--timeout", "2"], env={"RCB4HV_PORT": "socket://h:1"})
+    assert r.exit_code == 0, r.output
+    assert seen[-1] == (Connection("socket://h:1", DEFAULT_BAUD, 2.0), 1)
+
+
+def test_board_commands_read_addresses_in_any_form() -> None:
+    runner = CliRunner()
+    outs = [
+        runner.invoke(cli, ["ram", "read", a, "2", "--port", "rcb4emu://", "--json"])
+        for a in ("0350h", "0x0350", "848")
+    ]
+    assert [r.exit_code for r in outs] == [0, 0, 0], [r.output for r in outs]
+    assert outs[0].output == outs[1].output == outs[2].output
