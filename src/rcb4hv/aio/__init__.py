@@ -10,7 +10,7 @@ from rcb4hv.aio import AsyncRobot
 
 async def main() -> None:
     async with await AsyncRobot.open("rcb4emu://") as robot:
-        print(await robot.positions())
+        positions = await robot.positions()  # {ics: position}
 
 asyncio.run(main())
 ```
