@@ -5,11 +5,21 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from types import TracebackType
-from typing import Final, NoReturn
+from typing import Final, NoReturn, TypeVar
 
 from rcb4hv.client.exchange import RAM_READS, find_reply, ram_read_frame
+from rcb4hv.client.plans import (
+    MAX_READ,
+    MAX_WRITE,
+    ROM_WRITE_CHUNK,
+    Plan,
+    Progress,
+    read_memory,
+)
+from rcb4hv.client.plans import write_ram as write_ram_plan
+from rcb4hv.client.plans import write_rom as write_rom_plan
 from rcb4hv.errors import (
     CommandNotAllowedError,
     FrameError,
@@ -26,11 +36,9 @@ from rcb4hv.protocol import (
     Add,
     And,
     Call,
-    Com,
     Command,
     CommunicateDevice,
     Condition,
-    Data,
     DataReply,
     Destination,
     Div,
@@ -43,10 +51,8 @@ from rcb4hv.protocol import (
     Nak,
     Not,
     Or,
-    Ram,
     Reply,
     Return,
-    Rom,
     RunSeriesServo,
     SetSpeed,
     SetStretch,
@@ -58,7 +64,7 @@ from rcb4hv.protocol import (
     decode_reply,
     reply_length,
 )
-from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+from rcb4hv.protocol.commands import RAM_SIZE
 from rcb4hv.protocol.frame import sum_ok
 from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
 from rcb4hv.protocol.servoframes import const_frame_servo_frame, single_servo_frame
@@ -83,18 +89,9 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-DEFAULT_TIMEOUT: Final = 0.5
-MAX_READ: Final = 128
-"""Bytes one MOVE to COM can read (its reply frame is 131 bytes)."""
-MAX_WRITE: Final = 121
-"""Literal bytes one MOVE can carry in a 128-byte command frame."""
-ROM_WRITE_CHUNK: Final = 64
-"""ROM writes go in 64-byte chunks aligned on 64-byte boundaries: one chunk fits a MOVE literal
-(at most 121 bytes) and never straddles an EEPROM write page (64 or 128 bytes on the parts
-used in this board family), so no page write ever wraps around inside its page."""
+T = TypeVar("T")
 
-Progress = Callable[[int, int], None]
-"""Progress callback: ``progress(done_bytes, total_bytes)``."""
+DEFAULT_TIMEOUT: Final = 0.5
 
 
 def _name(command: Command) -> str:
@@ -437,30 +434,15 @@ class Rcb4Client:
             if len(raw) == size + 3:
                 return raw[2:-1]
             return self._data_reply_error(raw, 0x00, size, "Move")
-        _check_span("RAM", address, size, RAM_SIZE)
-        out = bytearray()
-        for a in range(address, address + size, MAX_READ):
-            n = min(MAX_READ, address + size - a)
-            out += self._data_reply(ram_read_frame(a, n), 0x00, n, "Move")
-        return bytes(out)
+        return self.run_plan(read_memory("RAM", address, size))
 
     def write_ram(self, address: int, data: bytes) -> None:
         """Write ``data`` to RAM (any size; 121 bytes per frame)."""
-        data = bytes(data)
-        _check_span("RAM", address, len(data), RAM_SIZE)
-        for i in range(0, len(data), MAX_WRITE):
-            self.transact(Move(Ram(address + i), Data(data[i : i + MAX_WRITE])))
+        self.run_plan(write_ram_plan(address, data))
 
     def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
         """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
-        _check_span("ROM", address, size, ROM_SIZE)
-        out = bytearray()
-        for a in range(address, address + size, MAX_READ):
-            n = min(MAX_READ, address + size - a)
-            out += self._data(Move(Com(), Rom(a), n))
-            if progress is not None:
-                progress(len(out), size)
-        return bytes(out)
+        return self.run_plan(read_memory("ROM", address, size, progress))
 
     def write_rom(
         self,
@@ -473,35 +455,18 @@ class Rcb4Client:
         """Write ``data`` to ROM in 64-byte page-aligned chunks (see :data:`ROM_WRITE_CHUNK`),
         reading each chunk back when ``verify`` (raises :class:`VerifyError` on a mismatch).
         ``progress(done, total)`` counts bytes written (and verified)."""
-        data = bytes(data)
-        _check_span("ROM", address, len(data), ROM_SIZE)
-        total, done, a = len(data), 0, address
-        while done < total:
-            n = min(ROM_WRITE_CHUNK - a % ROM_WRITE_CHUNK, total - done)
-            chunk = data[done : done + n]
-            self.transact(Move(Rom(a), Data(chunk)))
-            if verify:
-                back = self._data(Move(Com(), Rom(a), n))
-                if back != chunk:
-                    bad = next(i for i in range(n) if back[i] != chunk[i])
-                    raise VerifyError(
-                        f"ROM {a + bad:06X}: wrote {chunk[bad]:02X}, read back {back[bad]:02X}",
-                        a + bad,
-                    )
-            done += n
-            a += n
-            if progress is not None:
-                progress(done, total)
+        self.run_plan(write_rom_plan(address, data, verify, progress))
+
+    def run_plan(self, plan: Plan[T]) -> T:
+        """Run a multi-frame :mod:`~rcb4hv.client.plans` operation over this link: each command
+        it yields is sent and its reply sent back in; returns the plan's result."""
+        try:
+            command = next(plan)
+            while True:
+                command = plan.send(self.transact(command))
+        except StopIteration as stop:
+            return stop.value  # type: ignore[no-any-return]
 
 
 _ACK_SHORT: Final = AcknowledgeCheck().encode()
 _ACK_LONG: Final = AcknowledgeCheck(long_form=True).encode()
-
-
-def _check_span(kind: str, address: int, size: int, limit: int) -> None:
-    if not isinstance(address, int) or not isinstance(size, int):
-        raise ValueError(f"{kind} address and size must be ints")
-    if size < 1:
-        raise ValueError(f"{kind} size {size} must be at least 1")
-    if address < 0 or address + size > limit:
-        raise ValueError(f"{kind} {address:#x}+{size} runs outside 0..{limit - 1:#x}")

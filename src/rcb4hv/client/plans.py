@@ -2,17 +2,16 @@
 sent each reply (``reply = yield command``), so a client of any kind (the asyncio one, a test
 driver) runs the same chunking and verifying without owning a link.
 
-The chunk sizes are the blocking client's (:data:`~rcb4hv.client.core.MAX_READ`,
-:data:`~rcb4hv.client.core.MAX_WRITE`, :data:`~rcb4hv.client.core.ROM_WRITE_CHUNK`).
+Both clients run these plans (:meth:`rcb4hv.client.Rcb4Client.run_plan`); the chunk sizes
+:data:`MAX_READ`, :data:`MAX_WRITE` and :data:`ROM_WRITE_CHUNK` are defined here.
 """
 
 from __future__ import annotations
 
-from collections.abc import Generator
-from typing import TypeVar
+from collections.abc import Callable, Generator
+from typing import Final, TypeVar
 
-from rcb4hv.client.core import MAX_READ, MAX_WRITE, ROM_WRITE_CHUNK, Progress, VerifyError
-from rcb4hv.errors import FrameError
+from rcb4hv.errors import FrameError, VerifyError
 from rcb4hv.protocol import Com, Command, Data, DataReply, Move, Ram, Reply, Rom
 from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
 
@@ -22,7 +21,17 @@ T = TypeVar("T")
 Plan = Generator[Command, Reply, T]
 """A multi-frame operation: yields each command, is sent its reply, returns the result."""
 
+MAX_READ: Final = 128
+"""Bytes one MOVE to COM can read (its reply frame is 131 bytes)."""
+MAX_WRITE: Final = 121
+"""Literal bytes one MOVE can carry in a 128-byte command frame."""
+ROM_WRITE_CHUNK: Final = 64
+"""ROM writes go in 64-byte chunks aligned on 64-byte boundaries: one chunk fits a MOVE literal
+(at most 121 bytes) and never straddles an EEPROM write page (64 or 128 bytes on the parts
+used in this board family), so no page write ever wraps around inside its page."""
 
+Progress = Callable[[int, int], None]
+"""Progress callback: ``progress(done_bytes, total_bytes)``."""
 
 
 def check_span(kind: str, address: int, size: int, limit: int) -> None:
