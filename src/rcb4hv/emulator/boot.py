@@ -7,7 +7,7 @@ from __future__ import annotations
 import time
 
 from rcb4hv.emulator.board import Board
-from rcb4hv.emulator.clock import _Scaled
+from rcb4hv.emulator.clock import ScaledClock
 from rcb4hv.protocol.memory import ProgramState
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
 from rcb4hv.rom.older import detect_image_layout
@@ -18,7 +18,7 @@ BOOT_LIMIT_S = 30.0
 """Board seconds a ``boot=ready`` open lets the start-up program run before giving up."""
 
 
-class BootClock(_Scaled):
+class BootClock(ScaledClock):
     """Virtual time while the board boots (``advance``), then real time times ``speed``,
     continuing from where the boot left off (``go_real``)."""
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import time
 from typing import Protocol, runtime_checkable
 
-__all__ = ["Clock", "RealClock", "VirtualClock"]
+__all__ = ["Clock", "RealClock", "ScaledClock", "VirtualClock"]
 
 
 @runtime_checkable
@@ -37,7 +37,7 @@ class Clock(Protocol):
         ...
 
 
-class _Scaled:
+class ScaledClock:
     """The conversions of a clock running ``speed`` times real time."""
 
     speed: float = 1.0
@@ -49,7 +49,7 @@ class _Scaled:
         return real_seconds * self.speed
 
 
-class VirtualClock(_Scaled):
+class VirtualClock(ScaledClock):
     """Time that moves only when told (``advance`` / ``set``); nominally at real speed."""
 
     def __init__(self, start: float = 0.0) -> None:
@@ -71,7 +71,7 @@ class VirtualClock(_Scaled):
         self._t = float(t)
 
 
-class RealClock(_Scaled):
+class RealClock(ScaledClock):
     """``time.monotonic()`` since construction, scaled by ``speed`` (> 0)."""
 
     def __init__(self, speed: float = 1.0) -> None:
