@@ -22,7 +22,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "__init__"),  # rcb4hv.errors and the root package (__version__)
     ("protocol",),
     ("transport",),
-    ("rom",),
+    ("rom", "robot"),  # robot: models as data, kinematics, URDF/MJCF
     ("emulator", "hth4"),
     ("client", "asm"),
     ("project",),

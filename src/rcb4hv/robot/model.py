@@ -1,0 +1,257 @@
+"""A robot model as data: links, joints and the joint map from RCB-4 servo index to joint.
+
+This module is the contract every robot-level feature builds on (kinematics, the 3D view,
+physics, mirroring, URDF/MJCF export). It is pure data and arithmetic: no I/O, no clock.
+
+Conventions (ROS REP 103): metres, kilograms, radians; the base frame has x forward, y left,
+z up. A joint's ``axis`` is a unit vector in the child link's frame. Left and right joints
+are defined mirror-symmetric: a pitch joint turns about +y on both sides, so equal pitch
+angles move both limbs the same way, while equal roll or yaw angles move them apart. So the
+mirror image of a pose keeps each pitch angle and negates each roll and yaw angle (see
+:meth:`RobotModel.mirror_angles`).
+
+Servo values to joint angles (one place, :meth:`RobotModel.angle`)::
+
+    angle = sign * (value - CENTER - trim - offset) / COUNTS_PER_DEGREE   (degrees)
+
+``CENTER`` (7500) and ``COUNTS_PER_DEGREE`` (8000/270) come from the protocol's memory map;
+``trim`` is the board's per-servo trim, ``offset`` the joint map's extra zero offset in counts
+(0 for the built-in models).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Literal
+
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
+
+__all__ = [
+    "Geom",
+    "Inertial",
+    "Joint",
+    "JointKind",
+    "Link",
+    "RobotModel",
+    "ServoJoint",
+    "ServoSpec",
+    "Side",
+    "Vec3",
+    "chain",
+]
+
+Vec3 = tuple[float, float, float]
+JointKind = Literal["pitch", "roll", "yaw", "grip"]
+Side = Literal["left", "right", "centre"]
+GeomShape = Literal["box", "cylinder", "sphere"]
+
+
+@dataclass(frozen=True, slots=True)
+class Geom:
+    """A primitive shape in its link's frame (drawn and collided).
+
+    ``size``: box full extents (x, y, z); cylinder (radius, length, 0) along its local z;
+    sphere (radius, 0, 0).
+    """
+
+    shape: GeomShape
+    size: Vec3
+    pos: Vec3 = (0.0, 0.0, 0.0)
+    rpy: Vec3 = (0.0, 0.0, 0.0)
+    rgba: tuple[float, float, float, float] = (0.6, 0.6, 0.65, 1.0)
+
+
+@dataclass(frozen=True, slots=True)
+class Inertial:
+    """Mass (kg), centre of mass (m, link frame) and inertia about the CoM (kg·m²):
+    (ixx, iyy, izz, ixy, ixz, iyz)."""
+
+    mass: float
+    com: Vec3
+    inertia: tuple[float, float, float, float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Link:
+    name: str
+    inertial: Inertial
+    geoms: tuple[Geom, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Joint:
+    """A revolute joint from ``parent`` to ``child``.
+
+    ``xyz``/``rpy``: the child frame's origin in the parent frame at angle 0 (URDF
+    ``<origin>``); ``axis`` in the child frame; ``lower``/``upper`` in radians. ``mirror`` names
+    the joint on the other side (None for a centre joint, which mirrors onto itself).
+    """
+
+    name: str
+    parent: str
+    child: str
+    xyz: Vec3
+    rpy: Vec3
+    axis: Vec3
+    lower: float
+    upper: float
+    kind: JointKind
+    side: Side = "centre"
+    mirror: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class ServoSpec:
+    """A servo type's physical figures, each with its source."""
+
+    name: str
+    stall_torque: float  # N·m
+    no_load_speed: float  # rad/s
+    mass: float  # kg
+    source: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class ServoJoint:
+    """One entry of the joint map: RCB-4 servo index (ICS number) -> joint."""
+
+    index: int
+    joint: str
+    sign: int = 1  # +1 or -1: which way a larger value turns the joint
+    offset: int = 0  # counts: the value (beyond centre and trim) that is joint angle 0
+    servo: ServoSpec | None = None
+
+
+@dataclass(frozen=True)
+class RobotModel:
+    """Links, joints and joint map of one robot. ``root`` is the floating base link."""
+
+    name: str
+    title: str
+    root: str
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    servos: tuple[ServoJoint, ...]
+    sources: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        names = {link.name for link in self.links}
+        if self.root not in names:
+            raise ValueError(f"{self.name}: root link {self.root!r} is not a link")
+        joints = {j.name for j in self.joints}
+        for j in self.joints:
+            if j.parent not in names or j.child not in names:
+                raise ValueError(f"{self.name}: joint {j.name!r} links an unknown link")
+            if j.mirror is not None and j.mirror not in joints:
+                raise ValueError(f"{self.name}: joint {j.name!r} mirrors unknown {j.mirror!r}")
+        seen: set[int] = set()
+        for s in self.servos:
+            if s.joint not in joints:
+                raise ValueError(f"{self.name}: servo {s.index} maps to unknown joint {s.joint!r}")
+            if s.index in seen:
+                raise ValueError(f"{self.name}: servo index {s.index} is mapped twice")
+            if s.sign not in (1, -1):
+                raise ValueError(f"{self.name}: servo {s.index} sign must be +1 or -1")
+            seen.add(s.index)
+
+    # ------------------------------------------------------------------ look-ups
+
+    def link(self, name: str) -> Link:
+        for link in self.links:
+            if link.name == name:
+                return link
+        raise KeyError(name)
+
+    def joint(self, name: str) -> Joint:
+        for j in self.joints:
+            if j.name == name:
+                return j
+        raise KeyError(name)
+
+    def servo(self, index: int) -> ServoJoint:
+        for s in self.servos:
+            if s.index == index:
+                return s
+        raise KeyError(index)
+
+    def servo_for_joint(self, joint: str) -> ServoJoint | None:
+        for s in self.servos:
+            if s.joint == joint:
+                return s
+        return None
+
+    @property
+    def indices(self) -> tuple[int, ...]:
+        return tuple(sorted(s.index for s in self.servos))
+
+    @property
+    def mass(self) -> float:
+        return sum(link.inertial.mass for link in self.links)
+
+    # ------------------------------------------------------------------ servo <-> joint
+
+    def angle(self, index: int, value: int, trim: int = 0) -> float:
+        """Joint angle (radians) of servo ``index`` at position ``value`` with ``trim``."""
+        s = self.servo(index)
+        deg = s.sign * (value - CENTER - trim - s.offset) / COUNTS_PER_DEGREE
+        return math.radians(deg)
+
+    def value(self, index: int, angle: float, trim: int = 0) -> int:
+        """Servo position that puts servo ``index``'s joint at ``angle`` (radians)."""
+        s = self.servo(index)
+        return round(CENTER + trim + s.offset + s.sign * math.degrees(angle) * COUNTS_PER_DEGREE)
+
+    def angles(
+        self, values: Mapping[int, int], trims: Mapping[int, int] | None = None
+    ) -> dict[str, float]:
+        """Joint angles (radians) by joint name from servo values by index; indices the
+        model does not map are ignored."""
+        trims = trims or {}
+        mapped = {s.index for s in self.servos}
+        return {
+            self.servo(i).joint: self.angle(i, v, trims.get(i, 0))
+            for i, v in values.items()
+            if i in mapped
+        }
+
+    def values(
+        self, angles: Mapping[str, float], trims: Mapping[int, int] | None = None
+    ) -> dict[int, int]:
+        """Servo values by index from joint angles by joint name (unmapped joints ignored)."""
+        trims = trims or {}
+        out: dict[int, int] = {}
+        for name, a in angles.items():
+            s = self.servo_for_joint(name)
+            if s is not None:
+                out[s.index] = self.value(s.index, a, trims.get(s.index, 0))
+        return out
+
+    def mirror_angles(self, angles: Mapping[str, float]) -> dict[str, float]:
+        """The left-right mirror image of a pose in joint space: each joint's angle moves to
+        its mirror joint; roll and yaw angles change sign, pitch and grip keep it."""
+        out: dict[str, float] = {}
+        for name, a in angles.items():
+            j = self.joint(name)
+            target = j.mirror or name
+            out[target] = -a if j.kind in ("roll", "yaw") else a
+        return out
+
+    def within_limits(self, angles: Mapping[str, float]) -> list[str]:
+        """Names of the joints whose angle lies outside the model's limits."""
+        return [n for n, a in angles.items() if not self.joint(n).lower <= a <= self.joint(n).upper]
+
+
+def chain(joints: Iterable[Joint], root: str) -> list[Joint]:
+    """Joints ordered parent-first from ``root`` (a tree walk)."""
+    children: dict[str, list[Joint]] = {}
+    for j in joints:
+        children.setdefault(j.parent, []).append(j)
+    out: list[Joint] = []
+    stack = [root]
+    while stack:
+        for j in reversed(children.get(stack.pop(), [])):
+            out.append(j)
+            stack.append(j.child)
+    return out
