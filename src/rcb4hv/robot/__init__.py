@@ -5,6 +5,7 @@ A :class:`RobotModel` is links (shape, mass, inertia), joints (axis, limits) and
 URDF/MJCF import and export live in this package; physics lives in :mod:`rcb4hv.physics`.
 """
 
+from rcb4hv.robot.kinematics import Transform, center_of_mass, forward
 from rcb4hv.robot.model import (
     Geom,
     Inertial,
@@ -29,6 +30,9 @@ __all__ = [
     "ServoJoint",
     "ServoSpec",
     "Side",
+    "Transform",
     "Vec3",
+    "center_of_mass",
     "chain",
+    "forward",
 ]
