@@ -25,7 +25,8 @@ demo: $(VENV)/.installed-plot
 	$(BIN)/rcb4hv demo --output demo-servo-angles.png
 
 test: $(VENV)/.installed-dev
-	$(BIN)/ruff check src tests bench
+	$(BIN)/python tools/unasync.py --check
+	$(BIN)/ruff check src tests bench tools
 	$(BIN)/mypy --strict src
 	$(BIN)/pytest -q
 	$(MAKE) --no-print-directory docs package

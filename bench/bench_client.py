@@ -55,7 +55,7 @@ def run() -> list[dict[str, Any]]:
             try:
                 robot = Robot(client)
                 robot.wait_ready(timeout=5.0)
-                ids = robot.servo_ids
+                ids = robot.servo_ids()
                 reads = robot.read_plan(ids)
                 read_wire = sum(wire_us(10 + n + 3) for _, n in reads)
                 cmd_wire = wire_us(9 + 2 * len(ids) + 4)

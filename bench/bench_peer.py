@@ -175,7 +175,7 @@ class _Pair:
         self.robot = Robot(self.client)
         self.robot.wait_ready(timeout=5.0)
         self.port = serial.Serial(path, BAUD, parity="E", timeout=1.0)
-        self.ids = self.robot.servo_ids
+        self.ids = self.robot.servo_ids()
         peer_ids = [int(i) for i in self.ri.search_servo_ids()]
         if peer_ids != self.ids:
             raise RuntimeError(f"the clients see different servos: {self.ids} / {peer_ids}")

@@ -14,8 +14,9 @@ from rcb4hv.emulator import emulator_url
 from tests.client.aio_bridge import BlockingBridge
 
 TRANSPORTS = ("inproc", "pty", "tcp", "aio-inproc", "aio-pty", "aio-tcp")
-"""Blocking client over each link; ``aio-*``: the asyncio client (through a blocking bridge,
-so the same tests drive it) over the same links."""
+"""Blocking client and robot over each link; ``aio-*``: the asyncio client and AsyncRobot
+(their coroutines run through a blocking bridge, so the same tests drive them) over the same
+links."""
 SPEED = 10.0  # emulator clock speed for the suite: 10x real time keeps start-up short
 
 
@@ -26,8 +27,14 @@ class Rig:
     kind: str
     board: Any
     client: Rcb4Client  # or a BlockingBridge around an AsyncRcb4Client (aio-* kinds)
-    robot: Robot
+    robot: Robot  # or a Blocking around an AsyncRobot (aio-* kinds)
     url: str
+
+    def new_robot(self, **options: Any) -> Robot:
+        """Another robot (Robot, or AsyncRobot for the aio-* kinds) on the rig's client."""
+        if isinstance(self.client, BlockingBridge):
+            return self.client.robot(**options)  # type: ignore[return-value]
+        return Robot(self.client, **options)
 
 
 def _emulator() -> Any:
@@ -70,6 +77,6 @@ def make_rig(kind: str) -> Iterator[Rig]:
         else:
             client = Rcb4Client.open(url, timeout=0.5)
         stack.callback(client.close)
-        robot = Robot(client)
+        robot = client.robot() if isinstance(client, BlockingBridge) else Robot(client)
         robot.wait_ready(timeout=5.0)
         yield Rig(kind, board, client, robot, url)

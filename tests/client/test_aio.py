@@ -1,6 +1,7 @@
-"""rcb4hv.aio natively: the async robot's common calls over each link, concurrent tasks,
-deadlines, cancellation and link failures. (The whole shared client suite also runs against
-the async client through tests/client/aio_bridge.py: the ``aio-*`` kinds of the ``rig``.)"""
+"""rcb4hv.aio natively: the async robot's calls over each link, concurrent tasks, deadlines,
+cancellation and link failures. (The whole shared client suite also runs on AsyncRobot and
+AsyncRcb4Client themselves through tests/client/aio_bridge.py: the ``aio-*`` kinds of the
+``rig``; tests/client/test_faces.py compares the two faces frame by frame.)"""
 
 from __future__ import annotations
 
@@ -46,7 +47,7 @@ def test_async_robot_common_calls(url: str) -> None:
             kind = type(robot.client.transport)
             assert kind is (PolledTransport if url.startswith("rcb4emu") else StreamTransport)
             await robot.wait_ready(timeout=5.0)
-            assert (await robot.version()).startswith("CB-4")
+            assert (await robot.version()).text.startswith("CB-4")
             servos = await robot.discover_servos()
             assert len(servos) == 17
             ids = await robot.servo_ids()

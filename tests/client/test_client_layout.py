@@ -7,7 +7,6 @@ import json
 import pytest
 
 from rcb4hv.client import Rcb4Client, Robot
-from rcb4hv.client.layout import detect_board_layout
 from rcb4hv.errors import TransportError
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS
 
@@ -21,21 +20,20 @@ def test_detection_reads_the_two_main_loop_starts() -> None:
     rom_reply_044b += bytes([sum(rom_reply_044b) & 0xFF])
     t = ScriptedTransport(rom_reply_03fd, rom_reply_044b)
     robot = Robot(Rcb4Client(t, timeout=0.2))
-    assert robot.layout == LAYOUTS["2.1"]
+    assert robot.layout is None
+    assert robot.board_layout() == LAYOUTS["2.1"]
     assert t.writes == [
         H("0B 00 23 00 00 00 FD 03 00 09 37"),  # read 9 ROM bytes at 0003FDh
         H("0B 00 23 00 00 00 4B 04 00 09 86"),  # and at 00044Bh
     ]
-    assert robot.layout == LAYOUTS["2.1"] and len(t.writes) == 2  # read once
+    assert robot.board_layout() == LAYOUTS["2.1"] and len(t.writes) == 2  # read once
 
 
 def test_unknown_rom_falls_back_to_2_2() -> None:
     erased = bytes([12, 0]) + b"\xff" * 9
     erased += bytes([sum(erased) & 0xFF])
     t = ScriptedTransport(erased, erased)
-    assert detect_board_layout(Rcb4Client(t, timeout=0.2)) is None
-    t = ScriptedTransport(erased, erased)
-    assert Robot(Rcb4Client(t, timeout=0.2)).layout == HTH4_22
+    assert Robot(Rcb4Client(t, timeout=0.2)).board_layout() == HTH4_22
 
 
 @pytest.mark.parametrize("version", ["2.2", "2.1", "1.3"])
@@ -44,7 +42,7 @@ def test_robot_plays_motions_on_an_emulated_board_of_each_layout(version: str) -
     given = lay if version == "1.3" else None  # 1.3 cannot be told from 2.1 by the ROM reads
     with Robot.open(f"rcb4emu://?speed=20&layout={version}", layout=given) as robot:
         robot.wait_ready()
-        assert robot.layout == lay
+        assert robot.board_layout() == lay
         robot.play_motion(2)
         assert robot.current_motion() == 2
         assert robot.motion_status().pc >= lay.address(2)

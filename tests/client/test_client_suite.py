@@ -11,7 +11,6 @@ import pytest
 from rcb4hv.client import (
     CommandNotAllowedError,
     Rcb4Client,
-    Robot,
     VerifyError,
     plan_cheapest,
     plan_reads,
@@ -177,7 +176,7 @@ def test_discover_servos_matches_the_board(rig: Rig) -> None:
 
 def test_bulk_positions_use_the_cheapest_plan(rig: Rig) -> None:
     r = rig.robot
-    ids = r.servo_ids
+    ids = r.servo_ids()
     frames_before = _frames(rig)
     pos = r.positions()
     used = _frames(rig) - frames_before
@@ -202,7 +201,7 @@ def _frames(rig: Rig) -> int:
 
 def test_timed_move_and_wait(rig: Rig) -> None:
     r = rig.robot
-    k = r.servo_ids[1]
+    k = r.servo_ids()[1]
     r.hold()
     t0 = time.monotonic()
     r.move_angles({k: 20.0}, duration=1.5)  # 100 periods of 15 ms, 0.15 s at 10x
@@ -216,7 +215,7 @@ def test_timed_move_and_wait(rig: Rig) -> None:
 
 def test_wait_interpolation_times_out(rig: Rig) -> None:
     r = rig.robot
-    k = r.servo_ids[0]
+    k = r.servo_ids()[0]
     r.move({k: 9000}, duration=3.5)  # 233 periods: 0.35 s at 10x
     t0 = time.monotonic()
     with pytest.raises(Rcb4TimeoutError):
@@ -230,9 +229,9 @@ def test_free_hold_neutral(rig: Rig) -> None:
     assert {s.state for s in r.servo_states()} == {"free"}
     assert set(r.positions(kind="output").values()) == {POSITION_FREE}
     assert all(math.isnan(a) for a in r.angles(kind="output").values())
-    r.hold(r.servo_ids[:2])
-    assert r.positions(r.servo_ids[:2], kind="output") == dict.fromkeys(
-        r.servo_ids[:2], POSITION_HOLD
+    r.hold(r.servo_ids()[:2])
+    assert r.positions(r.servo_ids()[:2], kind="output") == dict.fromkeys(
+        r.servo_ids()[:2], POSITION_HOLD
     )
     r.neutral(duration=0.1, wait=True)
     assert set(r.positions(kind="output").values()) == {7500}
@@ -241,8 +240,8 @@ def test_free_hold_neutral(rig: Rig) -> None:
 def test_calibration_trim_and_direction(rig: Rig) -> None:
     from rcb4hv.client import Calibration
 
-    k = rig.robot.servo_ids[0]
-    robot = Robot(rig.client, calibration={k: Calibration(trim=100, direction=-1)})
+    k = rig.robot.servo_ids()[0]
+    robot = rig.new_robot(calibration={k: Calibration(trim=100, direction=-1)})
     robot.move_angles({k: 10.0}, duration=0.0, wait=True)
     expected = round(7500 + 100 - 10.0 * 8000 / 270)
     assert robot.positions([k], kind="output")[k] == expected
@@ -250,7 +249,7 @@ def test_calibration_trim_and_direction(rig: Rig) -> None:
 
 
 def test_stretch_and_speed(rig: Rig) -> None:
-    ids = rig.robot.servo_ids[:3]
+    ids = rig.robot.servo_ids()[:3]
     rig.robot.set_stretch(60, ids)
     rig.robot.set_speed({ids[0]: 100})
     if hasattr(rig.board, "stretch"):
@@ -282,7 +281,7 @@ def test_stop_and_resume_motion(rig: Rig) -> None:
     r.play_motion(1)
     r.stop_motion()
     assert r.current_motion() is None
-    assert r.motion_status().pc == r.layout.main_loop or r.system_register().rom_run
+    assert r.motion_status().pc == r.board_layout().main_loop or r.system_register().rom_run
 
 
 def test_wait_motion_times_out(rig: Rig) -> None:

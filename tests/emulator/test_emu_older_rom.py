@@ -137,7 +137,7 @@ def test_emulate_layout_2_1_serves_both_older_and_new_clients(tmp_path: Path) ->
         path = _pty(proc)
         with Robot.open(path, timeout=2.0) as robot:
             robot.wait_ready()
-            assert robot.layout == OLDER  # read from the board's ROM
+            assert robot.board_layout() == OLDER  # read from the board's ROM
             robot.play_motion(2, wait=True, timeout=10.0)
             assert robot.motion_status().pc < OLDER.motion_base
         port = serial.Serial(path, 115200, parity="E", timeout=2)
@@ -161,7 +161,7 @@ def test_emulate_layout_2_1_serves_both_older_and_new_clients(tmp_path: Path) ->
     proc = run_cli("--pty", "--rom", str(rom))  # the stored older image, no --layout
     try:
         with Robot.open(_pty(proc), timeout=2.0) as robot:
-            assert robot.layout == OLDER
+            assert robot.board_layout() == OLDER
             assert robot.system_register().rom_run
     finally:
         proc.terminate()

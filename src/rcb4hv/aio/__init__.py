@@ -1,8 +1,10 @@
 """rcb4hv for asyncio: :class:`AsyncRcb4Client` (every command of the reference, as
-coroutines) and :class:`AsyncRobot` (the common robot-level calls).
+coroutines) and :class:`AsyncRobot` (the robot-level API).
 
-Both run on the sans-I/O core the blocking client uses (:mod:`rcb4hv.client.exchange`), with
-the same typed errors and deadlines; concurrent tasks are serialised by an asyncio lock.
+These modules are the one source of the client: the blocking :class:`rcb4hv.client.Rcb4Client`
+and :class:`rcb4hv.client.Robot` are generated from them (``tools/unasync.py``), so both faces
+have the same methods, arguments, results, typed errors, deadlines and frames on the wire;
+concurrent tasks are serialised by an asyncio lock.
 
 ```python
 import asyncio

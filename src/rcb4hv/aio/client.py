@@ -1,30 +1,48 @@
-"""The asyncio twin of :class:`rcb4hv.client.Rcb4Client`.
+"""The typed client: one method per command of the reference, one transaction at a time.
 
-Same commands, same typed errors, same no-hang deadlines: the reply hunt is the blocking
-client's sans-I/O :class:`~rcb4hv.client.exchange.ReplyMatcher`, and RAM/ROM transfers are the
-plans of :mod:`rcb4hv.client.plans`; only the waiting differs. Calls from concurrent tasks are
-serialised by an :class:`asyncio.Lock`, one transaction at a time.
+One source, two faces: ``src/rcb4hv/aio/client.py`` (asyncio) is the only source of the
+client, and ``tools/unasync.py`` writes ``src/rcb4hv/client/core.py`` (blocking) from it
+(coroutines become functions, awaits go, the asyncio lock becomes a threading lock, the
+``Async`` prefix of the class names goes); ``make test`` fails when the two differ. Both
+faces share the sans-I/O reply hunt (:class:`~rcb4hv.client.exchange.ReplyMatcher`) and the
+RAM/ROM transfer plans (:mod:`rcb4hv.client.plans`); only the waiting differs.
 """
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import time
+from asyncio import Lock
 from collections.abc import Iterable, Mapping
 from types import TracebackType
-from typing import TypeVar
+from typing import Final, NoReturn, TypeVar
 
 from rcb4hv.aio.transport import AsyncTransport, open_async_transport
-from rcb4hv.client import plans
-from rcb4hv.client.core import DEFAULT_TIMEOUT, CommandNotAllowedError, Progress
-from rcb4hv.client.exchange import ReplyMatcher
-from rcb4hv.client.plans import Plan
-from rcb4hv.errors import FrameError, NakError, ProtocolError, Rcb4TimeoutError, TransportError
+from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, ram_read_frame
+from rcb4hv.client.plans import (
+    MAX_READ,
+    MAX_WRITE,
+    ROM_WRITE_CHUNK,
+    Plan,
+    Progress,
+    data_of,
+    read_memory,
+)
+from rcb4hv.client.plans import write_ram as write_ram_plan
+from rcb4hv.client.plans import write_rom as write_rom_plan
+from rcb4hv.errors import (
+    CommandNotAllowedError,
+    FrameError,
+    NakError,
+    ProtocolError,
+    Rcb4TimeoutError,
+    TransportError,
+    VerifyError,
+)
 from rcb4hv.protocol import (
     ALWAYS,
     MAX_REPLY_SIZE,
-    Ack,
+    RAM_SIZE,
     AcknowledgeCheck,
     Add,
     And,
@@ -46,9 +64,7 @@ from rcb4hv.protocol import (
     Or,
     Reply,
     Return,
-    RunConstFrameServo,
     RunSeriesServo,
-    RunSingleServo,
     SetSpeed,
     SetStretch,
     Shift,
@@ -59,26 +75,50 @@ from rcb4hv.protocol import (
     decode_reply,
     reply_length,
 )
+from rcb4hv.protocol.frame import sum_ok
+from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
+from rcb4hv.protocol.servoframes import const_frame_servo_frame, single_servo_frame
 from rcb4hv.transport import BAUD_RATES, DEFAULT_BAUD
 
-__all__ = ["AsyncRcb4Client"]
+__all__ = [
+    "DEFAULT_TIMEOUT",
+    "MAX_READ",
+    "MAX_WRITE",
+    "ROM_WRITE_CHUNK",
+    "AsyncRcb4Client",
+    "CommandNotAllowedError",
+    "Progress",
+    "VerifyError",
+]
 
 log = logging.getLogger(__name__)
 
 T = TypeVar("T")
 
+DEFAULT_TIMEOUT: Final = 0.5
+
+
+def _name(command: Command) -> str:
+    return type(command).__name__
+
 
 class AsyncRcb4Client:
-    """A connection to one board for asyncio code.
+    """A connection to one board speaking the RCB-4HV protocol.
 
-    ``async with await AsyncRcb4Client.open("socket://127.0.0.1:4000") as rcb: ...``
+    ``async with await AsyncRcb4Client.open("rcb4emu://") as rcb: await rcb.acknowledge_check()``
 
-    Every method of :class:`~rcb4hv.client.Rcb4Client` exists here as a coroutine with the
-    same arguments, results and exceptions (:class:`~rcb4hv.errors.NakError`,
-    :class:`~rcb4hv.errors.Rcb4TimeoutError`, :class:`~rcb4hv.errors.ChecksumError`,
-    :class:`~rcb4hv.errors.FrameError`, :class:`~rcb4hv.errors.TransportError`; ``ValueError``
-    before any byte is sent). A call cancelled while waiting leaves the client usable: the
-    next call flushes the input before it sends.
+    Methods map one to one onto the commands of Kondo's command reference (``move``, ``and_``,
+    ... ``acknowledge_check``); each returns a typed result or raises a typed error:
+    :class:`~rcb4hv.errors.NakError` (the board refused), :class:`~rcb4hv.errors.Rcb4TimeoutError`
+    (no complete reply in time), :class:`~rcb4hv.errors.ChecksumError` (the reply arrived
+    damaged), :class:`~rcb4hv.errors.FrameError` (a reply of the wrong shape) or
+    :class:`~rcb4hv.errors.TransportError` (the link failed). Bad arguments raise
+    ``ValueError`` before any byte is sent.
+
+    One transaction at a time, under a lock (callers from several threads or tasks are
+    serialised). Bytes that arrive before the reply and cannot start it (stray bytes, late
+    replies to earlier requests) are discarded and logged; a call cancelled while waiting
+    leaves the client usable, since the next call flushes the input before it sends.
     """
 
     def __init__(
@@ -95,8 +135,10 @@ class AsyncRcb4Client:
         self.timeout = timeout
         self.allow_communicate_device = allow_communicate_device
         self.corrupt_grace = corrupt_grace
-        self._lock = asyncio.Lock()
+        self._lock = Lock()
         self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
+
+    # ------------------------------------------------------------------ lifecycle
 
     @classmethod
     async def open(
@@ -107,10 +149,9 @@ class AsyncRcb4Client:
         timeout: float = DEFAULT_TIMEOUT,
         allow_communicate_device: bool = False,
     ) -> AsyncRcb4Client:
-        """Open ``url`` as :meth:`Rcb4Client.open` does (``baudrate=None`` detects the rate).
+        """Open ``url`` (None: the Kondo adapter found by VID/PID, or ``$RCB4HV_PORT``).
 
-        ``socket://`` uses asyncio streams; device paths use pyserial-asyncio-fast;
-        ``rcb4emu://`` runs the emulator in process (it waits for the board's start-up).
+        ``baudrate=None`` detects the rate: an ACK check at 1,250,000, 625,000, then 115,200.
         """
         if not timeout > 0:
             raise ValueError("timeout must be > 0")
@@ -127,7 +168,8 @@ class AsyncRcb4Client:
     async def detect_baudrate(
         self, rates: Iterable[int] = BAUD_RATES, probe_timeout: float = 0.1
     ) -> int:
-        """Find the rate the board answers at (ACK check at each) and keep it."""
+        """Find the rate the board answers at (ACK check at each) and keep it; ValueError
+        when the link is not a serial port."""
         url = self.transport.url
         for rate in rates:
             try:
@@ -147,6 +189,11 @@ class AsyncRcb4Client:
     async def close(self) -> None:
         await self.transport.close()
 
+    async def reconnect(self) -> None:
+        """Reopen the transport (after a disconnect)."""
+        async with self._lock:
+            await self.transport.reopen()
+
     async def __aenter__(self) -> AsyncRcb4Client:
         return self
 
@@ -159,15 +206,14 @@ class AsyncRcb4Client:
         await self.close()
 
     def __repr__(self) -> str:
-        return f"<AsyncRcb4Client {self.transport.url!r}>"
+        return f"<{type(self).__name__} {self.transport.url!r}>"
 
     # ------------------------------------------------------------------ transactions
 
     async def transact(self, command: Command, timeout: float | None = None) -> Reply:
         """Send ``command`` and return its reply (Ack, DataReply or VersionReply).
 
-        The reply is found by the blocking client's own hunt
-        (:class:`~rcb4hv.client.exchange.ReplyMatcher`); only the waiting is asyncio's.
+        A NAK raises :class:`NakError`; see the class docstring for the other errors.
         """
         if isinstance(command, CommunicateDevice) and not self.allow_communicate_device:
             raise CommandNotAllowedError(
@@ -175,43 +221,67 @@ class AsyncRcb4Client:
                 "create the client with allow_communicate_device=True to send it"
             )
         frame = command.encode()
-        name = type(command).__name__
-        limit = self.timeout if timeout is None else timeout
-        transport = self.transport
-        async with self._lock:
-            deadline = time.monotonic() + limit
-            matcher = ReplyMatcher(
-                self._decoder, command.cmd, reply_length(command), name, self.corrupt_grace
-            )
-            transport.reset_input()
-            transport.write(frame)
-            chunk = b""
-            while True:
-                raw = matcher.feed(chunk, time.monotonic())
-                if raw is not None:
-                    break
-                chunk = await transport.read(matcher.need, matcher.until(deadline))
-                if not chunk:
-                    raise matcher.timeout_error(limit)
+        raw = await self._roundtrip(
+            frame,
+            command.cmd,
+            reply_length(command),
+            _name(command),
+            self.timeout if timeout is None else timeout,
+        )
         try:
             reply = decode_reply(raw, command)
         except ProtocolError as exc:
-            raise FrameError(f"bad reply to {name}: {exc}") from exc
+            raise FrameError(f"bad reply to {_name(command)}: {exc}") from exc
         if isinstance(reply, Nak):
-            raise NakError(f"board answered NAK to {name}", command.cmd)
+            raise NakError(f"board answered NAK to {_name(command)}", command.cmd)
         return reply
 
-    async def _run(self, plan: Plan[T]) -> T:
-        try:
-            command = next(plan)
-            while True:
-                command = plan.send(await self.transact(command))
-        except StopIteration as done:
-            result: T = done.value
-            return result
+    async def _ack(self, frame: bytes, cmd: int, name: str, timeout: float | None = None) -> None:
+        """Send a command ``frame`` answered by an ACK (fast path of :meth:`transact`)."""
+        raw = await self._roundtrip(
+            frame, cmd, 4, name, self.timeout if timeout is None else timeout
+        )
+        if raw[2] != ACK_BYTE:
+            if raw[2] == NAK_BYTE:
+                raise NakError(f"board answered NAK to {name}", cmd)
+            raise FrameError(f"bad reply to {name}: expected ACK or NAK, got {raw.hex(' ')}")
 
-    async def _data(self, command: Command) -> bytes:
-        return plans.data_of(await self.transact(command), command)
+    async def _roundtrip(
+        self, frame: bytes, cmd: int, expected: int, name: str, timeout: float
+    ) -> bytes:
+        """Send ``frame``; return the reply frame (whole, checksum checked, CMD byte ``cmd``).
+
+        ``expected`` is the length of the successful reply. Fast path: the first read brings
+        exactly that frame. Anything else (a NAK, a reply in pieces, stray bytes before it, a
+        damaged reply) goes through the hunt of :class:`~rcb4hv.client.exchange.ReplyMatcher`.
+        """
+        transport = self.transport
+        async with self._lock:
+            deadline = time.monotonic() + timeout
+            transport.reset_input()
+            transport.write(frame)
+            chunk = await transport.read_some(expected, deadline)
+            if (
+                len(chunk) == expected
+                and chunk[0] == expected
+                and chunk[1] == cmd
+                and sum_ok(chunk)
+            ):
+                return chunk
+            matcher = ReplyMatcher(self._decoder, cmd, expected, name, self.corrupt_grace)
+            while True:
+                raw = matcher.feed(chunk, time.monotonic())
+                if raw is not None:
+                    return raw
+                chunk = await transport.read(matcher.need, matcher.until(deadline))
+                if not chunk:
+                    raise matcher.timeout_error(timeout)
+
+    @staticmethod
+    def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
+        if len(raw) == 4 and raw[2] == NAK_BYTE:
+            raise NakError(f"board answered NAK to {name}", cmd)
+        raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
 
     # ------------------------------------------------------------------ data commands
 
@@ -219,6 +289,12 @@ class AsyncRcb4Client:
         """00h MOVE: ``dst <- src``. Returns the bytes read when ``dst`` is ``Com()``."""
         reply = await self.transact(Move(dst, src, size))
         return reply.data if isinstance(reply, DataReply) else None
+
+    async def _data(self, command: Command) -> bytes:
+        return data_of(await self.transact(command), command)
+
+    async def _int(self, command: Command) -> int:
+        return int.from_bytes(await self._data(command), "little")
 
     async def and_(
         self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
@@ -242,14 +318,9 @@ class AsyncRcb4Client:
         """04h NOT; returns the result bytes."""
         return await self._data(Not(dst, size, no_write))
 
-    async def shift(
-        self, dst: Destination, size: int, count: int, no_write: bool = False
-    ) -> bytes:
+    async def shift(self, dst: Destination, size: int, count: int, no_write: bool = False) -> bytes:
         """05h SHIFT (count 1-127 right, 128-255 left by 256 - count); returns the result."""
         return await self._data(Shift(dst, size, no_write, count))
-
-    async def _int(self, command: Command) -> int:
-        return int.from_bytes(await self._data(command), "little")
 
     async def add(
         self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
@@ -298,7 +369,8 @@ class AsyncRcb4Client:
     async def communicate_device(
         self, ics: int, tx_count: int, tx_address: int, rx_address: int
     ) -> None:
-        """0Eh ICS communication; refused unless ``allow_communicate_device=True``."""
+        """0Eh ICS communication. Refused (CommandNotAllowedError) unless the client was created
+        with ``allow_communicate_device=True``: the reference says it must not be used."""
         await self.transact(CommunicateDevice(ics, tx_count, tx_address, rx_address))
 
     # ------------------------------------------------------------------ servo commands
@@ -306,8 +378,10 @@ class AsyncRcb4Client:
     async def run_single_servo(
         self, ics: int, speed: int, position: int, set_update_flag: bool = True
     ) -> None:
-        """0Fh: one servo to ``position`` in ``speed`` output periods."""
-        await self.transact(RunSingleServo(ics, speed, position, set_update_flag))
+        """0Fh: one servo to ``position`` in ``speed`` output periods (any 7-bit ICS number,
+        speed and 16-bit position: the wire layer takes what the board takes)."""
+        frame = single_servo_frame(ics, speed, position, set_update_flag)
+        await self._ack(frame, 0x0F, "RunSingleServo")
 
     async def run_const_frame_servo(
         self,
@@ -316,20 +390,24 @@ class AsyncRcb4Client:
         set_update_flag: bool = True,
     ) -> None:
         """10h: several servos, one speed; ``positions`` maps ICS number to position."""
-        await self.transact(RunConstFrameServo(speed, positions, set_update_flag))
+        frame = const_frame_servo_frame(speed, positions, set_update_flag)
+        await self._ack(frame, 0x10, "RunConstFrameServo")
 
     async def run_series_servo(
         self, moves: Iterable[tuple[int, int, int]], set_update_flag: bool = True
     ) -> None:
-        """11h: several servos, each ``(ics, speed, position)``."""
+        """11h: several servos, each ``(ics, speed, position)``. One report says it resets a
+        real RCB-4HV; HeartToHeart4 never sends it."""
         await self.transact(RunSeriesServo(moves, set_update_flag))
 
     async def set_speed(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 02: servo speed parameter 1-127 per ICS number."""
+        """12h sub 02: servo speed parameter per ICS number (any byte; documented 1-127,
+        which :meth:`Robot.set_speed` checks)."""
         await self.transact(SetSpeed(values))
 
     async def set_stretch(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 01: servo stretch (holding gain) 1-127 per ICS number."""
+        """12h sub 01: servo stretch (holding gain) per ICS number (any byte; documented
+        1-127, which :meth:`Robot.set_stretch` checks)."""
         await self.transact(SetStretch(values))
 
     # ------------------------------------------------------------------ system
@@ -345,25 +423,33 @@ class AsyncRcb4Client:
         self, long_form: bool = False, timeout: float | None = None
     ) -> None:
         """FEh: link check; returns when the board ACKs, raises otherwise."""
-        reply = await self.transact(AcknowledgeCheck(long_form), timeout)
-        if not isinstance(reply, Ack):
-            raise FrameError(f"expected an ACK, got {reply}")
+        frame = _ACK_LONG if long_form else _ACK_SHORT
+        await self._ack(frame, AcknowledgeCheck.cmd, "AcknowledgeCheck", timeout)
 
     # ------------------------------------------------------------------ memory helpers
 
     async def read_ram(self, address: int, size: int) -> bytes:
         """Read ``size`` bytes of RAM (any size; 128 bytes per frame)."""
-        return await self._run(plans.read_memory("RAM", address, size))
+        if (
+            type(address) is int
+            and type(size) is int
+            and 0 < size <= MAX_READ
+            and 0 <= address <= RAM_SIZE - size
+        ):  # fast path: one frame, arguments known good
+            frame = RAM_READS.get((address, size)) or ram_read_frame(address, size)
+            raw = await self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
+            if len(raw) == size + 3:
+                return raw[2:-1]
+            return self._data_reply_error(raw, 0x00, size, "Move")
+        return await self.run_plan(read_memory("RAM", address, size))
 
     async def write_ram(self, address: int, data: bytes) -> None:
         """Write ``data`` to RAM (any size; 121 bytes per frame)."""
-        await self._run(plans.write_ram(address, data))
+        await self.run_plan(write_ram_plan(address, data))
 
-    async def read_rom(
-        self, address: int, size: int, progress: Progress | None = None
-    ) -> bytes:
+    async def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
         """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
-        return await self._run(plans.read_memory("ROM", address, size, progress))
+        return await self.run_plan(read_memory("ROM", address, size, progress))
 
     async def write_rom(
         self,
@@ -373,5 +459,21 @@ class AsyncRcb4Client:
         verify: bool = True,
         progress: Progress | None = None,
     ) -> None:
-        """Write ``data`` to ROM in 64-byte page-aligned chunks, verified when ``verify``."""
-        await self._run(plans.write_rom(address, data, verify, progress))
+        """Write ``data`` to ROM in 64-byte page-aligned chunks (see :data:`ROM_WRITE_CHUNK`),
+        reading each chunk back when ``verify`` (raises :class:`VerifyError` on a mismatch).
+        ``progress(done, total)`` counts bytes written (and verified)."""
+        await self.run_plan(write_rom_plan(address, data, verify, progress))
+
+    async def run_plan(self, plan: Plan[T]) -> T:
+        """Run a multi-frame :mod:`~rcb4hv.client.plans` operation over this link: each command
+        it yields is sent and its reply sent back in; returns the plan's result."""
+        try:
+            command = next(plan)
+            while True:
+                command = plan.send(await self.transact(command))
+        except StopIteration as stop:
+            return stop.value  # type: ignore[no-any-return]
+
+
+_ACK_SHORT: Final = AcknowledgeCheck().encode()
+_ACK_LONG: Final = AcknowledgeCheck(long_form=True).encode()

@@ -1,71 +1,83 @@
-"""The common robot-level calls of :class:`rcb4hv.client.Robot` for asyncio code.
+"""The robot-level API on top of :class:`~rcb4hv.aio.AsyncRcb4Client`: servos by ICS
+number, angles in degrees, moves timed in seconds, motions, buttons, sensors and memory.
 
-Results, units and errors are those of the blocking :class:`~rcb4hv.client.Robot` (its value
-types, :func:`~rcb4hv.client.plan_reads`, calibration and range check are reused); waits are
-``asyncio.sleep`` polls bounded by their ``timeout``. For anything not here, run the blocking
-Robot in a thread (``asyncio.to_thread``) or use :attr:`AsyncRobot.client` directly.
+One source, two faces: ``src/rcb4hv/aio/robot.py`` (asyncio) is the only source of the robot
+API, and ``tools/unasync.py`` writes ``src/rcb4hv/client/robot.py`` (blocking) from it, so
+both faces have the same methods, arguments, results and frames on the wire.
+
+Everything here is built from the wire commands of the client; nothing is cached across
+calls except the servo table (:meth:`AsyncRobot.discover_servos`), the layout and the output
+period.
 """
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import time
+from asyncio import sleep
 from collections.abc import Iterable, Mapping
 from types import TracebackType
 from typing import Literal
 
-from rcb4hv.aio.client import AsyncRcb4Client
-from rcb4hv.client.core import DEFAULT_TIMEOUT
-from rcb4hv.client.robot import (
+from rcb4hv.aio.client import DEFAULT_TIMEOUT, AsyncRcb4Client, Progress
+from rcb4hv.aio.robot_io import AsyncRobotIO
+from rcb4hv.aio.robot_motion import AsyncRobotMotions
+from rcb4hv.client.readplan import LinkCost, plan_cheapest
+from rcb4hv.client.robot_types import (
     MAX_SPEED,
+    PLANS_KEPT,
     SERVO_LIMIT,
+    BoardInfo,
     Calibration,
-    MotionStatus,
-    Robot,
     ServoInfo,
-    plan_reads,
 )
-from rcb4hv.errors import NakError, Rcb4TimeoutError
+from rcb4hv.errors import Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
     POSITION_FREE,
     POSITION_HOLD,
     RAM_SIZE,
     SERVO,
-    Button,
-    Command,
     ServoBlock,
     SystemRegister,
+    VersionReply,
 )
-from rcb4hv.protocol import sequences as seq
 from rcb4hv.protocol.memory import (
-    RUN_STATE_SIZE,
     SYS,
-    U16_BE,
-    ad_volts,
-    read_buttons,
+    Field,
+    ProgramState,
     read_pc,
-    read_run_state,
-    read_s16,
     read_system,
-    read_u16,
-    u16_bytes,
+    system_word_bytes,
     unpack_alloc,
 )
-from rcb4hv.rom.layout import HTH4_22, OLDER_MAIN_LOOP, MotionLayout
-from rcb4hv.rom.older import main_loop_layout
+from rcb4hv.protocol.ranges import (
+    check_documented_ics,
+    check_documented_position,
+    check_documented_stretch,
+)
+from rcb4hv.rom.layout import MotionLayout
 from rcb4hv.transport import DEFAULT_BAUD
 
 __all__ = ["AsyncRobot"]
 
 log = logging.getLogger(__name__)
 
-_NO_CAL = Calibration()
 
+class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
+    """The robot-level API.
 
-class AsyncRobot:
-    """``async with await AsyncRobot.open("rcb4emu://") as robot: await robot.positions()``"""
+    ``async with await AsyncRobot.open("rcb4emu://") as robot: await robot.discover_servos()``
+
+    ``calibration`` maps ICS numbers to host-side :class:`Calibration` (trim, direction) used by
+    the degree methods. Positions outside 3500..11500 (other than hold/free) raise ValueError
+    before anything is sent unless ``check_range=False`` is passed to the call.
+
+    ``layout`` is the board's HeartToHeart4 layout; None: read from its ROM on first use
+    (:meth:`board_layout`). ``link_cost`` is the time model bulk reads are planned with (see
+    :func:`~rcb4hv.client.readplan.plan_cheapest`): windows over several servo blocks or one
+    frame per servo, whichever costs the link less.
+    """
 
     def __init__(
         self,
@@ -73,10 +85,12 @@ class AsyncRobot:
         *,
         layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
+        link_cost: LinkCost | None = None,
     ) -> None:
         self.client = client
+        self.link_cost = link_cost if link_cost is not None else LinkCost()
+        self._plans: dict[tuple[LinkCost, tuple[tuple[int, int], ...]], list[tuple[int, int]]] = {}
         self.layout = layout
-        """The HeartToHeart4 layout; None: read from the board's ROM on first use."""
         self.calibration: dict[int, Calibration] = dict(calibration or {})
         self._servos: dict[int, ServoInfo] | None = None
         self._period: float | None = None
@@ -90,13 +104,18 @@ class AsyncRobot:
         timeout: float = DEFAULT_TIMEOUT,
         layout: MotionLayout | None = None,
         calibration: Mapping[int, Calibration] | None = None,
+        link_cost: LinkCost | None = None,
     ) -> AsyncRobot:
         """Open ``url`` (see :meth:`AsyncRcb4Client.open`) and wrap it."""
         client = await AsyncRcb4Client.open(url, baudrate=baudrate, timeout=timeout)
-        return cls(client, layout=layout, calibration=calibration)
+        return cls(client, layout=layout, calibration=calibration, link_cost=link_cost)
 
     async def close(self) -> None:
         await self.client.close()
+
+    async def reconnect(self) -> None:
+        """Reopen the link (after a disconnect); what the robot knew of the board is kept."""
+        await self.client.reconnect()
 
     async def __aenter__(self) -> AsyncRobot:
         return self
@@ -109,7 +128,7 @@ class AsyncRobot:
     ) -> None:
         await self.close()
 
-    # ------------------------------------------------------------------ board
+    # ------------------------------------------------------------------ basics
 
     async def ping(self) -> float:
         """Round-trip time of one ACK check, in seconds."""
@@ -117,42 +136,47 @@ class AsyncRobot:
         await self.client.acknowledge_check()
         return time.perf_counter() - t0
 
-    async def version(self) -> str:
-        return (await self.client.get_version_info()).text
+    async def version(self) -> VersionReply:
+        return await self.client.get_version_info()
 
-    async def board_layout(self) -> MotionLayout:
-        """The layout given, else the one the board's ROM holds (two 9-byte reads, as
-        :func:`rcb4hv.client.layout.detect_board_layout`), else HeartToHeart4 2.2."""
-        if self.layout is None:
-            try:
-                older = await self.client.read_rom(OLDER_MAIN_LOOP, 9)
-                newer = await self.client.read_rom(HTH4_22.main_loop, 9)
-                self.layout = main_loop_layout(older, newer) or HTH4_22
-            except NakError:
-                self.layout = HTH4_22
-        return self.layout
+    async def read_ram(self, address: int, size: int) -> bytes:
+        return await self.client.read_ram(address, size)
+
+    async def write_ram(self, address: int, data: bytes) -> None:
+        await self.client.write_ram(address, data)
+
+    async def ram_dump(self) -> bytes:
+        """All 0490h bytes of RAM (10 frames)."""
+        return await self.client.read_ram(0, RAM_SIZE)
+
+    async def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
+        return await self.client.read_rom(address, size, progress)
+
+    async def write_rom(
+        self, address: int, data: bytes, *, verify: bool = True, progress: Progress | None = None
+    ) -> None:
+        await self.client.write_rom(address, data, verify=verify, progress=progress)
+
+    # ------------------------------------------------------------------ system register
 
     async def system_register(self) -> SystemRegister:
         return SystemRegister.from_bytes(await self.client.read_ram(ADDR.SYSTEM, 2))
 
-    async def system_word(self) -> int:
-        """The system register as its raw word (what :mod:`rcb4hv.protocol.sequences` takes)."""
-        return read_system(await self.client.read_ram(ADDR.SYSTEM, 2), 0)
+    async def set_system_register(self, value: SystemRegister | int) -> None:
+        word = value.to_word() if isinstance(value, SystemRegister) else value
+        if not 0 <= word <= 0xFFFF:
+            raise ValueError("the system register is 16 bits")
+        await self.client.write_ram(ADDR.SYSTEM, system_word_bytes(word))
+        self._period = None
 
-    async def send_sequence(self, commands: Iterable[Command]) -> None:
-        """Send a host sequence (:mod:`rcb4hv.protocol.sequences`) command by command; each
-        must be acknowledged (:class:`~rcb4hv.errors.NakError` otherwise)."""
-        for cmd in commands:
-            await self.client.transact(cmd)
-
-    async def output_period(self) -> float:
+    async def output_period(self, refresh: bool = False) -> float:
         """Servo output period in seconds (system register bits 5-4), cached."""
-        if self._period is None:
+        if self._period is None or refresh:
             self._period = (await self.system_register()).frame_period_ms / 1000.0
         return self._period
 
     async def frames_for(self, duration: float) -> int:
-        """Servo speed (output periods) for a move lasting ``duration`` seconds."""
+        """Servo speed (output periods) for a move lasting ``duration`` seconds (at least 1)."""
         if duration < 0:
             raise ValueError("duration must be >= 0")
         period = await self.output_period()
@@ -164,8 +188,25 @@ class AsyncRobot:
             )
         return frames
 
+    async def info(self) -> BoardInfo:
+        """Version, system register, ROM program state and the servo table."""
+        version = (await self.client.get_version_info()).text
+        state = ProgramState.unpack(await self.client.read_ram(ADDR.SYSTEM, ProgramState.SIZE), 0)
+        servos = await self.discover_servos()
+        return BoardInfo(
+            version=version,
+            system=SystemRegister.from_word(state.system),
+            pc=state.pc,
+            call_depth=state.call_depth,
+            update_flags=state.update_flags,
+            servos=servos,
+        )
+
     async def wait_ready(self, timeout: float = 5.0, poll: float = 0.02) -> None:
-        """Wait until the ROM program is in its main loop (see :meth:`Robot.wait_ready`)."""
+        """Wait until the ROM program has finished its start-up: its PC is in the main loop
+        (between the layout's main loop and motion area) with an empty call stack, or the
+        program is stopped. A HeartToHeart4 image copies the servo table into RAM during
+        start-up, so call this before :meth:`discover_servos` right after power-on."""
         deadline = time.monotonic() + timeout
         lay = await self.board_layout()
         while True:
@@ -177,17 +218,18 @@ class AsyncRobot:
                 raise Rcb4TimeoutError(
                     f"ROM program not in its main loop after {timeout:g} s (PC {pc:06X})"
                 )
-            await asyncio.sleep(poll)
+            await sleep(poll)
 
-    # ------------------------------------------------------------------ servos
+    # ------------------------------------------------------------------ servo discovery
 
     async def allocation_table(self) -> list[int | None]:
-        """``alloc[0..35]``: the RAM address of each ICS number's block, or None."""
+        """``alloc[0..35]``: the RAM address of each ICS number's block, or None (FFFF)."""
         raw = await self.client.read_ram(ADDR.ICS_ALLOC, 2 * ADDR.ICS_ALLOC_COUNT)
         return unpack_alloc(raw, 0)
 
     async def discover_servos(self) -> list[ServoInfo]:
-        """Servos from the allocation table (see :meth:`Robot.discover_servos`)."""
+        """Servos = allocated ICS numbers 0-34 whose block has type 0, read in the fewest
+        frames; the result is cached for the position and move methods."""
         table = await self.allocation_table()
         blocks = {
             k: a
@@ -201,17 +243,18 @@ class AsyncRobot:
             if block.type == 0:
                 servos[k] = ServoInfo(k, a, block)
         self._servos = servos
+        log.debug("discovered %d servos: %s", len(servos), sorted(servos))
         return [servos[k] for k in sorted(servos)]
+
+    async def servo_ids(self) -> list[int]:
+        """ICS numbers of the known servos (discovers them on first use)."""
+        return sorted(await self._known())
 
     async def _known(self) -> dict[int, ServoInfo]:
         if self._servos is None:
             await self.discover_servos()
         assert self._servos is not None
         return self._servos
-
-    async def servo_ids(self) -> list[int]:
-        """ICS numbers of the known servos (discovers them on first use)."""
-        return sorted(await self._known())
 
     async def _select(self, ics: Iterable[int] | None) -> list[int]:
         known = await self._known()
@@ -224,7 +267,8 @@ class AsyncRobot:
         return out
 
     async def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
-        reads = plan_reads(spans.values())
+        """Read several RAM spans (keyed by anything) with the cheapest plan (``link_cost``)."""
+        reads = self._plan(tuple(spans.values()))
         if not reads:
             return dict.fromkeys(spans, b"")
         lo = reads[0][0]
@@ -233,18 +277,52 @@ class AsyncRobot:
             window[a - lo : a - lo + n] = await self.client.read_ram(a, n)
         return {key: bytes(window[a - lo : a - lo + n]) for key, (a, n) in spans.items()}
 
-    async def _read_field(self, ics: list[int], offset: int, size: int) -> dict[int, bytes]:
+    async def _read_field(self, ics: list[int], fld: Field) -> dict[int, int]:
+        """One servo-block field of each of the ``ics`` servos, in the fewest frames."""
         known = await self._known()
-        return await self._read_spans({k: (known[k].block_address + offset, size) for k in ics})
+        raw = await self._read_spans({k: fld.span(known[k].block_address) for k in ics})
+        return {k: fld.decode(raw[k]) for k in ics}
+
+    async def read_plan(
+        self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
+    ) -> list[tuple[int, int]]:
+        """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
+        fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
+        known = await self._known()
+        spans = tuple(fld.span(known[k].block_address) for k in await self._select(ics))
+        return list(self._plan(spans))
+
+    def _plan(self, spans: tuple[tuple[int, int], ...]) -> list[tuple[int, int]]:
+        """:func:`plan_cheapest` of ``spans``, remembered: a loop reads the same spans."""
+        key = (self.link_cost, spans)
+        plan = self._plans.get(key)
+        if plan is None:
+            if len(self._plans) >= PLANS_KEPT:
+                self._plans.clear()
+            plan = self._plans[key] = plan_cheapest(spans, self.link_cost)
+        return plan
+
+    # ------------------------------------------------------------------ positions
 
     async def positions(
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> dict[int, int]:
         """Raw positions by ICS number: ``measured`` (+4) or commanded ``output`` (+6)."""
-        offset = SERVO.MEASURED if kind == "measured" else SERVO.OUTPUT
+        fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
+        return await self._read_field(await self._select(ics), fld)
+
+    async def servo_states(self, ics: Iterable[int] | None = None) -> list[ServoInfo]:
+        """Fresh servo blocks (positions, speed, remaining steps) of the selected servos."""
         sel = await self._select(ics)
-        raw = await self._read_field(sel, offset, 2)
-        return {k: read_u16(raw[k], 0) for k in sel}
+        known = await self._known()
+        raw = await self._read_spans({k: (known[k].block_address, ServoBlock.SIZE) for k in sel})
+        return [ServoInfo(k, known[k].block_address, ServoBlock.from_bytes(raw[k])) for k in sel]
+
+    def to_degrees(self, ics: int, position: int) -> float:
+        return self.calibration.get(ics, _NO_CAL).to_degrees(position)
+
+    def to_position(self, ics: int, degrees: float) -> int:
+        return self.calibration.get(ics, _NO_CAL).to_position(degrees)
 
     async def angles(
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
@@ -253,9 +331,15 @@ class AsyncRobot:
         out = {}
         for k, p in (await self.positions(ics, kind)).items():
             special = p in (POSITION_FREE, POSITION_HOLD) or (p == 0 and kind == "output")
-            cal = self.calibration.get(k, _NO_CAL)
-            out[k] = float("nan") if special else cal.to_degrees(p)
+            out[k] = float("nan") if special else self.to_degrees(k, p)
         return out
+
+    # ------------------------------------------------------------------ moves
+
+    @staticmethod
+    def check_position(ics: int, position: int) -> None:
+        """ValueError unless ``position`` is in the documented 3500..11500 (or hold/free)."""
+        check_documented_position(ics, position)
 
     async def move(
         self,
@@ -266,19 +350,23 @@ class AsyncRobot:
         timeout: float | None = None,
         check_range: bool = True,
     ) -> None:
-        """Move servos (ICS number -> raw position) linearly over ``duration`` seconds."""
+        """Move servos (ICS number -> raw position) linearly over ``duration`` seconds.
+
+        One RunConstFrameServo frame; ``wait`` waits for the interpolation to end.
+        """
         if not positions:
             raise ValueError("no servo to move")
         for k, p in positions.items():
             if check_range:
-                Robot.check_position(k, p)
+                self.check_position(k, p)
             elif not 0 <= p <= 0xFFFF:
                 raise ValueError(f"ICS {k}: position {p} is not 16 bits")
         speed = await self.frames_for(duration)
         await self.client.run_const_frame_servo(speed, dict(positions))
         if wait:
-            limit = duration + 1.0 if timeout is None else timeout
-            await self.wait_interpolation(positions, timeout=limit)
+            await self.wait_interpolation(
+                positions, timeout=duration + 1.0 if timeout is None else timeout
+            )
 
     async def move_angles(
         self,
@@ -289,31 +377,41 @@ class AsyncRobot:
         timeout: float | None = None,
     ) -> None:
         """Like :meth:`move` with angles in degrees (host calibration applied)."""
-        cal = self.calibration
-        target = {k: cal.get(k, _NO_CAL).to_position(a) for k, a in angles.items()}
-        await self.move(target, duration, wait=wait, timeout=timeout)
+        await self.move(
+            {k: self.to_position(k, a) for k, a in angles.items()},
+            duration,
+            wait=wait,
+            timeout=timeout,
+        )
 
     async def free(self, ics: Iterable[int] | None = None) -> None:
-        """Torque off (8000h) for the selected servos (default: all known)."""
+        """Torque off (position 8000h) for the selected servos (default: all known)."""
         sel = await self._select(ics)
-        await self.client.run_const_frame_servo(1, dict.fromkeys(sel, POSITION_FREE))
+        await self.client.run_const_frame_servo(1, {k: POSITION_FREE for k in sel})
 
     async def hold(self, ics: Iterable[int] | None = None) -> None:
         """Torque on at the current position (7FFFh) for the selected servos."""
         sel = await self._select(ics)
-        await self.client.run_const_frame_servo(1, dict.fromkeys(sel, POSITION_HOLD))
+        await self.client.run_const_frame_servo(1, {k: POSITION_HOLD for k in sel})
+
+    async def neutral(
+        self, ics: Iterable[int] | None = None, duration: float = 1.0, *, wait: bool = False
+    ) -> None:
+        """Every selected servo to 0 degrees (centre plus host trim) over ``duration``."""
+        sel = await self._select(ics)
+        await self.move_angles(dict.fromkeys(sel, 0.0), duration, wait=wait)
 
     async def interpolating(self, ics: Iterable[int] | None = None) -> list[int]:
-        """ICS numbers whose interpolation is still running."""
+        """ICS numbers whose interpolation is still running (speed byte +8 non-zero)."""
         sel = await self._select(ics)
-        raw = await self._read_field(sel, SERVO.SPEED, 1)
-        return [k for k in sel if raw[k][0]]
+        speeds = await self._read_field(sel, SERVO.F_SPEED)
+        return [k for k in sel if speeds[k]]
 
     async def wait_interpolation(
         self, ics: Iterable[int] | None = None, *, timeout: float = 5.0, poll: float | None = None
     ) -> None:
         """Wait until the selected servos finish their moves; Rcb4TimeoutError after
-        ``timeout`` seconds."""
+        ``timeout`` seconds. Polls once per output period by default."""
         sel = await self._select(ics)
         interval = await self.output_period() if poll is None else poll
         deadline = time.monotonic() + timeout
@@ -323,80 +421,51 @@ class AsyncRobot:
                 return
             if time.monotonic() >= deadline:
                 raise Rcb4TimeoutError(f"servos {busy} still moving after {timeout:g} s")
-            await asyncio.sleep(min(interval, max(0.0, deadline - time.monotonic())))
+            await sleep(min(interval, max(0.0, deadline - time.monotonic())))
 
-    # ------------------------------------------------------------------ motions
+    async def _stretch_values(
+        self,
+        what: str,
+        values: Mapping[int, int] | int,
+        ics: Iterable[int] | None,
+        check_range: bool,
+    ) -> dict[int, int]:
+        vals = (
+            dict(values)
+            if isinstance(values, Mapping)
+            else dict.fromkeys(await self._select(ics), values)
+        )
+        for k, v in vals.items():
+            check_documented_ics(k)
+            if check_range:
+                check_documented_stretch(what, k, v)
+        return vals
 
-    async def motion_status(self) -> MotionStatus:
-        """PC, call depth and update flags (one frame), and the motion being played."""
-        pc, depth, flags = read_run_state(await self.client.read_ram(ADDR.PC, RUN_STATE_SIZE), 0)
-        motion = (await self.board_layout()).motion_at(pc)
-        running = motion is not None and (depth != 0 or any(flags))
-        return MotionStatus(pc, depth, flags, motion if running else None, running)
+    async def set_stretch(
+        self,
+        values: Mapping[int, int] | int,
+        ics: Iterable[int] | None = None,
+        *,
+        check_range: bool = True,
+    ) -> None:
+        """Stretch (holding gain) 1-127: a mapping, or one value for the selected servos.
 
-    async def play_motion(self, motion: int, *, wait: bool = False, timeout: float = 60.0) -> None:
-        """Play ``motion`` the way HeartToHeart4 does (spec 11.4; see :meth:`Robot.play_motion`)."""
-        lay = await self.board_layout()
-        address = lay.address(motion)
-        await self.send_sequence(seq.play_motion(await self.system_word(), address, lay.main_loop))
-        if wait:
-            await self.wait_motion(timeout=timeout)
+        Values outside the documented 1-127 raise ValueError unless ``check_range=False``
+        (the wire carries any byte; real projects send 0)."""
+        vals = await self._stretch_values("stretch", values, ics, check_range)
+        await self.client.set_stretch(vals)
 
-    async def stop_motion(self, *, reset: bool = True) -> None:
-        """Stop the ROM program (``reset``: back to the main loop, running)."""
-        main_loop = (await self.board_layout()).main_loop
-        word = await self.system_word()
-        await self.send_sequence(seq.stop_program(word, main_loop, reset=reset))
+    async def set_speed(
+        self,
+        values: Mapping[int, int] | int,
+        ics: Iterable[int] | None = None,
+        *,
+        check_range: bool = True,
+    ) -> None:
+        """Servo speed parameter 1-127: a mapping, or one value for the selected servos
+        (``check_range`` as for :meth:`set_stretch`)."""
+        vals = await self._stretch_values("speed", values, ics, check_range)
+        await self.client.set_speed(vals)
 
-    async def resume_motion(self) -> None:
-        """Let the ROM program run again (sets ROM_F)."""
-        await self.send_sequence(seq.resume_program(await self.system_word()))
 
-    async def wait_motion(self, *, timeout: float = 60.0, poll: float = 0.02) -> None:
-        """Wait until no motion plays; Rcb4TimeoutError after ``timeout`` seconds."""
-        deadline = time.monotonic() + timeout
-        while True:
-            status = await self.motion_status()
-            if not status.running:
-                return
-            if time.monotonic() >= deadline:
-                raise Rcb4TimeoutError(
-                    f"motion {status.motion} still playing after {timeout:g} s (PC {status.pc:06X})"
-                )
-            await asyncio.sleep(poll)
-
-    # ------------------------------------------------------------------ remote and sensors
-
-    async def buttons(self) -> Button:
-        """The remote-control button word (0350h, high byte first)."""
-        return read_buttons(await self.client.read_ram(ADDR.BUTTONS, 2), 0)
-
-    async def set_buttons(self, buttons: Button | int) -> None:
-        """Write the button word: a virtual remote control."""
-        value = int(buttons)
-        if not 0 <= value <= 0xFFFF:
-            raise ValueError("the button word is 16 bits")
-        await self.client.write_ram(ADDR.BUTTONS, U16_BE.pack(value))
-
-    async def press_button(self, buttons: Button | int, duration: float = 0.2) -> None:
-        """Hold ``buttons`` for ``duration`` seconds, then release."""
-        if duration < 0:
-            raise ValueError("duration must be >= 0")
-        await self.set_buttons(buttons)
-        try:
-            await asyncio.sleep(duration)
-        finally:
-            await self.set_buttons(Button.NONE)
-
-    async def battery_voltage(self) -> float:
-        """Supply voltage from AD0: AD0 * 25 / 1024 volts."""
-        return ad_volts(read_u16(await self.client.read_ram(ADDR.ad(0), 2), 0))
-
-    async def variable(self, n: int) -> int:
-        """User variable ``n`` (0-19), a signed 16-bit value."""
-        return read_s16(await self.client.read_ram(ADDR.user_variable(n), 2), 0)
-
-    async def set_variable(self, n: int, value: int) -> None:
-        if not -0x8000 <= value <= 0xFFFF:
-            raise ValueError("user variables are 16 bits")
-        await self.client.write_ram(ADDR.user_variable(n), u16_bytes(value))
+_NO_CAL = Calibration()

@@ -50,6 +50,11 @@ class AsyncTransport(abc.ABC):
         """Return as soon as ``size`` bytes have arrived, or with fewer (maybe none) at
         ``deadline`` (``time.monotonic()`` seconds)."""
 
+    async def read_some(self, size: int, deadline: float) -> bytes:
+        """Return what has arrived, up to ``size`` bytes, as soon as there is something; or
+        nothing at ``deadline`` (as :meth:`rcb4hv.transport.Transport.read_some`)."""
+        return await self.read(min(size, 4), deadline)
+
     @abc.abstractmethod
     def reset_input(self) -> None:
         """Discard every byte received but not read yet."""
@@ -66,6 +71,10 @@ class AsyncTransport(abc.ABC):
     def set_baudrate(self, baudrate: int) -> None:
         """Change the line rate (serial ports only)."""
         raise ValueError(f"{self.url}: baud detection needs a serial port")
+
+    async def reopen(self) -> None:
+        """Open the link again after a failure (default: not supported)."""
+        raise TransportError(f"{type(self).__name__} cannot be reopened")
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.url!r}>"
@@ -130,19 +139,31 @@ class StreamTransport(AsyncTransport):
         except (OSError, RuntimeError, serial.SerialException) as exc:
             raise TransportError(f"{self.url}: write failed: {exc}") from exc
 
-    async def read(self, size: int, deadline: float) -> bytes:
+    async def _wait(self, count: int, deadline: float) -> None:
+        """Until ``count`` bytes are buffered, or ``deadline``."""
         proto = self._protocol
-        while len(proto.buffer) < size:
+        while len(proto.buffer) < count:
             self._check()
             remaining = deadline - time.monotonic()
             if remaining <= 0:
-                break
+                return
             proto.arrived.clear()
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(proto.arrived.wait(), remaining)
-        out = bytes(proto.buffer[:size])
-        del proto.buffer[:size]
+
+    def _take(self, size: int) -> bytes:
+        buffer = self._protocol.buffer
+        out = bytes(buffer[:size])
+        del buffer[:size]
         return out
+
+    async def read(self, size: int, deadline: float) -> bytes:
+        await self._wait(size, deadline)
+        return self._take(size)
+
+    async def read_some(self, size: int, deadline: float) -> bytes:
+        await self._wait(1, deadline)
+        return self._take(size)
 
     def reset_input(self) -> None:
         self._check()
@@ -166,6 +187,18 @@ class StreamTransport(AsyncTransport):
         if not self._transport.is_closing():
             self._transport.close()
             await asyncio.sleep(0)  # let the loop run connection_lost
+
+    async def reopen(self) -> None:
+        await self.close()
+        port = self._port
+        if port is None:
+            fresh: AsyncTransport = await _open_socket(self.url)
+        else:
+            fresh = await _open_serial(self.url, int(port.baudrate))
+        if not isinstance(fresh, StreamTransport):  # pragma: no cover - the fd went away
+            await fresh.close()
+            raise TransportError(f"cannot reopen {self.url}: the port has no file descriptor")
+        self._transport, self._protocol, self._port = fresh._transport, fresh._protocol, fresh._port
 
 
 class PolledTransport(AsyncTransport):
@@ -214,6 +247,13 @@ class PolledTransport(AsyncTransport):
     async def close(self) -> None:
         with contextlib.suppress(OSError, serial.SerialException):
             self._port.close()
+
+    async def reopen(self) -> None:
+        await self.close()
+        try:
+            self._port.open()
+        except (OSError, ValueError, serial.SerialException) as exc:
+            raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
 
 
 def _has_fd(port: serial.Serial) -> bool:

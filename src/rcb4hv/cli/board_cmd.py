@@ -110,7 +110,7 @@ def register(cli: click.Group) -> None:
                 f"ICS baud {sysreg['ics_baud']}  Z={int(board.system.zero)} "
                 f"C={int(board.system.carry)}  ROMERR={int(board.system.rom_error)}"
             )
-            motion = robot.layout.motion_at(board.pc)
+            motion = robot.board_layout().motion_at(board.pc)
             where = f" (motion {motion})" if motion is not None else ""
             click.echo(f"PC             {board.pc:06X}{where}")
             click.echo(f"call depth     {board.call_depth}")
@@ -280,7 +280,7 @@ def register(cli: click.Group) -> None:
         """Torque off (all servos if no ICS number is given)."""
         with conn.open() as robot:
             robot.free(ics or None)
-            click.echo(f"freed {len(ics) if ics else len(robot.servo_ids)} servo(s)")
+            click.echo(f"freed {len(ics) if ics else len(robot.servo_ids())} servo(s)")
 
     @servo.command("hold")
     @click.argument("ics", nargs=-1, type=INTEGER)
@@ -290,7 +290,7 @@ def register(cli: click.Group) -> None:
         """Torque on at the current position (all servos if no ICS number is given)."""
         with conn.open() as robot:
             robot.hold(ics or None)
-            click.echo(f"holding {len(ics) if ics else len(robot.servo_ids)} servo(s)")
+            click.echo(f"holding {len(ics) if ics else len(robot.servo_ids())} servo(s)")
 
     # ------------------------------------------------------------------ motion
 
@@ -321,7 +321,7 @@ def register(cli: click.Group) -> None:
             robot.layout = LAYOUTS.get(layout) or robot.layout
             t0 = time.monotonic()
             robot.play_motion(number)
-            click.echo(f"playing motion {number} ({robot.layout.address(number):06X})")
+            click.echo(f"playing motion {number} ({robot.board_layout().address(number):06X})")
             if wait:
                 robot.wait_motion(timeout=wait_timeout)
                 click.echo(f"motion {number} ended after {time.monotonic() - t0:.2f} s")

@@ -17,20 +17,18 @@ from rcb4hv.client.core import (
     Rcb4Client,
     VerifyError,
 )
-from rcb4hv.client.readplan import FRAME_OVERHEAD_S, LinkCost, plan_cheapest
+from rcb4hv.client.readplan import FRAME_OVERHEAD_S, LinkCost, plan_cheapest, plan_reads
 from rcb4hv.client.recorder import PositionRecorder, Sample
-from rcb4hv.client.robot import (
+from rcb4hv.client.robot import Robot
+from rcb4hv.client.robot_types import (
     HTH4_20,
-    HTH4_22,
     BoardInfo,
     Calibration,
-    MotionLayout,
     MotionStatus,
-    Robot,
     ServoInfo,
     TimerState,
-    plan_reads,
 )
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
 
 __all__ = [
     "DEFAULT_TIMEOUT",

@@ -2,24 +2,21 @@
 
 :meth:`Rcb4Client._roundtrip` takes the fast path when the first read brings exactly the
 reply frame it expects; anything else (a NAK, a reply in pieces, stray bytes before it, a
-damaged reply) goes through :func:`find_reply`, which hunts for the reply among the bytes.
-
-The hunt itself is sans-I/O (:class:`ReplyMatcher`: bytes in, the reply frame out), so the
-asyncio client (:mod:`rcb4hv.aio`) runs the very same code with its own waiting.
+damaged reply) goes through :class:`ReplyMatcher`, which hunts for the reply among the bytes.
+The hunt is sans-I/O (bytes in, the reply frame out): both faces of the client (blocking and
+asyncio) feed it, each with its own waiting.
 """
 
 from __future__ import annotations
 
 import logging
 import struct
-import time
 from typing import Final
 
 from rcb4hv.errors import ChecksumError, Rcb4TimeoutError
 from rcb4hv.protocol import NEED_DATA, FrameDecoder
-from rcb4hv.transport import Transport
 
-__all__ = ["RAM_READS", "ReplyMatcher", "find_reply", "ram_read_frame"]
+__all__ = ["RAM_READS", "ReplyMatcher", "ram_read_frame"]
 
 log = logging.getLogger("rcb4hv.client.core")
 
@@ -117,27 +114,3 @@ class ReplyMatcher:
             return self.corrupt
         got = f" (incomplete: {partial.hex(' ')})" if partial else ""
         return Rcb4TimeoutError(f"no reply to {self.name} within {timeout:g} s{got}")
-
-
-def find_reply(
-    transport: Transport,
-    decoder: FrameDecoder,
-    chunk: bytes,
-    cmd: int,
-    expected: int,
-    name: str,
-    deadline: float,
-    timeout: float,
-    corrupt_grace: float,
-) -> bytes:
-    """The reply frame to ``cmd`` among ``chunk`` and the bytes still to come (blocking reads
-    from ``transport``; see :class:`ReplyMatcher`). Raises the ChecksumError at the deadline
-    if only damaged replies came, else Rcb4TimeoutError."""
-    matcher = ReplyMatcher(decoder, cmd, expected, name, corrupt_grace)
-    while True:
-        frame = matcher.feed(chunk, time.monotonic())
-        if frame is not None:
-            return frame
-        chunk = transport.read(matcher.need, matcher.until(deadline))
-        if not chunk:
-            raise matcher.timeout_error(timeout)

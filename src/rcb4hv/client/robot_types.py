@@ -4,7 +4,7 @@ calibration)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Final, Literal
 
 from rcb4hv.protocol import (
     COUNTS_PER_DEGREE,
@@ -15,14 +15,29 @@ from rcb4hv.protocol import (
     ics_to_id_port,
 )
 from rcb4hv.protocol.memory import CENTER, TimerState
+from rcb4hv.rom.layout import LAYOUTS
 
 __all__ = [
+    "HTH4_20",
+    "MAX_SPEED",
+    "PLANS_KEPT",
+    "SERVO_LIMIT",
     "BoardInfo",
     "Calibration",
     "MotionStatus",
     "ServoInfo",
     "TimerState",
 ]
+
+MAX_SPEED: Final = 255
+"""The longest move one servo command can ask: its speed byte counts output periods."""
+SERVO_LIMIT: Final = 35
+"""ICS numbers below this can be servos; ICS 35 is the remote-control receiver slot."""
+PLANS_KEPT: Final = 64
+"""How many bulk-read plans a robot remembers (a control loop reads the same spans)."""
+
+HTH4_20: Final = LAYOUTS["2.0"]
+"""HeartToHeart4 2.0 / 2.1: motion n at 0BB8h + 2048 (n - 1) (:data:`HTH4_22` is 2.2)."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -227,7 +227,7 @@ class BoardSession:
         def do(robot: Robot) -> None:
             robot.stop_motion(reset=True)
             robot.set_buttons(0)
-            if robot.servo_ids:
+            if robot.servo_ids():
                 robot.hold()
 
         return self.submit(do, urgent=True, label="stop")
@@ -394,7 +394,7 @@ class BoardSession:
             self.latencies.append(self.meter.last_write - t0)
 
     def _poll(self, robot: Robot) -> None:
-        if not robot.servo_ids and self.state.polls % 10 == 0:
+        if not robot.servo_ids() and self.state.polls % 10 == 0:
             robot.discover_servos()  # a freshly uploaded or booting program fills the table
         state = poll_state(robot, self.state, time.monotonic(), lambda: self._send_targets(robot))
         with self._state_lock:

@@ -120,10 +120,10 @@ def poll_state(
     between()
     remote = robot.read_ram(ADDR.BUTTONS, REMOTE_SIZE)
     between()
-    servos = robot.servo_states() if robot.servo_ids else []
+    servos = robot.servo_states() if robot.servo_ids() else []
     program = ProgramState.unpack(head, 0)
     pc, depth, flags = program.pc, program.call_depth, program.update_flags
-    layout: MotionLayout = robot.layout
+    layout: MotionLayout = robot.board_layout()
     motion = layout.motion_at(pc)
     running = motion is not None and (depth != 0 or program.waiting) and program.running
     return BoardState(

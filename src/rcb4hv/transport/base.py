@@ -5,6 +5,8 @@ from __future__ import annotations
 import abc
 from types import TracebackType
 
+from rcb4hv.errors import TransportError
+
 
 class Transport(abc.ABC):
     """A bidirectional byte link to one board.
@@ -47,9 +49,11 @@ class Transport(abc.ABC):
 
     def reopen(self) -> None:
         """Open the link again after a failure (default: not supported)."""
-        from rcb4hv.errors import TransportError
-
         raise TransportError(f"{type(self).__name__} cannot be reopened")
+
+    def set_baudrate(self, baudrate: int) -> None:
+        """Change the line rate (serial ports only; ValueError on other links)."""
+        raise ValueError(f"{self.url}: baud detection needs a serial port")
 
     def __enter__(self) -> Transport:
         return self

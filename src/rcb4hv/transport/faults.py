@@ -227,6 +227,9 @@ class FaultyTransport(Transport):
     def close(self) -> None:
         self.inner.close()
 
+    def set_baudrate(self, baudrate: int) -> None:
+        self.inner.set_baudrate(baudrate)
+
     def reopen(self) -> None:
         self._rx.clear()
         self._held.clear()

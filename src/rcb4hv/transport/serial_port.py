@@ -174,6 +174,8 @@ class SerialTransport(Transport):
         return int(self.port.baudrate)
 
     def set_baudrate(self, baudrate: int) -> None:
+        if self.port.baudrate == baudrate:
+            return  # a second tcsetattr at a custom rate is refused by some drivers
         try:
             self.port.baudrate = baudrate
         except _PORT_ERRORS as exc:

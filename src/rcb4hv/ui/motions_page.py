@@ -20,7 +20,7 @@ END_WAIT_LIMIT = 120.0
 
 def scan_slots(robot: Robot) -> StepJob[list[int]]:
     """Which motion slots of the board's layout hold a program (first frame not erased)."""
-    lay = robot.layout
+    lay = robot.board_layout()
     used = []
     for n in range(1, lay.motion_count + 1):
         head = robot.read_rom(lay.address(n), 2)
