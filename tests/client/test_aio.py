@@ -190,8 +190,8 @@ def test_open_failures_are_typed(tmp_path: object) -> None:
         probe.close()
         with pytest.raises(TransportError, match="cannot open"):
             await AsyncRcb4Client.open(f"socket://127.0.0.1:{port}")
-        with pytest.raises(ValueError, match="fault://"):
-            await AsyncRcb4Client.open("fault://drop_reply=1@rcb4emu://")
+        with pytest.raises(ValueError, match="fault://SPEC@URL"):
+            await AsyncRcb4Client.open("fault://drop_reply=1")
         with pytest.raises(ValueError, match="timeout"):
             await AsyncRcb4Client.open("rcb4emu://", timeout=0)
 
@@ -304,3 +304,21 @@ def test_async_play_stop_and_resume_send_the_host_sequences() -> None:
         asyncio.run(main())
     finally:
         board.close()
+
+
+def test_fault_urls_work_on_the_asyncio_face() -> None:
+    """fault:// is a pyserial URL handler, so the asyncio client opens it like any port."""
+
+    async def main() -> None:
+        async with await AsyncRcb4Client.open("fault://drop_reply=1@rcb4emu://") as rcb:
+            assert isinstance(rcb.transport, PolledTransport)
+            t0 = time.monotonic()
+            with pytest.raises(Rcb4TimeoutError):
+                await rcb.acknowledge_check(timeout=0.1)
+            assert time.monotonic() - t0 < 0.5
+        async with await AsyncRcb4Client.open("fault://seed=1@rcb4emu://") as rcb:
+            await rcb.acknowledge_check()
+            await rcb.write_ram(0x0357, bytes(range(200)))
+            assert await rcb.read_ram(0x0357, 200) == bytes(range(200))
+
+    asyncio.run(main())

@@ -110,7 +110,8 @@ def test_fault_url_and_config_parsing(rig: Rig) -> None:
         FaultConfig.parse("drop_reply=0.8,drop_request=0.8")
     if rig.kind == "inproc":
         t = open_transport("fault://drop_reply=1.0@" + rig.url)
-        assert isinstance(t, FaultyTransport)
+        assert isinstance(t.port.faults, FaultyTransport)  # type: ignore[attr-defined]
+        assert t.port.faults.config.rates == {Fault.DROP_REPLY: 1.0}  # type: ignore[attr-defined]
         with Rcb4Client(t, timeout=0.05) as c, pytest.raises(Rcb4TimeoutError):
             c.acknowledge_check()
 

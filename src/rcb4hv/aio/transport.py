@@ -26,7 +26,6 @@ import serial
 
 from rcb4hv.errors import TransportError
 from rcb4hv.transport import DEFAULT_BAUD, resolve_port
-from rcb4hv.transport.faults import FAULT_SCHEME
 
 __all__ = ["AsyncTransport", "PolledTransport", "StreamTransport", "open_async_transport"]
 
@@ -317,10 +316,6 @@ async def open_async_transport(
     url = resolve_port(url)
     if baudrate <= 0:
         raise ValueError(f"baud rate {baudrate} must be positive")
-    if url.startswith(FAULT_SCHEME):
-        raise ValueError(
-            "fault:// links are for the blocking client (rcb4hv.client.Rcb4Client) only"
-        )
     if url.lower().startswith("socket://"):
         return await _open_socket(url)
     transport = await _open_serial(url, baudrate)

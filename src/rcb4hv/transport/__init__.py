@@ -4,16 +4,14 @@
   ``socket://host:port`` (e.g. ``rcb4hv emulate --tcp``), ``rfc2217://``, ``spy://`` (hex
   trace of the traffic) and ``rcb4emu://`` (the emulator in process, no pty needed; its
   handler lives in :mod:`rcb4hv.emulator.protocol_rcb4emu`, found by pyserial by name);
-* :class:`FaultyTransport` — wraps another transport and injects faults.
-
-:func:`open_transport` picks the right one for a URL, including ``fault://SPEC@URL``.
+* :class:`FaultyTransport` — wraps another transport and injects faults; ``fault://SPEC@URL``
+  opens one through pyserial (its handler: :mod:`rcb4hv.transport.protocol_fault`).
 """
 
 from __future__ import annotations
 
 from rcb4hv.transport.base import Transport
 from rcb4hv.transport.faults import (
-    FAULT_SCHEME,
     Fault,
     FaultConfig,
     FaultyTransport,
@@ -50,12 +48,6 @@ EMULATOR_URL = "rcb4emu://"
 
 
 def open_transport(url: str | None = None, baudrate: int = DEFAULT_BAUD) -> Transport:
-    """Open ``url`` (None: auto-detect the Kondo adapter, see :func:`resolve_port`).
-
-    ``fault://SPEC@URL`` opens URL wrapped in a :class:`FaultyTransport` configured by SPEC.
-    """
-    url = resolve_port(url)
-    if url.startswith(FAULT_SCHEME):
-        config, inner = parse_fault_url(url)
-        return FaultyTransport(open_transport(inner, baudrate), config)
-    return SerialTransport.open(url, baudrate)
+    """Open ``url`` (None: auto-detect the Kondo adapter, see :func:`resolve_port`) with
+    pyserial's ``serial_for_url``: device paths, ``socket://``, ``rcb4emu://``, ``fault://``..."""
+    return SerialTransport.open(resolve_port(url), baudrate)

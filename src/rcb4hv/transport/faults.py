@@ -15,7 +15,8 @@ Every applied fault is appended to :attr:`FaultyTransport.history` as ``(transac
 The wrapper needs no protocol knowledge beyond one fact: the first byte of a reply is its
 length, which tells it where the reply ends (for the truncate / corrupt / extra-after faults).
 
-URL form (see :func:`parse_fault_url`): ``fault://drop_reply=0.05,corrupt_reply=0.05,seed=7@URL``.
+URL form (see :func:`parse_fault_url`): ``fault://drop_reply=0.05,corrupt_reply=0.05,seed=7@URL``,
+served by the pyserial URL handler :mod:`rcb4hv.transport.protocol_fault`.
 """
 
 from __future__ import annotations
@@ -208,16 +209,20 @@ class FaultyTransport(Transport):
             missing = size - len(self._rx)
             if missing <= 0:
                 break
-            now = time.monotonic()
-            if now >= deadline:
-                break
             until = min(deadline, self._held[0][0]) if self._held else deadline
-            chunk = self.inner.read(missing, until)
+            chunk = self.inner.read(missing, until)  # at least one look, even at the deadline
             if chunk:
                 self._process(chunk)
+            elif time.monotonic() >= deadline:
+                break
         out = bytes(self._rx[:size])
         del self._rx[:size]
         return out
+
+    def pending(self) -> int:
+        """How many bytes a read returns without waiting (those through the faults)."""
+        self._release()
+        return len(self._rx)
 
     def reset_input(self) -> None:
         self.inner.reset_input()

@@ -62,9 +62,10 @@ _POSIX_SERIAL: Final[type | None] = getattr(getattr(serial, "serialposix", None)
 
 
 # pyserial's URL-handler registry, by package name: ``rcb4emu://`` is served by
-# rcb4hv.emulator.protocol_rcb4emu, which pyserial imports when such a URL is opened. This layer
-# imports no emulator code; the emulator plugs in through pyserial's own extension point.
-URL_HANDLER_PACKAGES: Final = ("rcb4hv.emulator",)
+# rcb4hv.emulator.protocol_rcb4emu and ``fault://`` by rcb4hv.transport.protocol_fault, which
+# pyserial imports when such a URL is opened. This layer imports no emulator code; the
+# emulator plugs in through pyserial's own extension point.
+URL_HANDLER_PACKAGES: Final = ("rcb4hv.emulator", "rcb4hv.transport")
 
 
 def _register_handlers() -> None:
