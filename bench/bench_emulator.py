@@ -11,7 +11,7 @@ import serial
 
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.protocol import ALWAYS, Call, Jump, RunConstFrameServo, encode_command
-from rcb4hv.rom import ImageDescription, Motion, ServoConfig, build_image, layout
+from rcb4hv.rom import ImageDescription, ImageMotion, ImageServo, build_image, layout
 
 BAUD = 1_250_000
 FRAMES = {
@@ -153,12 +153,12 @@ def motion_speed() -> list[dict[str, Any]]:
     ]
     # 53-byte poses: 38 fit a 2048-byte slot; chain three slots with JUMPs
     motions = (
-        Motion(1, [*poses[:38], Jump(layout.motion_address(2), ALWAYS)]),
-        Motion(2, [*poses[38:76], Jump(layout.motion_address(3), ALWAYS)]),
-        Motion(3, poses[76:]),
+        ImageMotion(1, [*poses[:38], Jump(layout.motion_address(2), ALWAYS)]),
+        ImageMotion(2, [*poses[38:76], Jump(layout.motion_address(3), ALWAYS)]),
+        ImageMotion(3, poses[76:]),
     )
     desc = ImageDescription(
-        servos=tuple(ServoConfig(k) for k in ics),
+        servos=tuple(ImageServo(k) for k in ics),
         startup_motion=None,
         motions=motions,
     )

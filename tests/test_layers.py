@@ -153,3 +153,122 @@ def test_the_drawing_names_every_package(doc: str) -> None:
     drawing = text[start:].split("```text", 1)[1].split("```", 1)[0]
     missing = [u for u in RANK if not u.startswith("__") and u not in drawing]
     assert missing == []
+
+
+# ---------------------------------------------------------------------- module graph
+
+
+def _module_name(path: Path) -> str:
+    parts, _ = _module_parts(path)
+    return ".".join(("rcb4hv", *parts))
+
+
+MODULES = {_module_name(p): p for p in sorted(SRC.rglob("*.py"))}
+
+
+def _module_target(name: str, node: ast.AST) -> list[str]:
+    """The rcb4hv modules one import names: ``from pkg import sub`` names ``pkg.sub``."""
+    if isinstance(node, ast.ImportFrom) and name in MODULES:
+        subs = [f"{name}.{a.name}" for a in node.names if f"{name}.{a.name}" in MODULES]
+        if subs and len(subs) == len(node.names):
+            return subs
+    while name and name not in MODULES:
+        name = name.rpartition(".")[0]
+    return [name] if name else []
+
+
+def _module_edges() -> dict[str, set[str]]:
+    graph: dict[str, set[str]] = {name: set() for name in MODULES}
+    for name, path in MODULES.items():
+        parts, is_package = _module_parts(path)
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        for node in ast.walk(tree):
+            for target in _targets(node, parts, is_package):
+                if target == "rcb4hv" or target.startswith("rcb4hv."):
+                    graph[name].update(t for t in _module_target(target, node) if t != name)
+    return graph
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_two_modules_import_each_other() -> None:
+    """No module imports another that imports it back, directly or in a circle, inside a
+    package too (module level, lazy and TYPE_CHECKING imports all count; a package's
+    ``__init__`` is a module)."""
+    graph = _module_edges()
+    assert sum(map(len, graph.values())) > 300  # the scan sees the imports
+    # the command line's project commands are untangled last (issue 20, step 6)
+    pending = [["rcb4hv.cli.project_cmd", "rcb4hv.cli.project_sim_cmd"]]
+    assert [c for c in _cycles(graph) if c not in pending] == []
+
+
+def _private_imports() -> list[str]:
+    """``from rcb4hv.m import _name`` and ``m._name`` on an imported rcb4hv module, where
+    ``_name`` is a function, class or constant (a package's private helper *module*, such as
+    ``rcb4hv.cli._util``, may be imported inside its own package)."""
+    found = []
+    for name, path in MODULES.items():
+        parts, is_package = _module_parts(path)
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        aliases: dict[str, str] = {}  # local name -> imported rcb4hv module
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            for base in _targets(node, parts, is_package):
+                if not base.startswith("rcb4hv"):
+                    continue
+                for alias in node.names:
+                    full = f"{base}.{alias.name}"
+                    if full in MODULES:
+                        aliases[alias.asname or alias.name] = full
+                        if alias.name.startswith("_") and base != name.rpartition(".")[0]:
+                            found.append(f"{path.relative_to(SRC)}:{node.lineno}: {full}")
+                    elif alias.name.startswith("_") and not alias.name.startswith("__"):
+                        found.append(f"{path.relative_to(SRC)}:{node.lineno}: {full}")
+        for node in ast.walk(tree):
+            if (
+                isinstance(node, ast.Attribute)
+                and isinstance(node.value, ast.Name)
+                and node.value.id in aliases
+                and node.attr.startswith("_")
+                and not node.attr.startswith("__")
+            ):
+                found.append(f"{path.relative_to(SRC)}:{node.lineno}: {aliases[node.value.id]}")
+    return sorted(set(found))
+
+
+def test_private_names_stay_in_their_module() -> None:
+    assert _private_imports() == []

@@ -29,6 +29,8 @@ __all__ = [
     "AsmError",
     "ChecksumError",
     "CommandNotAllowedError",
+    "EmulatedCommandError",
+    "EmulatedReset",
     "FrameError",
     "Hth4FormatError",
     "LayoutError",
@@ -120,3 +122,18 @@ class AsmError(Rcb4Error, ValueError):
 
 class SimulationError(Rcb4Error):
     """The emulated board did not accept a host frame during a simulation."""
+
+
+class EmulatedCommandError(Rcb4Error):
+    """Inside the emulator: a command that cannot execute. The board model turns it into a
+    NAK (command from COM) or a program stop (instruction from ROM); it never reaches a host.
+    ``what`` names the stop (a :data:`rcb4hv.emulator.events.StopKind`)."""
+
+    def __init__(self, why: str, what: str = "command-error") -> None:
+        super().__init__(why)
+        self.what = what
+
+
+class EmulatedReset(Rcb4Error):
+    """Inside the emulator: the command resets the board (configuration
+    ``series_servo="reset"``); the board model powers on again."""

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from rcb4hv.asm import AsmError, assemble
+from rcb4hv.asm import assemble
+from rcb4hv.errors import AsmError
 
 CASES = [
     # (source, line, column, message fragment)

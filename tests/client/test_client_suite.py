@@ -9,13 +9,11 @@ import time
 import pytest
 
 from rcb4hv.client import (
-    CommandNotAllowedError,
     Rcb4Client,
-    VerifyError,
     plan_cheapest,
     plan_reads,
 )
-from rcb4hv.errors import NakError, Rcb4TimeoutError
+from rcb4hv.errors import CommandNotAllowedError, NakError, Rcb4TimeoutError, VerifyError
 from rcb4hv.protocol import (
     ADDR,
     POSITION_FREE,

@@ -17,7 +17,7 @@ from rcb4hv.client import Robot
 from rcb4hv.emulator import Board, VirtualClock
 from rcb4hv.errors import LayoutError
 from rcb4hv.protocol import Return
-from rcb4hv.rom import ImageDescription, Motion, default_description, default_image, layout
+from rcb4hv.rom import ImageDescription, ImageMotion, default_description, default_image, layout
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 from rcb4hv.rom.older import (
     BOOT_TAIL,
@@ -96,7 +96,7 @@ def test_detection() -> None:
 
 
 def test_motions_that_do_not_fit_are_refused() -> None:
-    d = ImageDescription(motions=(Motion(51, [Return()]),))
+    d = ImageDescription(motions=(ImageMotion(51, [Return()]),))
     with pytest.raises(LayoutError, match=r"1\.3 has 50 slots"):
         build_image_for(d, LAYOUTS["1.3"])
     with pytest.raises(LayoutError, match="no image builder"):

@@ -14,10 +14,10 @@ from rcb4hv.protocol import Button, Data, Move, Rom, RunSingleServo, encode_comm
 from rcb4hv.rom import (
     DEFAULT_ICS,
     ImageDescription,
+    ImageMotion,
+    ImagePriorityMotion,
+    ImageServo,
     Kri3Config,
-    Motion,
-    PriorityMotion,
-    ServoConfig,
     VectorPackage,
     build_image,
     default_description,
@@ -28,7 +28,7 @@ from rcb4hv.rom import (
 from tests.emulator.conftest import x
 
 servo = st.builds(
-    ServoConfig,
+    ImageServo,
     ics=st.integers(0, 34),
     servo_id=st.integers(0, 17),
     trim=st.integers(-500, 500),
@@ -58,7 +58,7 @@ descriptions = st.builds(
         st.one_of(
             st.none(),
             st.builds(
-                PriorityMotion,
+                ImagePriorityMotion,
                 source=st.just(0x22),
                 compare=st.sampled_from(["eq", "ne", "lt", "le", "gt", "ge"]),
                 value=st.integers(0, 1000),
@@ -69,7 +69,7 @@ descriptions = st.builds(
     ).map(tuple),
     motions=st.lists(
         st.builds(
-            Motion,
+            ImageMotion,
             st.integers(1, 120),
             st.lists(
                 st.builds(
@@ -111,13 +111,13 @@ def test_layout_addresses_hold_the_documented_instructions() -> None:
 
 def test_description_validation() -> None:
     with pytest.raises(ValueError):
-        ServoConfig(ics=35)
+        ImageServo(ics=35)
     with pytest.raises(ValueError):
-        ImageDescription(servos=(ServoConfig(2), ServoConfig(2)))
+        ImageDescription(servos=(ImageServo(2), ImageServo(2)))
     with pytest.raises(ValueError):
-        Motion(1, [RunSingleServo(0, 1, 7500)] * 300)
-    assert PriorityMotion(0x22, "le", 223, 0x1000).compare == "lt"
-    assert PriorityMotion(0x22, "le", 223, 0x1000).value == 224
+        ImageMotion(1, [RunSingleServo(0, 1, 7500)] * 300)
+    assert ImagePriorityMotion(0x22, "le", 223, 0x1000).compare == "lt"
+    assert ImagePriorityMotion(0x22, "le", 223, 0x1000).value == 224
 
 
 def test_default_board_boots_homes_and_runs_the_main_loop(booted: Board) -> None:

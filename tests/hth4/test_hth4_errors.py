@@ -9,7 +9,7 @@ from dataclasses import replace
 import pytest
 
 from rcb4hv import hth4
-from rcb4hv.errors import Rcb4Error
+from rcb4hv.errors import Hth4FormatError, Rcb4Error
 from tests.hth4._hth4_fixtures import fixture
 
 
@@ -31,7 +31,7 @@ def _small_project() -> bytes:
 
 
 def _error(data: bytes | str, parse: Callable[[bytes | str], object] = hth4.parse_project) -> str:
-    with pytest.raises(hth4.Hth4FormatError) as info:
+    with pytest.raises(Hth4FormatError) as info:
         parse(data)
     assert isinstance(info.value, ValueError) and isinstance(info.value, Rcb4Error)
     return str(info.value)

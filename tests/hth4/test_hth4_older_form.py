@@ -10,6 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from rcb4hv import hth4
+from rcb4hv.errors import Hth4FormatError
 from rcb4hv.hth4.flowchart_older import dump_older_flowchart, to_older_form
 from rcb4hv.hth4.model import Point
 
@@ -178,9 +179,9 @@ def test_canvas_form_is_unchanged_by_the_older_reader() -> None:
 
 def test_older_form_errors_are_typed() -> None:
     bad = sample().replace(b'"LineData"', b'"CommentData"')
-    with pytest.raises(hth4.Hth4FormatError, match=r"ArrayOfAnyType/anyType\[2\]: expected"):
+    with pytest.raises(Hth4FormatError, match=r"ArrayOfAnyType/anyType\[2\]: expected"):
         hth4.parse_motion_xml(bad)
-    with pytest.raises(hth4.Hth4FormatError, match="wrong root element"):
+    with pytest.raises(Hth4FormatError, match="wrong root element"):
         hth4.parse_motion_xml(b'<?xml version="1.0"?>\r\n<ArrayOfString />')
     chart = hth4.parse_motion_xml(sample())
     from dataclasses import replace

@@ -9,7 +9,7 @@ from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
 from rcb4hv.protocol import Data, Move, Ram, Return
-from rcb4hv.rom import ImageDescription, Motion, ServoConfig, build_image
+from rcb4hv.rom import ImageDescription, ImageMotion, ImageServo, build_image
 
 
 def test_simulate_walk_json_with_hold(kxr_project_path: Path) -> None:
@@ -52,8 +52,11 @@ def test_simulate_table_and_plot(kxr_project_path: Path, tmp_path: Path) -> None
 def test_simulate_error_exit_status(tmp_path: Path) -> None:
     desc = ImageDescription(
         system_register=0x821B,
-        servos=(ServoConfig(2),),
-        motions=(Motion(1, [Move(Ram(0x0005), Data(b"\x00")), Return()]), Motion(2, [Return()])),
+        servos=(ImageServo(2),),
+        motions=(
+            ImageMotion(1, [Move(Ram(0x0005), Data(b"\x00")), Return()]),
+            ImageMotion(2, [Return()]),
+        ),
     )
     img = tmp_path / "bad.bin"
     img.write_bytes(build_image(desc))

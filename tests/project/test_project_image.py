@@ -21,7 +21,7 @@ from rcb4hv.project.image import (
     read_image,
     split_frames,
 )
-from rcb4hv.protocol import ALWAYS, Call, decode_command
+from rcb4hv.protocol import ADDR, ALWAYS, Call, decode_command
 from rcb4hv.rom import default_image, layout
 
 ROMERR = 0x0400
@@ -130,7 +130,7 @@ def test_fixture_image_boots_and_matches_servo_config(
         assert mix1 == s.mixing1_address
     assert board.alloc(35) == 0x034C  # KRI-3 receiver
     assert board.ram[0x034C:0x034E] == bytes((1, 31))
-    assert int.from_bytes(board.ram[0x008C:0x008E], "little") == layout.RAM_VECTOR_PACKAGES
+    assert int.from_bytes(board.ram[0x008C:0x008E], "little") == ADDR.VECTOR_PACKAGES
 
 
 def test_default_image_boots_without_romerr() -> None:

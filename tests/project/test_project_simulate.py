@@ -20,7 +20,7 @@ from rcb4hv.protocol import (
     Ram,
     Return,
 )
-from rcb4hv.rom import ImageDescription, Motion, ServoConfig, build_image, layout
+from rcb4hv.rom import ImageDescription, ImageMotion, ImageServo, build_image, layout
 
 
 @pytest.fixture(scope="module")
@@ -90,8 +90,8 @@ def test_walk_loops_while_up_is_held(kxr_project: hth4.Project, kxr_image: bytes
 def _image(*motion_frames: list[object], servos: tuple[int, ...] = (2, 3)) -> bytes:
     desc = ImageDescription(
         system_register=0x821B,
-        servos=tuple(ServoConfig(i) for i in servos),
-        motions=tuple(Motion(n + 1, f) for n, f in enumerate(motion_frames)),  # type: ignore[arg-type]
+        servos=tuple(ImageServo(i) for i in servos),
+        motions=tuple(ImageMotion(n + 1, f) for n, f in enumerate(motion_frames)),  # type: ignore[arg-type]
     )
     return build_image(desc)
 

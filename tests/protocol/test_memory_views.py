@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from rcb4hv.protocol import Condition
+from rcb4hv.protocol import RAM_SIZE, Condition
 from rcb4hv.protocol import memory as m
 
 # spec section 9 field order: type, ID, base, measured, output, speed, end, remaining, width,
@@ -36,7 +36,7 @@ def test_servo_block_golden_fields() -> None:
 
 
 def test_servo_fields_read_and_write_a_block_at_its_ram_address() -> None:
-    ram = bytearray(m.ADDR.RAM_SIZE)
+    ram = bytearray(RAM_SIZE)
     blk = m.ADDR.servo_block(3)
     assert blk == 0x0090 + 60
     ram[blk : blk + 20] = GOLDEN_BLOCK
@@ -91,7 +91,7 @@ def test_mix_method_round_trip(rate: int) -> None:
 
 
 def test_allocation_table() -> None:
-    ram = bytearray(m.ADDR.RAM_SIZE)
+    ram = bytearray(RAM_SIZE)
     table: list[int | None] = [None] * 36
     table[0], table[35] = 0x0090, 0x034C
     ram[m.ADDR.ICS_ALLOC : m.ADDR.ICS_ALLOC + 72] = m.pack_alloc(table)
@@ -134,7 +134,7 @@ def test_kri3_block_golden() -> None:
     blk = m.Kri3Block(buttons=int(m.Button.CIRCLE | m.Button.S1), pa1=0x80, checksum=0x5A)
     raw = blk.to_bytes()
     assert raw == bytes.fromhex("01 1f 00 00 02 40 80 00 00 00 5a")
-    ram = bytearray(m.ADDR.RAM_SIZE)
+    ram = bytearray(RAM_SIZE)
     ram[m.ADDR.KRI3_BLOCK : m.ADDR.KRI3_BLOCK + 11] = raw
     assert m.Kri3Block.unpack(ram) == blk
     assert m.read_buttons(ram) == m.Button.CIRCLE | m.Button.S1
@@ -143,7 +143,7 @@ def test_kri3_block_golden() -> None:
 
 
 def test_program_state_and_reset() -> None:
-    ram = bytearray(m.ADDR.RAM_SIZE)
+    ram = bytearray(RAM_SIZE)
     m.write_system(ram, m.SYS.ROM_RUN | m.SYS.ICS_OUTPUT)
     ram[m.ADDR.PC : m.ADDR.PC + 10] = m.program_reset(0x00044B)
     ram[m.ADDR.CALL_DEPTH] = 2
@@ -157,12 +157,11 @@ def test_program_state_and_reset() -> None:
 
 
 def test_update_flags_read_as_one_integer_bit_n_is_ics_n() -> None:
-    ram = bytearray(m.ADDR.RAM_SIZE)
+    ram = bytearray(RAM_SIZE)
     ram[m.ADDR.UPDATE_FLAGS : m.ADDR.UPDATE_FLAGS + 5] = bytes.fromhex("01 00 00 00 80")
     assert m.read_update_flags(ram) == 1 | 1 << 39
     span = bytes(3) + bytes.fromhex("00 04 00 00 00")  # read from the board at 0004h
     assert m.read_update_flags(span, m.ADDR.UPDATE_FLAGS - 4) == 1 << 10
-
 
 
 @given(st.integers(0, 0x7FFF), st.booleans())

@@ -17,9 +17,7 @@ from rcb4hv.asm.disassembler import format_command
 from rcb4hv.asm.syntax import SHIFT_WORDS
 from rcb4hv.emulator import Board
 from rcb4hv.emulator.alu import OP_OF, AluOp
-from rcb4hv.protocol import branches, datacmds, operands, servocmds
-from rcb4hv.protocol import commands as commands_module
-from rcb4hv.protocol.commands import (
+from rcb4hv.protocol import (
     AcknowledgeCheck,
     Add,
     And,
@@ -49,8 +47,11 @@ from rcb4hv.protocol.commands import (
     Shift,
     Sub,
     Xor,
+    branches,
+    datacmds,
     decode_command,
     encode_command,
+    servocmds,
 )
 from rcb4hv.protocol.describe import describe_command
 from rcb4hv.protocol.registry import (
@@ -191,14 +192,18 @@ def test_no_parallel_table_of_operators_or_mnemonics() -> None:
     assert holders == {}
 
 
-def test_commands_module_keeps_every_public_name() -> None:
-    """``from rcb4hv.protocol.commands import X`` and ``from rcb4hv.protocol import X`` give
-    the same object for every name the package exports from the command modules."""
+def test_each_public_name_has_one_home() -> None:
+    """Every name ``rcb4hv.protocol`` exports is in the ``__all__`` of exactly one of its
+    modules (no chain of re-exports: the package imports each from where it is defined)."""
+    import importlib
+    import pkgutil
+
     import rcb4hv.protocol as protocol
 
-    split = (datacmds, branches, servocmds, operands)
+    modules = [
+        importlib.import_module(f"rcb4hv.protocol.{m.name}")
+        for m in pkgutil.iter_modules(protocol.__path__)
+    ]
     for name in protocol.__all__:
-        if any(name in m.__all__ for m in split):
-            assert getattr(commands_module, name) is getattr(protocol, name), name
-    for name in commands_module.__all__:
-        assert getattr(commands_module, name) is not None
+        homes = [m.__name__ for m in modules if name in getattr(m, "__all__", ())]
+        assert len(homes) == 1, (name, homes)

@@ -37,7 +37,6 @@ from rcb4hv.errors import (
     ProtocolError,
     Rcb4TimeoutError,
     TransportError,
-    VerifyError,
 )
 from rcb4hv.protocol import (
     ALWAYS,
@@ -86,9 +85,7 @@ __all__ = [
     "MAX_WRITE",
     "ROM_WRITE_CHUNK",
     "AsyncRcb4Client",
-    "CommandNotAllowedError",
     "Progress",
-    "VerifyError",
 ]
 
 log = logging.getLogger(__name__)

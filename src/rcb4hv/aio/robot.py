@@ -34,6 +34,7 @@ from rcb4hv.client.robot_types import (
 from rcb4hv.errors import Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
+    ICS_COUNT,
     POSITION_FREE,
     POSITION_HOLD,
     RAM_SIZE,
@@ -224,7 +225,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
 
     async def allocation_table(self) -> list[int | None]:
         """``alloc[0..35]``: the RAM address of each ICS number's block, or None (FFFF)."""
-        raw = await self.client.read_ram(ADDR.ICS_ALLOC, 2 * ADDR.ICS_ALLOC_COUNT)
+        raw = await self.client.read_ram(ADDR.ICS_ALLOC, 2 * ICS_COUNT)
         return unpack_alloc(raw, 0)
 
     async def discover_servos(self) -> list[ServoInfo]:

@@ -287,7 +287,7 @@ async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
 
     try:
         port = await loop.run_in_executor(None, serial_port.open_8e1, url, baudrate, 0)
-    except serial_port._PORT_ERRORS as exc:
+    except serial_port.PORT_ERRORS as exc:
         raise TransportError(f"cannot open {url}: {exc}") from exc
     if not _has_fd(port):
         return PolledTransport(port, url)
@@ -299,7 +299,7 @@ async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
         transport, protocol = await serial_asyncio_fast.connection_for_serial(
             loop, _LinkProtocol, port
         )
-    except serial_port._PORT_ERRORS as exc:
+    except serial_port.PORT_ERRORS as exc:
         port.close()
         raise TransportError(f"cannot use {url}: {exc}") from exc
     finally:

@@ -49,11 +49,9 @@ from rcb4hv.asm.disassembler import (
     format_command,
     operand_text,
 )
-from rcb4hv.asm.errors import AsmError
 from rcb4hv.asm.image import disassemble_image
 
 __all__ = [
-    "AsmError",
     "AsmItem",
     "AssembledProgram",
     "assemble",

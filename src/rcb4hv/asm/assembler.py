@@ -12,7 +12,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Final
 
-from rcb4hv.asm.errors import AsmError
 from rcb4hv.asm.parse import (
     HEX_BYTE,
     IF_WORD,
@@ -32,6 +31,7 @@ from rcb4hv.asm.parse import (
     want_operands,
 )
 from rcb4hv.asm.syntax import SHIFT_WORDS
+from rcb4hv.errors import AsmError
 from rcb4hv.protocol import (
     ROM_SIZE,
     AcknowledgeCheck,

@@ -47,7 +47,16 @@ from rcb4hv.protocol import (
 from rcb4hv.protocol.datacmds import BinaryOp
 from rcb4hv.protocol.registry import spec_of
 
-__all__ = ["disassemble", "disassemble_frames", "format_command", "operand_text"]
+__all__ = [
+    "Listing",
+    "SweepItem",
+    "branch_targets",
+    "disassemble",
+    "disassemble_frames",
+    "format_command",
+    "operand_text",
+    "sweep",
+]
 
 COMMENT_COLUMN: Final = 40
 BYTES_PER_LINE: Final = 16
@@ -159,14 +168,14 @@ def _hint(cmd: Command) -> str:
 
 
 @dataclass(frozen=True, slots=True)
-class _Item:
+class SweepItem:
     address: int
     data: bytes
     command: Command | None
 
 
-def _sweep(data: bytes, origin: int) -> list[_Item]:
-    items: list[_Item] = []
+def sweep(data: bytes, origin: int) -> list[SweepItem]:
+    items: list[SweepItem] = []
     i, n = 0, len(data)
     while i < n:
         try:
@@ -175,22 +184,22 @@ def _sweep(data: bytes, origin: int) -> list[_Item]:
         except ProtocolError:
             cmd = None
         if cmd is not None and encode_command(cmd) == frame:
-            items.append(_Item(origin + i, frame, cmd))
+            items.append(SweepItem(origin + i, frame, cmd))
             i += len(frame)
             continue
-        items.append(_Item(origin + i, data[i : i + 1], None))
+        items.append(SweepItem(origin + i, data[i : i + 1], None))
         i += 1
     return items
 
 
-def _targets(items: Iterable[_Item]) -> set[int]:
+def branch_targets(items: Iterable[SweepItem]) -> set[int]:
     return {it.command.address for it in items if isinstance(it.command, (Jump, Call))}
 
 
 # --------------------------------------------------------------------------- rendering
 
 
-class _Listing:
+class Listing:
     """Accumulates output lines and tracks the address the text has reached."""
 
     def __init__(self, comments: bool, symbols: bool, labels: Mapping[int, str]) -> None:
@@ -225,7 +234,7 @@ class _Listing:
             self.lines.append(f"{label}:")
             self.placed.add(address)
 
-    def instruction(self, item: _Item) -> None:
+    def instruction(self, item: SweepItem) -> None:
         assert item.command is not None
         self._at(item.address)
         text = format_command(item.command, label_for=self.labels.get, symbols=self.symbols)
@@ -281,7 +290,7 @@ class _Listing:
             self.pc = address + end
             i = end
 
-    def items(self, items: list[_Item], skip_erased: bool = False) -> None:
+    def items(self, items: list[SweepItem], skip_erased: bool = False) -> None:
         k = 0
         while k < len(items):
             item = items[k]
@@ -312,9 +321,9 @@ def _ascii(data: bytes) -> str:
     return "".join(chr(b) if 0x20 <= b < 0x7F else "." for b in data)
 
 
-def _auto_labels(items: list[_Item]) -> dict[int, str]:
+def _auto_labels(items: list[SweepItem]) -> dict[int, str]:
     starts = {it.address for it in items}
-    return {a: f"L_{a:06X}" for a in sorted(_targets(items) & starts)}
+    return {a: f"L_{a:06X}" for a in sorted(branch_targets(items) & starts)}
 
 
 def _check_origin(origin: int, length: int) -> None:
@@ -340,8 +349,8 @@ def disassemble(
     """
     data = bytes(data)
     _check_origin(origin, len(data))
-    items = _sweep(data, origin)
-    listing = _Listing(comments, symbols, _auto_labels(items) if labels else {})
+    items = sweep(data, origin)
+    listing = Listing(comments, symbols, _auto_labels(items) if labels else {})
     listing.lines.append(f"    .org {rom_text(origin)}")
     listing.pc = origin
     listing.items(items)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from itertools import pairwise
 from typing import Final
 
-from rcb4hv.asm.disassembler import _Item, _Listing, _sweep, _targets
+from rcb4hv.asm.disassembler import Listing, SweepItem, branch_targets, sweep
 from rcb4hv.protocol import ROM_SIZE
 from rcb4hv.rom import layout as L
 
@@ -83,20 +83,20 @@ def disassemble_image(
             code.append((start, start + L.MOTION_SIZE, f"motion {n}"))
     code.append((L.STARTUP_STUB, ROM_SIZE, "startup stub"))
 
-    swept = {start: _sweep(image[start:end], start) for start, end, _ in code}
+    swept = {start: sweep(image[start:end], start) for start, end, _ in code}
     all_items = [it for items in swept.values() for it in items]
     starts = {it.address for it in all_items if it.command is not None}
     names: dict[int, str] = {}
     for start, _, title in code:
         if title.startswith("motion ") and start in starts:
             names[start] = f"motion_{title.split()[1]}"
-    for address in sorted(_targets(all_items) & starts):
+    for address in sorted(branch_targets(all_items) & starts):
         names.setdefault(address, _NAMED.get(address, f"L_{address:06X}"))
     for address, name in _NAMED.items():
         if address in starts:
             names.setdefault(address, name)
 
-    out = _Listing(comments, symbols, names)
+    out = Listing(comments, symbols, names)
     out.comment("HeartToHeart4 2.2 ROM image (256 KB); erased areas are FF")
 
     def header(title: str, start: int, end: int) -> None:
@@ -129,7 +129,7 @@ def disassemble_image(
     return out.text()
 
 
-def _code_with_notes(out: _Listing, items: list[_Item]) -> None:
+def _code_with_notes(out: Listing, items: list[SweepItem]) -> None:
     notes = sorted(_CODE_NOTES.items())
     k = 0
     for lo, hi in _chunks(items, [a for a, _ in notes]):
@@ -139,7 +139,7 @@ def _code_with_notes(out: _Listing, items: list[_Item]) -> None:
         out.items(items[lo:hi], skip_erased=True)
 
 
-def _chunks(items: list[_Item], cuts: list[int]) -> list[tuple[int, int]]:
+def _chunks(items: list[SweepItem], cuts: list[int]) -> list[tuple[int, int]]:
     """Split ``items`` into index ranges that start at the first item at/after each cut."""
     bounds = sorted(
         {next((i for i, it in enumerate(items) if it.address >= c), len(items)) for c in cuts}
@@ -171,7 +171,7 @@ def _runs(numbers: list[int]) -> list[tuple[int, int]]:
     return runs
 
 
-def _note_empty(out: _Listing, first: int, last: int) -> None:
+def _note_empty(out: Listing, first: int, last: int) -> None:
     out.blank()
     which = f"motion {first}" if first == last else f"motions {first}-{last}"
     out.comment(f"{which}: empty (erased)")

@@ -8,9 +8,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Final
 
-from rcb4hv.asm.errors import AsmError
 from rcb4hv.asm.symbols import RAM_SCALARS, RAM_TABLES, SERVO_FIELDS
 from rcb4hv.asm.syntax import POSITION_WORDS
+from rcb4hv.errors import AsmError
 from rcb4hv.protocol import (
     Com,
     Condition,

@@ -19,6 +19,7 @@ __all__ = [
     "ADDRESS",
     "BAUD",
     "INTEGER",
+    "MOTION_SLOT",
     "AddressType",
     "BaudType",
     "Connection",
@@ -107,6 +108,9 @@ class BaudType(_BaudParam):
 
 INTEGER: Final = IntegerType()
 ADDRESS: Final = AddressType()
+MOTION_SLOT: Final = click.IntRange(min=1)
+"""A motion slot number. Its upper bound is the layout's (120 in HeartToHeart4 2.x, 50 in
+1.3), which the command checks once it knows the layout (``MotionLayout.address``)."""
 BAUD: Final = BaudType()
 
 

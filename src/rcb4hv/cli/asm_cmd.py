@@ -8,8 +8,9 @@ from typing import NoReturn
 
 import click
 
-from rcb4hv.asm import AsmError, assemble, disassemble, disassemble_frames, disassemble_image
+from rcb4hv.asm import assemble, disassemble, disassemble_frames, disassemble_image
 from rcb4hv.cli.decode_cmd import parse_hex
+from rcb4hv.errors import AsmError
 
 
 def _address(text: str) -> int:
@@ -88,7 +89,7 @@ def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> No
     type=click.Path(exists=True, dir_okay=False),
     help="HeartToHeart4 project (.h4p); with --motion N.",
 )
-@click.option("--motion", type=int, help="Motion slot (1-120) of --project.")
+@click.option("--motion", type=int, help="Motion slot of --project (1 to its layout's count).")
 @_ORIGIN
 @click.option("--no-labels", is_flag=True, help="Write branch targets as addresses.")
 @click.option("--no-comments", is_flag=True, help="Leave out addresses and notes.")

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from rcb4hv.cli._output import plot_to
-from rcb4hv.cli._util import handle_errors, print_json, print_table
+from rcb4hv.cli._util import MOTION_SLOT, handle_errors, print_json, print_table
 from rcb4hv.cli.project_check_cmd import build_options
 from rcb4hv.cli.project_cmd import (
     LAYOUT_OPTION,
@@ -25,7 +25,7 @@ from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
 @click.option(
     "--motion",
     "motion",
-    type=click.IntRange(1, 120),
+    type=MOTION_SLOT,
     multiple=True,
     help="Motion slot to play (repeatable; default: every used slot).",
 )

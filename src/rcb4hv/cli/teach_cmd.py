@@ -9,7 +9,7 @@ from typing import Any
 
 import click
 
-from rcb4hv.cli._util import handle_errors
+from rcb4hv.cli._util import MOTION_SLOT, handle_errors
 from rcb4hv.hth4 import dump_motion_xml, dump_project, load_project, parse_project
 from rcb4hv.hth4.keyframes import (
     Keyframe,
@@ -52,7 +52,7 @@ def parse_keyframes(data: Any) -> list[Keyframe]:
 @click.option("--name", required=True, help="Motion name.")
 @click.option(
     "--slot",
-    type=click.IntRange(1, 120),
+    type=MOTION_SLOT,
     default=None,
     help="Motion slot (default: the first free one).",
 )

@@ -12,10 +12,8 @@ from rcb4hv.client.core import (
     MAX_READ,
     MAX_WRITE,
     ROM_WRITE_CHUNK,
-    CommandNotAllowedError,
     Progress,
     Rcb4Client,
-    VerifyError,
 )
 from rcb4hv.client.readplan import FRAME_OVERHEAD_S, LinkCost, plan_cheapest, plan_reads
 from rcb4hv.client.recorder import PositionRecorder, Sample
@@ -40,7 +38,6 @@ __all__ = [
     "ROM_WRITE_CHUNK",
     "BoardInfo",
     "Calibration",
-    "CommandNotAllowedError",
     "LinkCost",
     "MotionLayout",
     "MotionStatus",
@@ -51,7 +48,6 @@ __all__ = [
     "Sample",
     "ServoInfo",
     "TimerState",
-    "VerifyError",
     "plan_cheapest",
     "plan_reads",
 ]

@@ -38,7 +38,6 @@ from rcb4hv.errors import (
     ProtocolError,
     Rcb4TimeoutError,
     TransportError,
-    VerifyError,
 )
 from rcb4hv.protocol import (
     ALWAYS,
@@ -86,10 +85,8 @@ __all__ = [
     "MAX_READ",
     "MAX_WRITE",
     "ROM_WRITE_CHUNK",
-    "CommandNotAllowedError",
     "Progress",
     "Rcb4Client",
-    "VerifyError",
 ]
 
 log = logging.getLogger(__name__)

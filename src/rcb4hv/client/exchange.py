@@ -10,28 +10,24 @@ asyncio) feed it, each with its own waiting.
 from __future__ import annotations
 
 import logging
-import struct
 from typing import Final
 
 from rcb4hv.errors import ChecksumError, Rcb4TimeoutError
-from rcb4hv.protocol import NEED_DATA, FrameDecoder
+from rcb4hv.protocol import NEED_DATA, Com, FrameDecoder, Move, Ram
 
 __all__ = ["RAM_READS", "ReplyMatcher", "ram_read_frame"]
 
 log = logging.getLogger("rcb4hv.client.core")
 
-_RAM_READ: Final = struct.Struct("<BBB3xHBB")
 RAM_READS: dict[tuple[int, int], bytes] = {}
 """RAM read frames already built, by (address, size): a control loop reads the same ones."""
 RAM_READS_KEPT: Final = 512
 
 
 def ram_read_frame(address: int, size: int) -> bytes:
-    """The frame of ``Move(Com(), Ram(address), size)`` (a RAM read), built in one step and
-    remembered in :data:`RAM_READS`; the caller has checked ``address`` and ``size``."""
-    frame = _RAM_READ.pack(
-        10, 0x00, 0x20, address, size, (10 + 0x20 + (address & 0xFF) + (address >> 8) + size) & 0xFF
-    )
+    """The frame of ``Move(Com(), Ram(address), size)`` (a RAM read), remembered in
+    :data:`RAM_READS`."""
+    frame = Move(Com(), Ram(address), size).encode()
     if len(RAM_READS) >= RAM_READS_KEPT:
         RAM_READS.clear()
     RAM_READS[address, size] = frame

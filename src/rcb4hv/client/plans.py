@@ -3,7 +3,8 @@ sent each reply (``reply = yield command``), so a client of any kind (the asynci
 driver) runs the same chunking and verifying without owning a link.
 
 Both clients run these plans (:meth:`rcb4hv.client.Rcb4Client.run_plan`); the chunk sizes
-:data:`MAX_READ`, :data:`MAX_WRITE` and :data:`ROM_WRITE_CHUNK` are defined here.
+:data:`MAX_WRITE` and :data:`ROM_WRITE_CHUNK` are defined here (a read takes
+:data:`rcb4hv.protocol.MAX_READ` bytes a frame).
 """
 
 from __future__ import annotations
@@ -12,18 +13,36 @@ from collections.abc import Callable, Generator
 from typing import Final, TypeVar
 
 from rcb4hv.errors import FrameError, VerifyError
-from rcb4hv.protocol import Com, Command, Data, DataReply, Move, Ram, Reply, Rom
-from rcb4hv.protocol.commands import RAM_SIZE, ROM_SIZE
+from rcb4hv.protocol import (
+    MAX_READ,
+    RAM_SIZE,
+    ROM_SIZE,
+    Com,
+    Command,
+    Data,
+    DataReply,
+    Move,
+    Ram,
+    Reply,
+    Rom,
+)
+from rcb4hv.protocol.operands import MAX_LITERAL
 
-__all__ = ["Plan", "check_span", "data_of", "read_memory", "write_ram", "write_rom"]
+__all__ = [
+    "MAX_READ",
+    "Plan",
+    "check_span",
+    "data_of",
+    "read_memory",
+    "write_ram",
+    "write_rom",
+]
 
 T = TypeVar("T")
 Plan = Generator[Command, Reply, T]
 """A multi-frame operation: yields each command, is sent its reply, returns the result."""
 
-MAX_READ: Final = 128
-"""Bytes one MOVE to COM can read (its reply frame is 131 bytes)."""
-MAX_WRITE: Final = 121
+MAX_WRITE: Final = MAX_LITERAL
 """Literal bytes one MOVE can carry in a 128-byte command frame."""
 ROM_WRITE_CHUNK: Final = 64
 """ROM writes go in 64-byte chunks aligned on 64-byte boundaries: one chunk fits a MOVE literal

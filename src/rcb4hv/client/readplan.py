@@ -19,6 +19,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final
 
+from rcb4hv.protocol import MAX_READ
+
 __all__ = [
     "FRAME_OVERHEAD_S",
     "READ_FRAME_BYTES",
@@ -27,7 +29,6 @@ __all__ = [
     "plan_reads",
 ]
 
-MAX_READ: Final = 128
 READ_FRAME_BYTES: Final = 13
 """Wire bytes of one read besides its data: the 10-byte MOVE request, SIZE CMD ... SUM of
 the reply."""

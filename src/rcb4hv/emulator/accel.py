@@ -14,10 +14,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Final
+from collections.abc import Callable, Mapping
+from typing import Final, Protocol
 
 from rcb4hv.emulator.alu import ALU, C_BIT, OP_OF, Z_BIT, AluOp, condition_table
+from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.memmap import (
     B_END,
     B_END_HI,
@@ -54,12 +55,42 @@ from rcb4hv.protocol import (
     Xor,
 )
 
-if TYPE_CHECKING:
-    from rcb4hv.emulator.interpreter import Interpreter
-
-__all__ = ["DataCommand", "Executor", "compile_command", "polling_loop_length", "skip_periods"]
+__all__ = [
+    "DataCommand",
+    "Entry",
+    "Executor",
+    "Machine",
+    "compile_command",
+    "polling_loop_length",
+    "skip_periods",
+]
 
 Executor = Callable[[int], object]
+Entry = tuple[Command | None, int, int, Executor | None, str]
+"""An instruction cache entry: (command or None, size, kind, executor or None, error text)."""
+
+
+class Machine(Protocol):
+    """What the accelerator may touch of the interpreter it compiles for (the interpreter is
+    one): RAM, the configuration, the servo unit's dirty window, the instruction cache and
+    the polling-loop memo."""
+
+    @property
+    def ram(self) -> bytearray: ...
+
+    @property
+    def config(self) -> EmulatorConfig: ...
+
+    @property
+    def servos(self) -> Servos: ...
+
+    @property
+    def cache(self) -> Mapping[int, Entry]: ...
+
+    @property
+    def loop_memo(self) -> dict[tuple[int, int], int]: ...
+
+
 _u16 = U16.unpack_from
 DataCommand = And | Or | Xor | Add | Sub | Mul | Div | Mod | Not | Shift
 
@@ -67,7 +98,7 @@ DataCommand = And | Or | Xor | Add | Sub | Mul | Div | Mod | Not | Shift
 _COMPILED_OPS: Final = frozenset((AluOp.AND, AluOp.OR, AluOp.XOR, AluOp.ADD, AluOp.SUB, AluOp.MUL))
 
 
-def compile_command(cmd: Command, interp: Interpreter) -> Executor | None:
+def compile_command(cmd: Command, interp: Machine) -> Executor | None:
     """A closure running ROM instruction ``cmd``, or None (run it through ``execute``)."""
     t = type(cmd)
     if t is Jump:
@@ -83,7 +114,7 @@ def compile_command(cmd: Command, interp: Interpreter) -> Executor | None:
     return None
 
 
-def _compile_jump(cmd: Jump, interp: Interpreter) -> Executor:
+def _compile_jump(cmd: Jump, interp: Machine) -> Executor:
     taken = condition_table(cmd.condition.to_byte(), interp.config.branch_condition == "or")
     target = cmd.address % ROM_SIZE
     lo, mid, top = target & 0xFF, (target >> 8) & 0xFF, (target >> 16) & 0xFF
@@ -100,7 +131,7 @@ def _compile_jump(cmd: Jump, interp: Interpreter) -> Executor:
     return jump
 
 
-def _compile_move(cmd: Move, interp: Interpreter) -> Executor | None:
+def _compile_move(cmd: Move, interp: Machine) -> Executor | None:
     dst, src = cmd.dst, cmd.src
     if type(dst) is not Ram:
         return None
@@ -137,7 +168,7 @@ def _compile_move(cmd: Move, interp: Interpreter) -> Executor | None:
 
 
 def _compile_binary(
-    cmd: And | Or | Xor | Add | Sub | Mul, op: AluOp, interp: Interpreter
+    cmd: And | Or | Xor | Add | Sub | Mul, op: AluOp, interp: Machine
 ) -> Executor | None:
     dst, src = cmd.dst, cmd.src
     size = cmd.nbytes
@@ -182,7 +213,7 @@ def _compile_binary(
     return binary
 
 
-def polling_loop_length(interp: Interpreter, start: int, jump_pc: int) -> int:
+def polling_loop_length(interp: Machine, start: int, jump_pc: int) -> int:
     """Instructions in the loop ``start``..``jump_pc`` if it only reads memory and sets
     flags (no-write-back data ops, Not/Shift without write-back, conditional JUMPs), else 0.
     Memoised; the instruction cache is invalidated with ROM writes, and so is this."""

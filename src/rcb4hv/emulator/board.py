@@ -25,7 +25,7 @@ from typing import Final
 from rcb4hv.emulator import accel
 from rcb4hv.emulator.clock import Clock, VirtualClock
 from rcb4hv.emulator.config import EmulatorConfig
-from rcb4hv.emulator.events import BoardReset, CommandError, Stop
+from rcb4hv.emulator.events import Stop
 from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
 from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
@@ -50,7 +50,7 @@ from rcb4hv.emulator.romstore import RomStore
 from rcb4hv.emulator.servos import Servos, ServoState
 from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, timers_idle
 from rcb4hv.emulator.vectors import Vectors
-from rcb4hv.errors import ProtocolError
+from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
 from rcb4hv.protocol import FRAME_PERIODS_MS, FrameDecoder, Rom, decode_command, encode_reply
 from rcb4hv.protocol.memory import PIO_MASK, pack_alloc, read_system, write_buttons, write_system
 
@@ -279,10 +279,10 @@ class Board:
         running = self.ram[SYSTEM] & SYS_ROM
         try:
             reply = self._interp.execute(cmd, None)
-        except CommandError as exc:
+        except EmulatedCommandError as exc:
             log.debug("NAK for %s: %s", frame.hex(" "), exc)
             return nak(frame[1])
-        except BoardReset:
+        except EmulatedReset:
             log.info("board reset by %s", frame.hex(" "))
             self.power_on()
             return b""

@@ -1,17 +1,18 @@
-"""What stops the emulated ROM program, and the internal signals the board units raise.
+"""What stops the emulated ROM program.
 
 :class:`Stop` is public (:attr:`~rcb4hv.emulator.Board.last_stop`): hosts and the simulator
-read why the program stopped instead of guessing from RAM. :class:`CommandError` and
-:class:`BoardReset` never leave the emulator: a command that cannot execute becomes a NAK
-(from COM) or a program stop (from ROM), a reset re-runs power-on.
+read why the program stopped instead of guessing from RAM. The signals the board units raise
+live in :mod:`rcb4hv.errors` and never leave the emulator:
+:class:`~rcb4hv.errors.EmulatedCommandError` (a command that cannot execute becomes a NAK from
+COM or a program stop from ROM) and :class:`~rcb4hv.errors.EmulatedReset` (power-on again).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Final, Literal, cast, get_args
 
-__all__ = ["BoardReset", "CommandError", "Stop", "StopKind"]
+__all__ = ["STOP_KINDS", "Stop", "StopKind", "stop_kind"]
 
 StopKind = Literal[
     "romerr",  # fetch error: erased ROM, bad SIZE or checksum, PC past the ROM (sets ROMERR)
@@ -44,13 +45,12 @@ class Stop:
         return self.what != "return-to-host"
 
 
-class CommandError(Exception):
-    """A command that cannot execute: NAK from COM, program stop from ROM."""
-
-    def __init__(self, why: str, what: StopKind = "command-error") -> None:
-        super().__init__(why)
-        self.what: StopKind = what
+STOP_KINDS: Final = frozenset(get_args(StopKind))
 
 
-class BoardReset(Exception):
-    """The board resets (config ``series_servo="reset"``)."""
+def stop_kind(what: str) -> StopKind:
+    """``what`` (the kind an :class:`~rcb4hv.errors.EmulatedCommandError` carries) as a
+    :data:`StopKind`; ValueError for anything else."""
+    if what not in STOP_KINDS:
+        raise ValueError(f"not a stop kind: {what!r}")
+    return cast(StopKind, what)

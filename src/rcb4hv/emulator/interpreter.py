@@ -20,7 +20,7 @@ from typing import Any, Final
 from rcb4hv.emulator import accel
 from rcb4hv.emulator.alu import OP_OF, AluOp, alu, condition_table, set_flags
 from rcb4hv.emulator.config import EmulatorConfig
-from rcb4hv.emulator.events import BoardReset, CommandError, Stop, StopKind
+from rcb4hv.emulator.events import Stop, StopKind, stop_kind
 from rcb4hv.emulator.memmap import (
     ALLOC,
     CALL_DEPTH,
@@ -41,7 +41,7 @@ from rcb4hv.emulator.memmap import (
 )
 from rcb4hv.emulator.servos import Servos
 from rcb4hv.emulator.vectors import Vectors
-from rcb4hv.errors import ProtocolError
+from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
 from rcb4hv.protocol import (
     Ack,
     AcknowledgeCheck,
@@ -84,11 +84,11 @@ _put_pc = U24.pack_into
 _VT0, _VT1 = VECTOR_TABLE, VECTOR_TABLE + 1
 _RETURN_SIZE: Final = len(encode_command(Return()))
 
-# instruction cache entries: (command or None, size, kind, executor or None, error text)
+# instruction cache entries (accel.Entry): (command or None, size, kind, executor, error text)
 OK: Final = 0
 ROMERR: Final = 1
 CMDERR: Final = 2
-Entry = tuple[Command | None, int, int, accel.Executor | None, str]
+Entry = accel.Entry
 Handler = Callable[[Any, int | None], Reply | None]
 """Runs one command (``next_pc`` None: from COM); the interpreter's dispatch is keyed by class."""
 ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
@@ -151,7 +151,7 @@ class Interpreter:
     def push(self, addr: int, host: bool = False) -> None:
         d = self.ram[CALL_DEPTH]
         if d >= STACK_DEPTH:
-            raise CommandError("call stack overflow (17th nested CALL)", "stack-overflow")
+            raise EmulatedCommandError("call stack overflow (17th nested CALL)", "stack-overflow")
         self.stack[d] = addr
         self._host_frames = (self._host_frames | 1 << d) if host else self._host_frames & ~(1 << d)
         self.ram[CALL_DEPTH] = d + 1
@@ -160,7 +160,7 @@ class Interpreter:
         """(return address, True if a host CALL pushed it)."""
         d = self.ram[CALL_DEPTH]
         if d == 0 or d > STACK_DEPTH:
-            raise CommandError("RETURN with an empty call stack", "stack-underflow")
+            raise EmulatedCommandError("RETURN with an empty call stack", "stack-underflow")
         self.ram[CALL_DEPTH] = d - 1
         host = bool(self._host_frames >> (d - 1) & 1)
         self._host_frames &= ~(1 << (d - 1))
@@ -174,10 +174,10 @@ class Interpreter:
         else:
             base = read_u16(self.ram, ALLOC + 2 * op.ics)
             if base == NO_BLOCK:
-                raise CommandError(f"ICS {op.ics} is not allocated")
+                raise EmulatedCommandError(f"ICS {op.ics} is not allocated")
             a = base + op.offset
         if a + size > RAM_SIZE:
-            raise CommandError(f"RAM {a:04X}h + {size} runs past the end")
+            raise EmulatedCommandError(f"RAM {a:04X}h + {size} runs past the end")
         return a
 
     def read(self, op: Operand, size: int) -> bytes:
@@ -185,7 +185,7 @@ class Interpreter:
             return op.data
         if isinstance(op, Rom):
             if op.address + size > ROM_SIZE:
-                raise CommandError("ROM read past the end")
+                raise EmulatedCommandError("ROM read past the end")
             return bytes(self.rom[op.address : op.address + size])
         if isinstance(op, Com):
             return bytes(size)
@@ -198,7 +198,7 @@ class Interpreter:
             return
         if isinstance(op, Rom):
             if op.address + n > ROM_SIZE:
-                raise CommandError("ROM write past the end")
+                raise EmulatedCommandError("ROM write past the end")
             self.rom[op.address : op.address + n] = data
             self.cache.clear()
             self.loop_memo.clear()
@@ -216,14 +216,26 @@ class Interpreter:
 
     def _dispatch_table(self) -> dict[type, Handler]:
         """Class -> handler, one per row of the protocol's command table: the ALU commands
-        (by command byte) run :meth:`_exec_alu`, every other one ``_exec_<mnemonic>``."""
-        table: dict[type, Handler] = {}
-        for spec in COMMANDS:
-            if spec.cls in OP_OF:
-                table[spec.cls] = self._exec_alu
-            else:
-                table[spec.cls] = getattr(self, "_exec_" + spec.mnemonic.lower())
-        return table
+        (by command byte) run :meth:`_exec_alu`, the others their handler below (a row of
+        the table without one is a KeyError when the board is built)."""
+        handlers: dict[type, Handler] = {
+            Move: self._exec_move,
+            Jump: self._exec_jump,
+            Call: self._exec_call,
+            Return: self._exec_return,
+            CommunicateDevice: self._exec_icscomm,
+            RunSingleServo: self._exec_servo,
+            RunConstFrameServo: self._exec_servo,
+            RunSeriesServo: self._exec_servo,
+            SetSpeed: self._exec_stretch,
+            SetStretch: self._exec_stretch,
+            GetVersionInfo: self._exec_version,
+            AcknowledgeCheck: self._exec_ackcheck,
+        }
+        return {
+            spec.cls: self._exec_alu if spec.cls in OP_OF else handlers[spec.cls]
+            for spec in COMMANDS
+        }
 
     def _exec_move(self, cmd: Move, next_pc: int | None) -> Reply | None:
         data = self.read(cmd.src, cmd.nbytes)
@@ -279,7 +291,7 @@ class Interpreter:
         return Ack(cmd.cmd) if next_pc is None else None
 
     def _exec_icscomm(self, cmd: CommunicateDevice, next_pc: int | None) -> Reply | None:
-        raise CommandError("ICS communication (0Eh): no device answers")
+        raise EmulatedCommandError("ICS communication (0Eh): no device answers")
 
     def data_op(self, cmd: accel.DataCommand, op: AluOp) -> bytes:
         """AND..SHIFT: compute through the ALU, write back unless NW, set Z and C."""
@@ -292,7 +304,7 @@ class Interpreter:
         else:
             sv = int.from_bytes(self.read(cmd.src, size), "little")  # type: ignore[union-attr]
             if not sv and op in (AluOp.DIV, AluOp.MOD) and self.config.division_by_zero == "error":
-                raise CommandError("division by zero")
+                raise EmulatedCommandError("division by zero")
         r, z, c = alu(op, dv, sv, size)
         result = r.to_bytes(size, "little")
         if not cmd.no_write:
@@ -353,8 +365,8 @@ class Interpreter:
         if is_call:
             try:
                 self.push(self.pc)
-            except CommandError as exc:
-                self.stop(exc.what, f"vector package {i}: {exc}")
+            except EmulatedCommandError as exc:
+                self.stop(stop_kind(exc.what), f"vector package {i}: {exc}")
                 return
         self.set_pc(target)
         log.debug("vector package %d fired: PC <- %05X", i, target)
@@ -413,10 +425,10 @@ class Interpreter:
                 _put_pc(r, PC, nxt & 0xFFFF, nxt >> 16)
                 try:
                     fn(nxt)
-                except CommandError as exc:
+                except EmulatedCommandError as exc:
                     self.set_pc(pc)
-                    self.stop(exc.what, str(exc), entry[0])
-                except BoardReset:
+                    self.stop(stop_kind(exc.what), str(exc), entry[0])
+                except EmulatedReset:
                     self._on_reset()
             credit -= 1
             lo, hi = _get_pc(r, PC)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Final
 
-from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, RAM_SIZE, ROM_SIZE
+from rcb4hv.protocol import ICS_COUNT, POSITION_FREE, POSITION_HOLD, RAM_SIZE, ROM_SIZE
 from rcb4hv.protocol.memory import (
     ADDR,
     NO_BLOCK,
@@ -63,8 +63,7 @@ AD_VALUES: Final = ADDR.AD_VALUES
 PIO_DIRECTION: Final = ADDR.PIO_DIRECTION
 TIMER_BASE: Final = ADDR.TIMERS[0]
 ALLOC: Final = ADDR.ICS_ALLOC
-ICS_SLOTS: Final = ADDR.ICS_ALLOC_COUNT
-ALLOC_END: Final = ADDR.ICS_ALLOC + 2 * ADDR.ICS_ALLOC_COUNT
+ALLOC_END: Final = ADDR.ICS_ALLOC + 2 * ICS_COUNT
 VECTOR_TABLE: Final = ADDR.VECTOR_TABLE
 BUTTONS: Final = ADDR.BUTTONS
 PA: Final = ADDR.PA

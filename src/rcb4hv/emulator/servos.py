@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from itertools import pairwise
 
 from rcb4hv.emulator.config import EmulatorConfig
-from rcb4hv.emulator.events import BoardReset, CommandError
 from rcb4hv.emulator.memmap import (
     ALLOC,
     ALLOC_END,
@@ -47,6 +46,7 @@ from rcb4hv.emulator.memmap import (
     mix_rate,
     mix_source,
 )
+from rcb4hv.errors import EmulatedCommandError, EmulatedReset
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
 
 __all__ = ["ServoState", "Servos", "ramp"]
@@ -222,9 +222,9 @@ class Servos:
         else:
             if isinstance(cmd, RunSeriesServo):
                 if self.config.series_servo == "nak":
-                    raise CommandError("RunSeriesServo disabled by configuration")
+                    raise EmulatedCommandError("RunSeriesServo disabled by configuration")
                 if self.config.series_servo == "reset":
-                    raise BoardReset
+                    raise EmulatedReset
                 moves = cmd.moves
             else:
                 moves = tuple((k, cmd.speed, p) for k, p in cmd.positions)

@@ -15,7 +15,6 @@ from __future__ import annotations
 from rcb4hv.emulator.alu import AluOp, alu, condition_table
 from rcb4hv.emulator.memmap import (
     ALLOC,
-    ICS_SLOTS,
     NO_BLOCK,
     RAM_SIZE,
     ROM_SIZE,
@@ -28,6 +27,7 @@ from rcb4hv.emulator.memmap import (
     operand_ics,
     read_u16,
 )
+from rcb4hv.protocol import ICS_COUNT
 
 __all__ = ["Memo", "Vectors"]
 
@@ -52,7 +52,7 @@ class Vectors:
         """RAM address of a package operand word (direct or ICS-relative), None if invalid."""
         ics = operand_ics(w)
         if ics is not None:
-            base = read_u16(self.ram, ALLOC + 2 * (ics[0] % ICS_SLOTS))
+            base = read_u16(self.ram, ALLOC + 2 * (ics[0] % ICS_COUNT))
             if base == NO_BLOCK:
                 return None
             a = base + ics[1]

@@ -25,20 +25,16 @@ from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     XSI_FIRST_LAYOUT,
     ExtraElement,
-    Hth4FormatError,
     XmlLayout,
     XmlNode,
 )
 from rcb4hv.hth4.flowchart import (
-    Flowchart,
-    FlowchartActivity,
-    FlowchartLine,
-    Size,
     dump_motion_xml,
     load_motion_xml,
     parse_motion_xml,
     save_motion_xml,
 )
+from rcb4hv.hth4.flowchart_model import Flowchart, FlowchartActivity, FlowchartLine, Size
 from rcb4hv.hth4.link import (
     XmlDocument,
     dump_link,
@@ -87,7 +83,6 @@ __all__ = [
     "Flowchart",
     "FlowchartActivity",
     "FlowchartLine",
-    "Hth4FormatError",
     "Kri3Settings",
     "Motion",
     "MotionList",

@@ -15,7 +15,7 @@ This module reproduces that format byte for byte. :class:`XmlLayout` records the
 formatting choices that vary between files (namespace order, line end, BOM, declaration), so a
 file read and written again keeps them.
 
-Reading goes through :class:`_Reader`, which remembers the element path (for error messages
+Reading goes through :class:`XmlReader`, which remembers the element path (for error messages
 such as ``Rcb4/MotionDataCollection/DictionaryEntry[3]/Value/Number: not an integer``) and
 which children were consumed. Children the model does not know are kept as
 :class:`ExtraElement` (parent path, position, raw :class:`XmlNode`) and written back at the
@@ -38,9 +38,9 @@ __all__ = [
     "XSI",
     "XSI_TYPE",
     "ExtraElement",
-    "Hth4FormatError",
     "XmlLayout",
     "XmlNode",
+    "XmlReader",
 ]
 
 XSI = "http://www.w3.org/2001/XMLSchema-instance"
@@ -167,9 +167,10 @@ def _detect_layout(data: bytes, default: XmlLayout) -> XmlLayout:
 
 
 def parse_document(
-    data: bytes | str, root_tag: str, default: XmlLayout
+    data: bytes | str, root_tag: str | tuple[str, ...], default: XmlLayout
 ) -> tuple[ET.Element, XmlLayout]:
-    """Parse XML text; check the root tag. Returns the root element and the layout."""
+    """Parse XML text; check the root tag (one of ``root_tag`` when a tuple). Returns the root
+    element and the layout."""
     raw = data.encode("utf-8") if isinstance(data, str) else bytes(data)
     if isinstance(data, str):
         # A str carries no BOM bytes; an encoding declaration would contradict the str.
@@ -178,12 +179,14 @@ def parse_document(
         root = ET.fromstring(raw)
     except ET.ParseError as exc:
         raise Hth4FormatError("", f"not well-formed XML ({exc})") from None
-    if root.tag != root_tag:
-        raise Hth4FormatError(_local(str(root.tag)), f"wrong root element: expected <{root_tag}>")
+    tags = (root_tag,) if isinstance(root_tag, str) else root_tag
+    if root.tag not in tags:
+        wanted = " or ".join(f"<{t}>" for t in tags)
+        raise Hth4FormatError(_local(str(root.tag)), f"wrong root element: expected {wanted}")
     return root, _detect_layout(raw, default)
 
 
-class _Reader:
+class XmlReader:
     """Cursor over one element that records the path and what was consumed."""
 
     def __init__(self, el: ET.Element, path: str, rel: str) -> None:
@@ -193,30 +196,30 @@ class _Reader:
         self._kids = list(el)
         self._used: set[int] = set()
         self._attr_used: set[str] = set()
-        self._subs: list[_Reader] = []
+        self._subs: list[XmlReader] = []
 
     # -- children -------------------------------------------------------------------------
 
-    def _sub(self, index: int, step: str) -> _Reader:
+    def _sub(self, index: int, step: str) -> XmlReader:
         self._used.add(index)
         rel = f"{self.rel}/{step}" if self.rel else step
-        sub = _Reader(self._kids[index], f"{self.path}/{step}", rel)
+        sub = XmlReader(self._kids[index], f"{self.path}/{step}", rel)
         self._subs.append(sub)
         return sub
 
-    def opt_child(self, tag: str) -> _Reader | None:
+    def opt_child(self, tag: str) -> XmlReader | None:
         for i, kid in enumerate(self._kids):
             if kid.tag == tag and i not in self._used:
                 return self._sub(i, tag)
         return None
 
-    def child(self, tag: str) -> _Reader:
+    def child(self, tag: str) -> XmlReader:
         sub = self.opt_child(tag)
         if sub is None:
             raise Hth4FormatError(f"{self.path}/{tag}", "missing element")
         return sub
 
-    def items(self, tag: str, xsi_type: str | None = None) -> list[_Reader]:
+    def items(self, tag: str, xsi_type: str | None = None) -> list[XmlReader]:
         """All children named ``tag`` (with that ``xsi:type`` if given), paths ``tag[k]``."""
         out = []
         count = 0
@@ -310,8 +313,8 @@ class _Reader:
             sub.close(extras)
 
 
-def root_reader(root: ET.Element) -> _Reader:
-    return _Reader(root, _local(str(root.tag)), "")
+def root_reader(root: ET.Element) -> XmlReader:
+    return XmlReader(root, _local(str(root.tag)), "")
 
 
 _HEX_RE = re.compile(r"[0-9A-Fa-f]{2}( [0-9A-Fa-f]{2})*")
@@ -336,7 +339,7 @@ def format_hex(frame: bytes) -> str:
 
 
 class Builder:
-    """An element being written, with the same relative path scheme as :class:`_Reader`."""
+    """An element being written, with the same relative path scheme as :class:`XmlReader`."""
 
     def __init__(self, tag: str, rel: str, attrib: tuple[tuple[str, str], ...] = ()) -> None:
         self.tag = tag

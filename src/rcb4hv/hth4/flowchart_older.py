@@ -11,7 +11,7 @@ files python-khr3hv ships are in it) wrote a flowchart as one list::
       <anyType xsi:type="LineData"> Name, StartPoint, EndPoint, GUID, LineType </anyType>
     </ArrayOfAnyType>
 
-It reads into the same :class:`~rcb4hv.hth4.flowchart.Flowchart` model:
+It reads into the same :class:`~rcb4hv.hth4.flowchart_model.Flowchart` model:
 
 * each ``ActivityData`` becomes a :class:`FlowchartActivity` (no ``Text``, ``BackColorText``
   or ``Hint`` in this form: those stay None); ``PriorityList`` and ``Path`` (meaning not
@@ -30,6 +30,7 @@ the files of that era hold them; each arrow keeps its first and last point).
 
 from __future__ import annotations
 
+import xml.etree.ElementTree as ET
 from dataclasses import replace
 from typing import Final
 
@@ -38,23 +39,30 @@ from rcb4hv.hth4._xml import (
     XSI_TYPE,
     Builder,
     ExtraElement,
+    XmlLayout,
     XmlNode,
-    _Reader,
+    XmlReader,
     parse_document,
     root_reader,
     serialize,
 )
-from rcb4hv.hth4.flowchart import (
+from rcb4hv.hth4.flowchart_model import (
     Flowchart,
     FlowchartActivity,
     FlowchartLine,
-    _point,
-    _pt,
-    _read_activity,
+    read_activity,
+    read_point,
     write_activity,
+    write_point,
 )
 
-__all__ = ["OLDER_ROOT", "dump_older_flowchart", "parse_older_flowchart", "to_older_form"]
+__all__ = [
+    "OLDER_ROOT",
+    "dump_older_flowchart",
+    "parse_older_flowchart",
+    "read_older_flowchart",
+    "to_older_form",
+]
 
 OLDER_ROOT: Final = "ArrayOfAnyType"
 ACTIVITY: Final = "ActivityData"
@@ -66,9 +74,9 @@ _NO_PRIORITY: Final = XmlNode(
 """``PriorityList`` as the files of that era hold it for every box (meaning not known)."""
 
 
-def _read_line(x: _Reader) -> FlowchartLine:
+def _read_line(x: XmlReader) -> FlowchartLine:
     x.xsi_type(LINE)
-    start, end = _point(x.child("StartPoint")), _point(x.child("EndPoint"))
+    start, end = read_point(x.child("StartPoint")), read_point(x.child("EndPoint"))
     return FlowchartLine(
         guid=x.opt_str_of("GUID"), path=(start, end), connect_mode=x.str_of("LineType")
     )
@@ -76,7 +84,11 @@ def _read_line(x: _Reader) -> FlowchartLine:
 
 def parse_older_flowchart(data: bytes | str) -> Flowchart:
     """Parse an ``ArrayOfAnyType`` flowchart (Hth4FormatError if it is not one)."""
-    root, layout = parse_document(data, OLDER_ROOT, XSI_FIRST_LAYOUT)
+    return read_older_flowchart(*parse_document(data, OLDER_ROOT, XSI_FIRST_LAYOUT))
+
+
+def read_older_flowchart(root: ET.Element, layout: XmlLayout) -> Flowchart:
+    """The chart of a parsed ``ArrayOfAnyType`` document."""
     r = root_reader(root)
     kinds: list[str] = []
     acts: list[FlowchartActivity] = []
@@ -84,7 +96,7 @@ def parse_older_flowchart(data: bytes | str) -> Flowchart:
     for item in r.items("anyType"):
         kind = item.el.get(XSI_TYPE)
         if kind == ACTIVITY:
-            acts.append(_read_activity(item))
+            acts.append(read_activity(item))
         elif kind == LINE:
             lines.append(_read_line(item))
         else:
@@ -124,8 +136,8 @@ def dump_older_flowchart(chart: Flowchart) -> bytes:
             raise ValueError(
                 f"arrow {line.guid}: the older form holds 2 points, not {len(line.path)}"
             )
-        _pt(x.child("StartPoint"), line.path[0])
-        _pt(x.child("EndPoint"), line.path[1])
+        write_point(x.child("StartPoint"), line.path[0])
+        write_point(x.child("EndPoint"), line.path[1])
         x.opt_leaf("GUID", line.guid)
         x.leaf("LineType", line.connect_mode)
     return serialize(b.to_node(chart.extra), chart.layout)

@@ -18,7 +18,7 @@ import uuid
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
-from rcb4hv.hth4.flowchart import Flowchart, FlowchartActivity, FlowchartLine, Size
+from rcb4hv.hth4.flowchart_model import Flowchart, FlowchartActivity, FlowchartLine, Size
 from rcb4hv.hth4.model import Motion, Point, Project, motion_key
 from rcb4hv.protocol import FRAME_PERIODS_MS, POSITION_MAX, POSITION_MIN, Return, RunConstFrameServo
 from rcb4hv.rom.layout import HTH4_22, MOTION_SIZE, MotionLayout

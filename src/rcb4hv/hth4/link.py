@@ -13,9 +13,9 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from rcb4hv.errors import Hth4FormatError
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
-    Hth4FormatError,
     XmlLayout,
     XmlNode,
     parse_document,

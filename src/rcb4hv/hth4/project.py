@@ -12,13 +12,13 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from rcb4hv.errors import Hth4FormatError
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     Builder,
     ExtraElement,
-    Hth4FormatError,
     XmlNode,
-    _Reader,
+    XmlReader,
     parse_document,
     root_reader,
     serialize,
@@ -86,7 +86,7 @@ def _replace_extra(project: Project, extra: tuple[ExtraElement, ...]) -> Project
     return replace(project, extra=extra)
 
 
-def _entry(e: _Reader, value_type: str, optional: bool = False) -> tuple[str, _Reader | None]:
+def _entry(e: XmlReader, value_type: str, optional: bool = False) -> tuple[str, XmlReader | None]:
     key = e.child("Key")
     key.xsi_type("xsd:string")
     value = e.opt_child("Value")
@@ -98,7 +98,7 @@ def _entry(e: _Reader, value_type: str, optional: bool = False) -> tuple[str, _R
     return key.text(), value
 
 
-def _read_kri3(k: _Reader) -> Kri3Settings:
+def _read_kri3(k: XmlReader) -> Kri3Settings:
     return Kri3Settings(
         name=k.opt_str_of("Name"),
         count=k.int_of("Count"),
@@ -118,7 +118,7 @@ def _read_kri3(k: _Reader) -> Kri3Settings:
     )
 
 
-def _read_motion(e: _Reader) -> Motion:
+def _read_motion(e: XmlReader) -> Motion:
     key, v = _entry(e, "Motion")
     assert v is not None
     return Motion(
@@ -134,7 +134,7 @@ def _read_motion(e: _Reader) -> Motion:
     )
 
 
-def _read_servo(e: _Reader) -> ServoConfig:
+def _read_servo(e: XmlReader) -> ServoConfig:
     key, v = _entry(e, "ServoItem")
     assert v is not None
     loc = v.child("Location")
@@ -163,7 +163,7 @@ def _read_servo(e: _Reader) -> ServoConfig:
     )
 
 
-def _read_priority(e: _Reader) -> PriorityMotionSlot:
+def _read_priority(e: XmlReader) -> PriorityMotionSlot:
     key, v = _entry(e, "PriorityMotion", optional=True)
     if v is None:
         return PriorityMotionSlot(key)
@@ -179,7 +179,7 @@ def _read_priority(e: _Reader) -> PriorityMotionSlot:
     )
 
 
-def _read_raw_list(r: _Reader, tag: str) -> tuple[XmlNode, ...] | None:
+def _read_raw_list(r: XmlReader, tag: str) -> tuple[XmlNode, ...] | None:
     sub = r.opt_child(tag)
     if sub is None:
         return None

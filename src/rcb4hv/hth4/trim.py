@@ -13,11 +13,11 @@ import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from rcb4hv.errors import Hth4FormatError
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,
     ExtraElement,
-    Hth4FormatError,
     XmlLayout,
     parse_document,
     root_reader,

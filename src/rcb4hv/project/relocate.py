@@ -34,6 +34,7 @@ from rcb4hv.hth4.model import PriorityMotionSlot
 from rcb4hv.project.image import build_project_image, split_frames
 from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
 from rcb4hv.protocol import Op
+from rcb4hv.protocol.frame import seal
 from rcb4hv.rom.layout import LAYOUTS, MotionLayout
 
 __all__ = [
@@ -123,7 +124,7 @@ def _move_frame(frame: bytes, source: MotionLayout, target: MotionLayout, where:
             f"it cannot be moved"
         )
     body = frame[:2] + moved.to_bytes(3, "little") + frame[5:6]
-    return body + bytes([sum(body) & 0xFF])
+    return seal(body)
 
 
 def _move_motion(m: Hth4Motion, source: MotionLayout, target: MotionLayout) -> Hth4Motion:

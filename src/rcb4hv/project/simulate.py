@@ -55,6 +55,7 @@ from rcb4hv.errors import ProtocolError, SimulationError
 from rcb4hv.project.instructions import boot_cause, input_names
 from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.protocol import (
+    ICS_COUNT,
     Ack,
     Command,
     DataReply,
@@ -83,7 +84,6 @@ __all__ = [
     "DEFAULT_LIMIT",
     "MotionResult",
     "SampleListener",
-    "SimulationError",
     "Simulator",
     "Status",
 ]
@@ -235,7 +235,7 @@ class Simulator:
         ram = b.ram
         flags = self._flags()
         longest = 0
-        for ics in range(ADDR.ICS_ALLOC_COUNT):
+        for ics in range(ICS_COUNT):
             if not flags >> ics & 1:
                 continue
             blk = b.alloc(ics)

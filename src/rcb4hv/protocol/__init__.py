@@ -7,51 +7,9 @@ Frames (:mod:`.frame`), one dataclass per command with ``encode_command`` / ``de
 
 from __future__ import annotations
 
-from rcb4hv.protocol.commands import (
-    ALWAYS,
-    ICS_COUNT,
-    POSITION_FREE,
-    POSITION_HOLD,
-    POSITION_MAX,
-    POSITION_MIN,
-    RAM_SIZE,
-    ROM_SIZE,
-    AcknowledgeCheck,
-    Add,
-    And,
-    Call,
-    Com,
-    Command,
-    CommunicateDevice,
-    Condition,
-    Data,
-    Destination,
-    Div,
-    GetVersionInfo,
-    Ics,
-    Jump,
-    Mod,
-    Move,
-    Mul,
-    Not,
-    Op,
-    Or,
-    Ram,
-    Return,
-    Rom,
-    RunConstFrameServo,
-    RunSeriesServo,
-    RunSingleServo,
-    SetSpeed,
-    SetStretch,
-    Shift,
-    Source,
-    Sub,
-    Xor,
-    decode_command,
-    encode_command,
-    is_valid_position,
-)
+from rcb4hv.protocol.branches import ALWAYS, Call, CommunicateDevice, Condition, Jump, Return
+from rcb4hv.protocol.commands import decode_command, encode_command
+from rcb4hv.protocol.datacmds import Add, And, Div, Mod, Move, Mul, Not, Or, Shift, Sub, Xor
 from rcb4hv.protocol.frame import (
     MAX_FRAME_SIZE,
     MIN_FRAME_SIZE,
@@ -62,6 +20,7 @@ from rcb4hv.protocol.frame import (
     check_frame,
     checksum,
     frame_at,
+    seal,
 )
 from rcb4hv.protocol.memory import (
     ADDR,
@@ -80,6 +39,26 @@ from rcb4hv.protocol.memory import (
     ics_to_id_port,
     position_to_degrees,
 )
+from rcb4hv.protocol.operands import (
+    ICS_COUNT,
+    MAX_READ,
+    POSITION_FREE,
+    POSITION_HOLD,
+    POSITION_MAX,
+    POSITION_MIN,
+    RAM_SIZE,
+    ROM_SIZE,
+    Com,
+    Data,
+    Destination,
+    Ics,
+    Op,
+    Ram,
+    Rom,
+    Source,
+    is_valid_position,
+)
+from rcb4hv.protocol.registry import Command
 from rcb4hv.protocol.replies import (
     MAX_REPLY_SIZE,
     Ack,
@@ -91,6 +70,15 @@ from rcb4hv.protocol.replies import (
     encode_reply,
     reply_length,
 )
+from rcb4hv.protocol.servocmds import (
+    AcknowledgeCheck,
+    GetVersionInfo,
+    RunConstFrameServo,
+    RunSeriesServo,
+    RunSingleServo,
+    SetSpeed,
+    SetStretch,
+)
 
 __all__ = [
     "ADDR",
@@ -99,6 +87,7 @@ __all__ = [
     "FRAME_PERIODS_MS",
     "ICS_COUNT",
     "MAX_FRAME_SIZE",
+    "MAX_READ",
     "MAX_REPLY_SIZE",
     "MIN_FRAME_SIZE",
     "NEED_DATA",
@@ -169,4 +158,5 @@ __all__ = [
     "is_valid_position",
     "position_to_degrees",
     "reply_length",
+    "seal",
 ]

@@ -12,8 +12,8 @@ Operands of the data commands (spec section 4) are small typed objects: :class:`
 
 The classes live by what they do: operands and sizes in :mod:`.operands`, the data commands
 in :mod:`.datacmds`, control flow in :mod:`.branches`, servo and system commands in
-:mod:`.servocmds`. Each owns its codec; :mod:`.registry` is the one table of them. This
-module is the stable import point for all of it.
+:mod:`.servocmds`. Each owns its codec; :mod:`.registry` is the one table of them. Import
+them from :mod:`rcb4hv.protocol`; this module holds the two codec functions.
 """
 
 from __future__ import annotations
@@ -21,105 +21,10 @@ from __future__ import annotations
 from typing import cast
 
 from rcb4hv.errors import ProtocolError
-from rcb4hv.protocol.branches import ALWAYS, Call, CommunicateDevice, Condition, Jump, Return
-from rcb4hv.protocol.datacmds import (
-    Add,
-    And,
-    Div,
-    Mod,
-    Move,
-    Mul,
-    Not,
-    Or,
-    Shift,
-    Sub,
-    Xor,
-)
 from rcb4hv.protocol.frame import check_frame
-from rcb4hv.protocol.operands import (
-    ICS_COUNT,
-    KIND_COM,
-    KIND_ICS,
-    KIND_RAM,
-    KIND_ROM,
-    MAX_LITERAL,
-    POSITION_FREE,
-    POSITION_HOLD,
-    POSITION_MAX,
-    POSITION_MIN,
-    RAM_SIZE,
-    ROM_SIZE,
-    Com,
-    Data,
-    Destination,
-    Ics,
-    Op,
-    Ram,
-    Rom,
-    Source,
-    is_valid_position,
-)
 from rcb4hv.protocol.registry import DECODERS, Command
-from rcb4hv.protocol.servocmds import (
-    AcknowledgeCheck,
-    GetVersionInfo,
-    RunConstFrameServo,
-    RunSeriesServo,
-    RunSingleServo,
-    SetSpeed,
-    SetStretch,
-)
 
-__all__ = [
-    "ALWAYS",
-    "ICS_COUNT",
-    "KIND_COM",
-    "KIND_ICS",
-    "KIND_RAM",
-    "KIND_ROM",
-    "MAX_LITERAL",
-    "POSITION_FREE",
-    "POSITION_HOLD",
-    "POSITION_MAX",
-    "POSITION_MIN",
-    "RAM_SIZE",
-    "ROM_SIZE",
-    "AcknowledgeCheck",
-    "Add",
-    "And",
-    "Call",
-    "Com",
-    "Command",
-    "CommunicateDevice",
-    "Condition",
-    "Data",
-    "Destination",
-    "Div",
-    "GetVersionInfo",
-    "Ics",
-    "Jump",
-    "Mod",
-    "Move",
-    "Mul",
-    "Not",
-    "Op",
-    "Or",
-    "Ram",
-    "Return",
-    "Rom",
-    "RunConstFrameServo",
-    "RunSeriesServo",
-    "RunSingleServo",
-    "SetSpeed",
-    "SetStretch",
-    "Shift",
-    "Source",
-    "Sub",
-    "Xor",
-    "decode_command",
-    "encode_command",
-    "is_valid_position",
-]
+__all__ = ["decode_command", "encode_command"]
 
 
 def encode_command(cmd: Command) -> bytes:

@@ -16,6 +16,7 @@ from rcb4hv.protocol.operands import (
     KIND_COM,
     KIND_RAM,
     KIND_ROM,
+    MAX_READ,
     Com,
     Data,
     Destination,
@@ -119,7 +120,7 @@ class Move:
     def __post_init__(self) -> None:
         size = _resolve_size(self.src, self.size)
         object.__setattr__(self, "size", size)
-        _validate_operands("MOVE", self.dst, self.src, size, 128, (Ram, Ics, Com, Rom))
+        _validate_operands("MOVE", self.dst, self.src, size, MAX_READ, (Ram, Ics, Com, Rom))
 
     @property
     def nbytes(self) -> int:
@@ -153,7 +154,7 @@ class BinaryOp:
     size: int | None = None
     no_write: bool = False
     cmd: ClassVar[int] = -1
-    max_size: ClassVar[int] = 128
+    max_size: ClassVar[int] = MAX_READ
     allowed_dst: ClassVar[tuple[type, ...]] = (Ram, Ics, Rom)
 
     def __post_init__(self) -> None:
@@ -266,7 +267,7 @@ class UnaryOp:
         if not isinstance(self.no_write, bool):
             raise ValueError("no_write must be a bool")
         _validate_operands(
-            type(self).__name__.upper(), self.dst, None, self.size, 128, (Ram, Ics, Rom)
+            type(self).__name__.upper(), self.dst, None, self.size, MAX_READ, (Ram, Ics, Rom)
         )
 
     @property

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from rcb4hv.protocol.commands import (
+from rcb4hv.protocol import (
     POSITION_FREE,
     POSITION_HOLD,
     AcknowledgeCheck,

@@ -42,6 +42,7 @@ __all__ = [
     "check_frame",
     "checksum",
     "frame_at",
+    "seal",
     "sum_ok",
 ]
 
@@ -91,8 +92,13 @@ def build_frame(cmd: int, payload: bytes | bytearray = b"") -> bytes:
         raise ValueError(f"frame of {size} bytes does not fit a size byte")
     if not 0 <= cmd <= 0xFF:
         raise ValueError(f"command byte {cmd} out of range 0..255")
-    body = bytes((size, cmd)) + bytes(payload)
-    return body + bytes((((adler32(body) & 0xFFFF) - 1) & 0xFF,))
+    return seal(bytes((size, cmd)) + bytes(payload))
+
+
+def seal(body: bytes) -> bytes:
+    """``body`` (SIZE CMD payload) with its checksum byte appended: the one place a frame's
+    checksum is computed (``body`` is at most 255 bytes, so :func:`checksum`'s Adler-32 path)."""
+    return body + bytes((checksum(body),))
 
 
 def check_frame(frame: bytes, max_size: int = MAX_FRAME_SIZE) -> None:
@@ -106,7 +112,7 @@ def check_frame(frame: bytes, max_size: int = MAX_FRAME_SIZE) -> None:
         raise FrameError(f"frame of {n} bytes exceeds the maximum of {max_size}")
     if not sum_ok(frame):
         raise ChecksumError(
-            f"checksum {frame[-1]:02X} does not match {sum(frame[:-1]) & 0xFF:02X}", bytes(frame)
+            f"checksum {frame[-1]:02X} does not match {checksum(frame[:-1]):02X}", bytes(frame)
         )
 
 

@@ -20,6 +20,7 @@ __all__ = [
     "KIND_RAM",
     "KIND_ROM",
     "MAX_LITERAL",
+    "MAX_READ",
     "POSITION_FREE",
     "POSITION_HOLD",
     "POSITION_MAX",
@@ -71,11 +72,19 @@ class Op:
 
 
 RAM_SIZE: Final = 0x0490
+"""Bytes of RAM: 0000h-048Fh (spec section 10)."""
 ROM_SIZE: Final = 0x40000
+"""Bytes of ROM (EEPROM): 256 KB, 00000h-3FFFFh (spec section 10)."""
 ICS_COUNT: Final = 36
+"""ICS numbers 0-35: the entries of the allocation table at 0044h and the bits of a 10h
+bitmap (spec 10.1 and the RunConstFrameServo section)."""
+MAX_READ: Final = 128
+"""The most bytes one data command moves (its size byte, 1-128; a MOVE to COM of 128 bytes
+has a 131-byte reply frame)."""
 MAX_LITERAL: Final = MAX_FRAME_SIZE - 7
 POSITION_MIN: Final = 3500
 POSITION_MAX: Final = 11500
+"""The documented servo positions, POSITION_MIN..POSITION_MAX (about -135..+135 degrees)."""
 POSITION_HOLD: Final = 0x7FFF
 POSITION_FREE: Final = 0x8000
 

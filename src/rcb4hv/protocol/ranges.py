@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Final
 
-from rcb4hv.protocol.commands import (
+from rcb4hv.protocol import (
     ICS_COUNT,
     POSITION_FREE,
     POSITION_HOLD,

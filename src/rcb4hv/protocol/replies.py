@@ -12,7 +12,8 @@ from dataclasses import dataclass
 from typing import Final, Protocol
 
 from rcb4hv.errors import ProtocolError
-from rcb4hv.protocol.frame import build_frame, check_frame
+from rcb4hv.protocol.frame import build_frame, check_frame, sum_ok
+from rcb4hv.protocol.operands import MAX_READ
 
 __all__ = [
     "ACK_BYTE",
@@ -31,7 +32,7 @@ __all__ = [
 ACK_BYTE: Final = 0x06
 NAK_BYTE: Final = 0x15
 VERSION_LENGTH: Final = 32
-MAX_REPLY_SIZE: Final = 128 + 3
+MAX_REPLY_SIZE: Final = MAX_READ + 3
 """A MOVE may read 128 bytes to COM, whose reply frame is 131 bytes long."""
 
 
@@ -121,11 +122,7 @@ def decode_reply(frame: bytes | bytearray, command: _Expects) -> Reply:
     cmd = command.cmd
     expected = command.reply_data_size
     if (
-        n == 4
-        and expected is None
-        and frame[0] == 4
-        and frame[1] == cmd
-        and (4 + cmd + frame[2]) & 0xFF == frame[3]
+        n == 4 and expected is None and frame[0] == 4 and frame[1] == cmd and sum_ok(frame)
     ):  # fast path: ACK / NAK
         if frame[2] == ACK_BYTE:
             return _ACKS[cmd]

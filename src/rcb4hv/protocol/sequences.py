@@ -15,8 +15,11 @@ from __future__ import annotations
 
 from typing import Final
 
-from rcb4hv.protocol.commands import ALWAYS, Call, Com, Command, Data, Move, Ram
+from rcb4hv.protocol.branches import ALWAYS, Call
+from rcb4hv.protocol.datacmds import Move
 from rcb4hv.protocol.memory import ADDR, SYS, program_reset, system_word_bytes
+from rcb4hv.protocol.operands import Com, Data, Ram
+from rcb4hv.protocol.registry import Command
 
 __all__ = [
     "PLAY_FLAGS",

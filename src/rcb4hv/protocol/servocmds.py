@@ -1,7 +1,7 @@
 """Servo commands (0Fh, 10h, 11h, 12h speed/stretch) and the system commands (FDh, FEh).
 
 Each class owns its codec: ``encode()`` builds the frame, ``from_frame`` parses one. The
-fast 0Fh/10h frame builders live in :mod:`rcb4hv.protocol.servoframes`.
+frame layouts and packers live in :mod:`rcb4hv.protocol.servopack`.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from typing import ClassVar, Final
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol.frame import build_frame
 from rcb4hv.protocol.operands import ICS_COUNT, Op, check_ics, check_int, check_position
-from rcb4hv.protocol.servoframes import pack_const_frame, pack_single_servo, servo_set
+from rcb4hv.protocol.servopack import pack_const_frame, pack_single_servo, servo_set
 
 __all__ = [
     "AcknowledgeCheck",

@@ -1,8 +1,8 @@
 """HeartToHeart4 2.2 ROM images: layout constants, a typed description, builder and parser.
 
 :class:`ImageServo`, :class:`ImageMotion` and :class:`ImagePriorityMotion` are what an image
-holds; ``ServoConfig``, ``Motion`` and ``PriorityMotion`` are their old names here (the
-project file's entries of those names are in :mod:`rcb4hv.hth4`)."""
+holds (the project file's entries, ``Motion``, ``ServoConfig`` and ``PriorityMotion``, are in
+:mod:`rcb4hv.hth4`)."""
 
 from __future__ import annotations
 
@@ -15,9 +15,6 @@ from rcb4hv.rom.image import (
     ImagePriorityMotion,
     ImageServo,
     Kri3Config,
-    Motion,
-    PriorityMotion,
-    ServoConfig,
     VectorPackage,
     build_image,
     parse_image,
@@ -31,9 +28,6 @@ __all__ = [
     "ImagePriorityMotion",
     "ImageServo",
     "Kri3Config",
-    "Motion",
-    "PriorityMotion",
-    "ServoConfig",
     "VectorPackage",
     "build_image",
     "default_description",

@@ -19,6 +19,9 @@ from typing import Final, Literal
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol import (
     ALWAYS,
+    ICS_COUNT,
+    POSITION_FREE,
+    RAM_SIZE,
     Call,
     Command,
     Condition,
@@ -35,7 +38,6 @@ from rcb4hv.protocol import (
     encode_command,
     frame_at,
 )
-from rcb4hv.protocol.commands import POSITION_FREE
 from rcb4hv.protocol.memory import (
     AD_CHANNELS,
     ADDR,
@@ -62,6 +64,8 @@ __all__ = [
     "VectorPackage",
     "build_image",
     "parse_image",
+    "priority_bytes",
+    "word_write",
 ]
 
 Compare = Literal["eq", "ne", "lt", "le", "gt", "ge"]
@@ -175,7 +179,7 @@ class ImagePriorityMotion:
     size: int = 2
 
     def __post_init__(self) -> None:
-        _check("source", self.source, 0, ADDR.RAM_SIZE - 1)
+        _check("source", self.source, 0, RAM_SIZE - 1)
         _check("size", self.size, 1, 2)
         _check("value", self.value, 0, (1 << (8 * self.size)) - 1)
         _check("target", self.target, 0, 0xFFFFFF)  # 24 bits, as on the wire
@@ -288,7 +292,7 @@ class ImageDescription:
 # ----------------------------------------------------------------------------- building
 
 
-def _word(address: int, value: int) -> bytes:
+def word_write(address: int, value: int) -> bytes:
     """A literal MOVE of a 16-bit word to RAM ``address``."""
     return encode_command(Move(Ram(address), Data(u16_bytes(value))))
 
@@ -301,7 +305,7 @@ def _servo_frame(speed: int, positions: dict[int, int]) -> bytes:
     return encode_command(RunConstFrameServo(speed, positions))
 
 
-def _priority_bytes(pm: ImagePriorityMotion | None, slot_addr: int, sysreg: int) -> bytes:
+def priority_bytes(pm: ImagePriorityMotion | None, slot_addr: int, sysreg: int) -> bytes:
     if pm is None:
         jump = encode_command(Jump(slot_addr + L.PRIORITY_SIZE, ALWAYS))
         return jump + bytes([L.ERASED]) * (L.PRIORITY_SIZE - len(jump))
@@ -309,7 +313,7 @@ def _priority_bytes(pm: ImagePriorityMotion | None, slot_addr: int, sysreg: int)
     out = (
         encode_command(Sub(Ram(pm.source), Data(pm.value.to_bytes(pm.size, "little")), None, True))
         + encode_command(Call(pm.target, cond))
-        + _word(ADDR.SYSTEM, sysreg)
+        + word_write(ADDR.SYSTEM, sysreg)
     )
     assert len(out) == L.PRIORITY_SIZE + (pm.size - 2)
     return out.ljust(L.PRIORITY_SIZE, bytes([L.ERASED]))
@@ -323,9 +327,9 @@ def build_image(desc: ImageDescription) -> bytes:
         rom[addr : addr + len(data)] = data
 
     sysreg = desc.system_register
-    put(L.CONFIG_WRITE, _word(ADDR.SYSTEM, sysreg & ~SYS.ICS_OUTPUT))
-    put(L.PIO_DIRECTION_WRITE, _word(ADDR.PIO_DIRECTION, desc.pio_direction))
-    put(L.PIO_DATA_WRITE, _word(ADDR.PIO_DATA, desc.pio_data))
+    put(L.CONFIG_WRITE, word_write(ADDR.SYSTEM, sysreg & ~SYS.ICS_OUTPUT))
+    put(L.PIO_DIRECTION_WRITE, word_write(ADDR.PIO_DIRECTION, desc.pio_direction))
+    put(L.PIO_DATA_WRITE, word_write(ADDR.PIO_DATA, desc.pio_data))
     put(L.AD_REFERENCE_COPY, _copy(L.AD_REFERENCE_IMAGE, ADDR.AD_REFERENCE, 2 * ADDR.AD_COUNT))
     size = SERVO.SIZE
     for n in range(L.SERVO_BLOCK_COPY_COUNT):
@@ -333,7 +337,7 @@ def build_image(desc: ImageDescription) -> bytes:
             L.SERVO_BLOCK_COPIES + 11 * n,
             _copy(L.SERVO_BLOCK_IMAGES + size * n, ADDR.servo_block(n), size),
         )
-    put(L.ALLOC_COPY, _copy(L.ALLOC_IMAGE, ADDR.ICS_ALLOC, 2 * ADDR.ICS_ALLOC_COUNT))
+    put(L.ALLOC_COPY, _copy(L.ALLOC_IMAGE, ADDR.ICS_ALLOC, 2 * ICS_COUNT))
     put(L.KRI3_ALLOC_COPY, _copy(L.KRI3_ALLOC_IMAGE, ADDR.KRI3_ALLOC, 2))
     put(L.KRI3_BLOCK_COPY, _copy(L.KRI3_BLOCK_IMAGE, ADDR.KRI3_BLOCK, ADDR.KRI3_BLOCK_SIZE))
     for i in range(L.VECTOR_PACKAGE_COUNT):
@@ -347,7 +351,7 @@ def build_image(desc: ImageDescription) -> bytes:
     put(L.ALL_FREE, _servo_frame(1, dict.fromkeys(all_ics, POSITION_FREE)))
     t0 = ADDR.timer(0)
     wait = (
-        _word(t0, desc.startup_wait)
+        word_write(t0, desc.startup_wait)
         + encode_command(Sub(Ram(t0), Data(b"\x00\x80"), None, True))
         + encode_command(Jump(L.TIMER_WAIT + 9, Condition.if_not_zero()))
     )
@@ -357,18 +361,18 @@ def build_image(desc: ImageDescription) -> bytes:
     put(L.ALL_HOME, _servo_frame(desc.home_speed, homes))
     startup = L.STARTUP_STUB if desc.startup_motion is None else desc.startup_motion
     put(L.STARTUP_CALL, encode_command(Call(startup, ALWAYS)))
-    put(L.MAIN_LOOP, _word(ADDR.SYSTEM, sysreg))
+    put(L.MAIN_LOOP, word_write(ADDR.SYSTEM, sysreg))
     put(L.PIO_SWITCHES, encode_command(Jump(L.PRIORITY_CHECKS, ALWAYS)))
     for i in range(L.PRIORITY_COUNT):
         pm = desc.priority_motions[i] if i < len(desc.priority_motions) else None
         slot = L.PRIORITY_CHECKS + L.PRIORITY_SIZE * i
-        code = _priority_bytes(pm, slot, sysreg)
+        code = priority_bytes(pm, slot, sysreg)
         put(slot, code)
         put(L.PRIORITY_IMAGES + L.PRIORITY_SIZE * i, code)
     put(L.MAIN_LOOP_JUMP, encode_command(Jump(L.MAIN_LOOP, ALWAYS)))
 
     put(L.SYSTEM_REGISTER_IMAGE, u16_bytes(sysreg))
-    alloc: list[int | None] = [None] * ADDR.ICS_ALLOC_COUNT
+    alloc: list[int | None] = [None] * ICS_COUNT
     for s in desc.servos:
         alloc[s.ics] = ADDR.servo_block(s.ics)
     kri_alloc = ADDR.KRI3_BLOCK if desc.kri3 is not None else NO_BLOCK
@@ -490,9 +494,3 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
         motions=tuple(motions),
     )
 
-
-# Old names, kept importable. rcb4hv.hth4 has its own ServoConfig / Motion / PriorityMotion
-# (the project file's entries); these are what a ROM image holds.
-ServoConfig = ImageServo
-Motion = ImageMotion
-PriorityMotion = ImagePriorityMotion

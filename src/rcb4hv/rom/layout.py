@@ -21,9 +21,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
+from rcb4hv.protocol import ROM_SIZE as ROM_SIZE  # the board fact (rcb4hv.protocol.operands)
 from rcb4hv.protocol.memory import ADDR
 
-ROM_SIZE: Final = 0x40000
 ERASED: Final = 0xFF
 
 CONFIG_WRITE: Final = 0x00000
@@ -139,15 +139,6 @@ MOTION_COUNT: Final = HTH4_22.motion_count
 STARTUP_STUB: Final = 0x3CB80
 assert HTH4_22.startup_stub == STARTUP_STUB
 
-# RAM targets of the copies: old names of rcb4hv.protocol.memory.ADDR entries
-RAM_SERVO_BLOCKS: Final = ADDR.SERVO_BLOCKS
-SERVO_BLOCK_SIZE: Final = ADDR.SERVO_BLOCK_SIZE
-RAM_ALLOC: Final = ADDR.ICS_ALLOC
-RAM_KRI3_ALLOC: Final = ADDR.KRI3_ALLOC
-RAM_KRI3_BLOCK: Final = ADDR.KRI3_BLOCK
-RAM_VECTOR_PACKAGES: Final = ADDR.VECTOR_PACKAGES
-RAM_VECTOR_ADDRESS: Final = ADDR.VECTOR_TABLE
-RAM_BUTTONS: Final = ADDR.BUTTONS
 TIMER_WAIT_COUNT: Final = 0x0010
 
 assert MAIN_LOOP_JUMP == PRIORITY_CHECKS + PRIORITY_COUNT * PRIORITY_SIZE

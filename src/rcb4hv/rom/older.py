@@ -48,7 +48,7 @@ from rcb4hv.protocol import (
 )
 from rcb4hv.protocol.memory import ADDR
 from rcb4hv.rom import layout as L
-from rcb4hv.rom.image import ImageDescription, _priority_bytes, _word, build_image, parse_image
+from rcb4hv.rom.image import ImageDescription, build_image, parse_image, priority_bytes, word_write
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 
 __all__ = [
@@ -105,12 +105,12 @@ def build_image_for(desc: ImageDescription, lay: MotionLayout = HTH4_22) -> byte
     put(L.STARTUP_STUB, _FF * 3)
     put(BOOT_JUMP, encode_command(Jump(BOOT_TAIL, ALWAYS)))
     sysreg = desc.system_register
-    put(MAIN_LOOP, _word(ADDR.SYSTEM, sysreg))
+    put(MAIN_LOOP, word_write(ADDR.SYSTEM, sysreg))
     put(PIO_SWITCHES, encode_command(Jump(PRIORITY_CHECKS, ALWAYS)))
     for i in range(L.PRIORITY_COUNT):
         pm = desc.priority_motions[i] if i < len(desc.priority_motions) else None
         slot = PRIORITY_CHECKS + L.PRIORITY_SIZE * i
-        code = _priority_bytes(pm, slot, sysreg)
+        code = priority_bytes(pm, slot, sysreg)
         put(slot, code)
         put(L.PRIORITY_IMAGES + L.PRIORITY_SIZE * i, code)
     put(MAIN_LOOP_JUMP, encode_command(Jump(MAIN_LOOP, ALWAYS)))

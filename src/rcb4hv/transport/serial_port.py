@@ -22,8 +22,10 @@ __all__ = [
     "DEFAULT_BAUD",
     "KONDO_PIDS",
     "KONDO_VID",
+    "PORT_ERRORS",
     "SerialTransport",
     "find_kondo_ports",
+    "port_errors",
     "resolve_port",
 ]
 
@@ -46,7 +48,7 @@ PORT_ENV: Final = "RCB4HV_PORT"
 _SLICE: Final = 0.01
 
 
-def _port_errors() -> tuple[type[BaseException], ...]:
+def port_errors() -> tuple[type[BaseException], ...]:
     errors: tuple[type[BaseException], ...] = (serial.SerialException, OSError)
     try:
         import termios  # POSIX only; termios.error is not an OSError
@@ -57,7 +59,7 @@ def _port_errors() -> tuple[type[BaseException], ...]:
     return errors
 
 
-_PORT_ERRORS: Final = _port_errors()
+PORT_ERRORS: Final = port_errors()
 _POSIX_SERIAL: Final[type | None] = getattr(getattr(serial, "serialposix", None), "Serial", None)
 
 
@@ -147,7 +149,7 @@ class SerialTransport(Transport):
         try:
             if port.timeout != wanted:
                 port.timeout = wanted
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: cannot configure: {exc}") from exc
 
     @classmethod
@@ -160,7 +162,7 @@ class SerialTransport(Transport):
             raise ValueError(f"baud rate {baudrate} must be positive")
         try:
             port = open_8e1(url, baudrate, write_timeout=2.0)
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
         _disable_nagle(port)
         log.debug("opened %s at %d baud", url, baudrate)
@@ -179,7 +181,7 @@ class SerialTransport(Transport):
             return  # a second tcsetattr at a custom rate is refused by some drivers
         try:
             self.port.baudrate = baudrate
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
 
     def write(self, data: bytes) -> None:
@@ -196,7 +198,7 @@ class SerialTransport(Transport):
             data = data[n:]
         try:
             self.port.write(data)
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: write failed: {exc}") from exc
 
     def read(self, size: int, deadline: float) -> bytes:
@@ -263,7 +265,7 @@ class SerialTransport(Transport):
     def reset_input(self) -> None:
         try:
             self.port.reset_input_buffer()
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
 
     def close(self) -> None:
@@ -281,14 +283,14 @@ class SerialTransport(Transport):
             return
         try:
             port.close()
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             log.debug("closing %s: %s", self.url, exc)
 
     def reopen(self) -> None:
         self.close()
         try:
             self.port.open()
-        except _PORT_ERRORS as exc:
+        except PORT_ERRORS as exc:
             raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
         try:
             fd = int(self.port.fileno())

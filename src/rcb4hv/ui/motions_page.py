@@ -55,8 +55,9 @@ def build(ctx: UiContext) -> None:
     current = tid(ui.label("current motion: -"), "motion-current")
     status = tid(ui.label(""), "motion-status")
     with ui.row().classes("items-center"):
+        count = session.layout.motion_count
         slot = tid(
-            ui.number("Motion", value=1, min=1, max=120, step=1).classes("w-24"), "motion-slot"
+            ui.number("Motion", value=1, min=1, max=count, step=1).classes("w-24"), "motion-slot"
         )
         tid(ui.button("Play", icon="play_arrow"), "motion-play").on_click(
             lambda: _play(ctx, int(slot.value or 1), status, wait=False)

@@ -13,9 +13,10 @@ from dataclasses import dataclass
 from struct import Struct
 from typing import Final
 
-from rcb4hv.protocol.commands import POSITION_FREE, Condition
+from rcb4hv.protocol.branches import Condition
 from rcb4hv.protocol.memory.fields import Field, ReadBuffer, WriteBuffer, read_u16, s16
 from rcb4hv.protocol.memory.map import ADDR, Button
+from rcb4hv.protocol.operands import ICS_COUNT, POSITION_FREE
 
 __all__ = [
     "ALLOC_TABLE",
@@ -191,7 +192,7 @@ def mix_method(rate: int) -> int:
 
 NO_BLOCK: Final = 0xFFFF
 """An allocation-table entry (or vector-table address) that points nowhere."""
-ALLOC_TABLE: Final = Struct(f"<{ADDR.ICS_ALLOC_COUNT}H")
+ALLOC_TABLE: Final = Struct(f"<{ICS_COUNT}H")
 """``alloc[0..35]`` at RAM 0044h (and its image in ROM)."""
 
 
@@ -208,9 +209,9 @@ def unpack_alloc(buf: ReadBuffer, at: int = ADDR.ICS_ALLOC) -> list[int | None]:
 def pack_alloc(table: Sequence[int | None]) -> bytes:
     """The 72 bytes of a table (entries missing from the end read as none)."""
     entries = [NO_BLOCK if a is None else a & 0xFFFF for a in table]
-    if len(entries) > ADDR.ICS_ALLOC_COUNT:
-        raise ValueError("the allocation table has 36 entries")
-    entries += [NO_BLOCK] * (ADDR.ICS_ALLOC_COUNT - len(entries))
+    if len(entries) > ICS_COUNT:
+        raise ValueError(f"the allocation table has {ICS_COUNT} entries")
+    entries += [NO_BLOCK] * (ICS_COUNT - len(entries))
     return ALLOC_TABLE.pack(*entries)
 
 

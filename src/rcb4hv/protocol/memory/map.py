@@ -8,6 +8,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final
 
+from rcb4hv.protocol.operands import ICS_COUNT, POSITION_MAX, POSITION_MIN
+
 __all__ = [
     "ADDR",
     "CENTER",
@@ -40,11 +42,9 @@ class ADDR:
     PIO_DATA: Final = 0x003A
     TIMERS: Final = (0x003C, 0x003E, 0x0040, 0x0042)
     ICS_ALLOC: Final = 0x0044
-    ICS_ALLOC_COUNT: Final = 36
     KRI3_ALLOC: Final = 0x008A  # alloc[35], the remote receiver's slot
     VECTOR_TABLE: Final = 0x008C
     USER: Final = 0x0090
-    RAM_SIZE: Final = 0x0490
     # HeartToHeart4 2.x user-area layout
     SERVO_BLOCKS: Final = 0x0090
     SERVO_BLOCK_SIZE: Final = 20
@@ -270,7 +270,7 @@ def bitmap_from_ics(ics_numbers: Iterable[int], keep_update_flags: bool = False)
 def ics_from_bitmap(bitmap: bytes) -> list[int]:
     """The ICS numbers selected by a 5-byte bitmap (bit 39 and bits 36-38 ignored)."""
     value = int.from_bytes(bitmap[:5], "little")
-    return [k for k in range(36) if value >> k & 1]
+    return [k for k in range(ICS_COUNT) if value >> k & 1]
 
 
 def ics_number(servo_id: int, sio: int) -> int:
@@ -284,8 +284,8 @@ def ics_number(servo_id: int, sio: int) -> int:
 
 def ics_to_id_port(ics: int) -> tuple[int, str]:
     """(servo ID, port group) for an ICS number: group ``"SIO1-4"`` or ``"SIO5-8"``."""
-    if not 0 <= ics <= 35:
-        raise ValueError("ICS numbers are 0-35")
+    if not 0 <= ics < ICS_COUNT:
+        raise ValueError(f"ICS numbers are 0-{ICS_COUNT - 1}")
     return ics // 2, "SIO1-4" if ics % 2 == 0 else "SIO5-8"
 
 
@@ -295,6 +295,7 @@ def position_to_degrees(position: int) -> float:
 
 
 def degrees_to_position(degrees: float) -> int:
-    """Degrees from centre to servo position counts, clamped to 3500..11500."""
+    """Degrees from centre to servo position counts, clamped to the documented
+    POSITION_MIN..POSITION_MAX (3500..11500)."""
     pos = round(CENTER + degrees * COUNTS_PER_DEGREE)
-    return max(3500, min(11500, pos))
+    return max(POSITION_MIN, min(POSITION_MAX, pos))
