@@ -4,37 +4,31 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from rcb4hv.protocol import (
+from rcb4hv.protocol.branches import Call, CommunicateDevice, Condition, Jump, Return
+from rcb4hv.protocol.datacmds import BinaryOp, Move, Not, Shift
+from rcb4hv.protocol.memory import position_to_degrees
+from rcb4hv.protocol.operands import (
     POSITION_FREE,
     POSITION_HOLD,
-    AcknowledgeCheck,
-    Call,
     Com,
-    Command,
-    CommunicateDevice,
-    Condition,
     Data,
     Destination,
-    GetVersionInfo,
     Ics,
-    Jump,
-    Move,
-    Not,
     Ram,
-    Return,
     Rom,
+    Source,
+)
+from rcb4hv.protocol.registry import Command, spec_of
+from rcb4hv.protocol.replies import Ack, DataReply, Nak, Reply, VersionReply
+from rcb4hv.protocol.servocmds import (
+    AcknowledgeCheck,
+    GetVersionInfo,
     RunConstFrameServo,
     RunSeriesServo,
     RunSingleServo,
     SetSpeed,
     SetStretch,
-    Shift,
-    Source,
 )
-from rcb4hv.protocol.datacmds import BinaryOp
-from rcb4hv.protocol.memory import position_to_degrees
-from rcb4hv.protocol.registry import spec_of
-from rcb4hv.protocol.replies import Ack, DataReply, Nak, Reply, VersionReply
 
 __all__ = ["command_fields", "command_name", "describe_command", "describe_reply", "operand_text"]
 
