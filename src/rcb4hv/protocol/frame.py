@@ -96,9 +96,12 @@ def build_frame(cmd: int, payload: bytes | bytearray = b"") -> bytes:
 
 
 def seal(body: bytes) -> bytes:
-    """``body`` (SIZE CMD payload) with its checksum byte appended: the one place a frame's
-    checksum is computed (``body`` is at most 255 bytes, so :func:`checksum`'s Adler-32 path)."""
-    return body + bytes((checksum(body),))
+    """``body`` (SIZE CMD payload, at most 255 bytes) with its checksum byte appended: how
+    every frame gets its checksum (the sum by Adler-32, as in :func:`checksum`)."""
+    return body + _BYTES[((adler32(body) & 0xFFFF) - 1) & 0xFF]
+
+
+_BYTES: Final = tuple(bytes((b,)) for b in range(256))
 
 
 def check_frame(frame: bytes, max_size: int = MAX_FRAME_SIZE) -> None:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Final, Protocol
 
 from rcb4hv.errors import ProtocolError
-from rcb4hv.protocol.frame import build_frame, check_frame, sum_ok
+from rcb4hv.protocol.frame import build_frame, check_frame
 from rcb4hv.protocol.operands import MAX_READ
 
 __all__ = [
@@ -110,6 +110,10 @@ def encode_reply(reply: Reply) -> bytes:
     return build_frame(0xFD, reply.version)
 
 
+_ACK_FRAMES: Final = tuple(encode_reply(a) for a in _ACKS)
+_NAK_FRAMES: Final = tuple(encode_reply(n) for n in _NAKS)
+
+
 def reply_length(command: _Expects) -> int:
     """Length in bytes of the successful reply frame to ``command`` (a NAK is always 4)."""
     n = command.reply_data_size
@@ -121,12 +125,10 @@ def decode_reply(frame: bytes | bytearray, command: _Expects) -> Reply:
     n = len(frame)
     cmd = command.cmd
     expected = command.reply_data_size
-    if (
-        n == 4 and expected is None and frame[0] == 4 and frame[1] == cmd and sum_ok(frame)
-    ):  # fast path: ACK / NAK
-        if frame[2] == ACK_BYTE:
+    if n == 4 and expected is None:  # fast path: the whole ACK / NAK frame, prebuilt
+        if frame == _ACK_FRAMES[cmd]:
             return _ACKS[cmd]
-        if frame[2] == NAK_BYTE:
+        if frame == _NAK_FRAMES[cmd]:
             return _NAKS[cmd]
     frame = bytes(frame)
     check_frame(frame, MAX_REPLY_SIZE)
