@@ -228,3 +228,35 @@ def test_positions_read_the_cheapest_plan_on_both_faces() -> None:
             return frames
 
     assert asyncio.run(main()) == frames
+
+
+def test_transport_wrappers_pass_the_baud_rate_on() -> None:
+    """Baud detection goes through Transport.set_baudrate, so a wrapper must hand it to the
+    link it wraps (the dashboard's MeteredTransport did not, and its detection failed)."""
+    from rcb4hv.session.meter import MeteredTransport
+    from rcb4hv.transport import FaultyTransport
+
+    class Serialish(Transport):
+        url = "serialish://"
+        rates: list[int] = []
+
+        def write(self, data: bytes) -> None: ...
+
+        def read(self, size: int, deadline: float) -> bytes:
+            return b""
+
+        def reset_input(self) -> None: ...
+
+        def close(self) -> None: ...
+
+        @property
+        def is_open(self) -> bool:
+            return True
+
+        def set_baudrate(self, baudrate: int) -> None:
+            self.rates.append(baudrate)
+
+    inner = Serialish()
+    for wrapper in (MeteredTransport(inner), FaultyTransport(inner)):
+        wrapper.set_baudrate(625000)
+    assert inner.rates == [625000, 625000]

@@ -71,3 +71,6 @@ class MeteredTransport(Transport):
 
     def reopen(self) -> None:
         self.inner.reopen()
+
+    def set_baudrate(self, baudrate: int) -> None:
+        self.inner.set_baudrate(baudrate)
