@@ -238,7 +238,9 @@ def test_transport_wrappers_pass_the_baud_rate_on() -> None:
 
     class Serialish(Transport):
         url = "serialish://"
-        rates: list[int] = []
+
+        def __init__(self) -> None:
+            self.rates: list[int] = []
 
         def write(self, data: bytes) -> None: ...
 
