@@ -1,6 +1,7 @@
 """The emulator's frozen, validated configuration (separate from the board's runtime state).
 
-Every conflict of spec section 13 is a field here, with the spec's project default:
+Every conflict of spec section 13 is a field here, with the spec's project default (one
+exception, #4, where HeartToHeart4's own programs are the evidence):
 
 ====  ==============================  =========================================================
  #    field                           meaning (default first)
@@ -9,7 +10,9 @@ Every conflict of spec section 13 is a field here, with the spec's project defau
  2    ``logic_reply``                 ``"data"``: logic/arith from COM answer the result;
                                       ``"ack"``
  3    ``logic_carry``                 ``"unchanged"``: AND/OR/XOR/NOT leave C; ``"clear"``
- 4    ``branch_condition``            ``"and"`` of the enabled Z/C comparisons; ``"or"``
+ 4    ``branch_condition``            ``"or"``: one enabled Z/C comparison that matches is
+                                      enough (HeartToHeart4's own >=/<= tests, see
+                                      docs/spec-notes.md); ``"and"`` (the spec's inference)
  5    ``position_7fff``               ``"hold"``: 7FFF keeps torque on; ``"free"``
  6    ``unselected_update_flags``     ``"unchanged"`` on 10h/11h; ``"clear"``
  7    ``speed_zero``                  ``"one"``: speed 0 behaves as 1; ``"immediate"`` (jump)
@@ -61,7 +64,9 @@ class EmulatorConfig:
     shift_direction: Literal["reference", "inverted"] = "reference"
     logic_reply: Literal["data", "ack"] = "data"
     logic_carry: Literal["unchanged", "clear"] = "unchanged"
-    branch_condition: Literal["and", "or"] = "and"
+    # spec 13 #4 says "inferred AND"; HeartToHeart4 compiles a <= or >= test into one JUMP with
+    # both Z and C enabled (Z&NC after SUB: "<="), which under AND could never branch
+    branch_condition: Literal["and", "or"] = "or"
     position_7fff: Literal["hold", "free"] = "hold"
     unselected_update_flags: Literal["unchanged", "clear"] = "unchanged"
     speed_zero: Literal["one", "immediate"] = "one"
