@@ -16,7 +16,11 @@
     │                              also a ValueError
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
-    └── SimulationError            the emulated board refused a host frame in a simulation
+    ├── SimulationError            the emulated board refused a host frame in a simulation
+    └── RobotModelError            a robot model, URDF or joint map that cannot be used (an
+                                   unknown robot name, a link without inertia, a joint map
+                                   naming an unknown joint or a servo the project lacks);
+                                   also a ValueError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -36,6 +40,7 @@ __all__ = [
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "RobotModelError",
     "SimulationError",
     "TransportError",
     "VerifyError",
@@ -120,3 +125,9 @@ class AsmError(Rcb4Error, ValueError):
 
 class SimulationError(Rcb4Error):
     """The emulated board did not accept a host frame during a simulation."""
+
+
+class RobotModelError(Rcb4Error, ValueError):
+    """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
+    malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
+    indices the project does not have."""
