@@ -98,3 +98,23 @@ def test_the_preview_plays_pauses_and_scrubs_a_project_motion(kxr_project_path: 
         assert "FELL" not in one(user, "preview-status").text  # the plain simulator has no falls
 
     run(scenario, robot=MODEL)
+
+
+def test_opening_a_project_redraws_the_views_with_its_robot(kxr_project_path: Path) -> None:
+    from rcb4hv.hth4 import load_project
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        ctx.auto_robot = True
+        ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+        for name in ("servos", "remote"):
+            await until(lambda n=name: "KXR-L2 with grippers" in one(user, f"{n}-3d-caption").text)
+        kxr = ctx.robot
+        assert kxr is not None and kxr.name == "kxr-l2-gripper"
+        assert len(body(user, "servos-3d").args[0]) == len(kxr.links)
+        table = one(user, "servo-table")
+        await until(lambda: {r["ics"]: r["joint"] for r in table.rows}[2] == kxr.servo(2).joint)
+        ctx.set_project(None)  # no project: the board's servo table decides
+        await until(lambda: "22-axis" in one(user, "servos-3d-caption").text)
+        assert "matches the board's servos" in one(user, "remote-3d-caption").text
+
+    run(scenario, robot=MODEL)
