@@ -128,3 +128,13 @@ def test_the_plain_simulator_gives_every_output_period_of_a_motion(kxr_project_p
 
     assert pb.frames[-1].angles == MODEL.angles(sim.board.servo_outputs(), board_trims(sim.board))
     assert len({tuple(sorted(f.angles.items())) for f in pb.frames}) > 10  # it moves
+
+
+def test_a_bow_leans_the_body_over_flat_feet() -> None:
+    s = stance(MODEL, {"l_hip_pitch": 0.5, "r_hip_pitch": 0.5})
+    for foot in ("l_foot", "r_foot"):  # all four sole corners on the ground
+        corners = geom_points(MODEL.link(foot).geoms[0], s.frames[foot])
+        assert sorted(p[2] for p in corners)[:4] == pytest.approx([0.0] * 4, abs=1e-12)
+    torso_up = [s.frames["torso"][k][2] for k in range(3)]
+    assert math.acos(torso_up[2]) == pytest.approx(0.5)  # the body leans by the hip angle
+    assert len(s.support) == 4

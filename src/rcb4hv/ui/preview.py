@@ -123,14 +123,25 @@ def build(ctx: UiContext, motions: ui.table) -> None:
 
     make_view()
     ctx.on_project(model_changed)
-    ui.timer(FRAME_PERIOD_S, lambda: player[0].tick() if player else None)
+
+    def show_state() -> None:
+        playing = bool(player) and player[0].playing
+        text = "Pause" if playing else "Play"
+        if play.text != text:
+            play.text = text
+            play.props(f"icon={'pause' if playing else 'play_arrow'}")
+
+    def tick() -> None:
+        if player:
+            player[0].tick()
+            show_state()
+
+    ui.timer(FRAME_PERIOD_S, tick)
 
     def toggle() -> None:
         if player:
             player[0].toggle()
-            playing = player[0].playing
-            play.text = "Pause" if playing else "Play"
-            play.props(f"icon={'pause' if playing else 'play_arrow'}")
+            show_state()
 
     play.on_click(toggle)
 
