@@ -16,7 +16,10 @@
     │                              also a ValueError
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
-    └── SimulationError            the emulated board refused a host frame in a simulation
+    ├── SimulationError            the emulated board refused a host frame in a simulation
+    └── PhysicsError               the physics simulation cannot run
+        └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
+                                   ImportError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -33,6 +36,8 @@ __all__ = [
     "Hth4FormatError",
     "LayoutError",
     "NakError",
+    "PhysicsError",
+    "PhysicsUnavailableError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
@@ -120,3 +125,11 @@ class AsmError(Rcb4Error, ValueError):
 
 class SimulationError(Rcb4Error):
     """The emulated board did not accept a host frame during a simulation."""
+
+
+class PhysicsError(Rcb4Error):
+    """The physics simulation cannot run: a robot model MuJoCo refuses, or no robot model."""
+
+
+class PhysicsUnavailableError(PhysicsError, ImportError):
+    """MuJoCo is not installed: ``pip install 'rcb4hv[sim]'``."""
