@@ -109,7 +109,7 @@ def test_stretch_sets_the_stiffness() -> None:
 def test_the_same_input_gives_the_same_bits() -> None:
     runs = []
     for _ in range(2):
-        boot, out, virtual, path = play_physics(
+        _boot, out, virtual, path = play_physics(
             IMAGE,
             ROBOT,
             [ARMS_SLOT, BAD_SLOT],
