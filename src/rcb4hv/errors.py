@@ -17,6 +17,10 @@
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
     ├── SimulationError            the emulated board refused a host frame in a simulation
+    ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
+    │                              unknown robot name, a link without inertia, a joint map
+    │                              naming an unknown joint or a servo the project lacks);
+    │                              also a ValueError
     └── PhysicsError               the physics simulation cannot run
         └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
                                    ImportError
@@ -41,6 +45,7 @@ __all__ = [
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "RobotModelError",
     "SimulationError",
     "TransportError",
     "VerifyError",
@@ -125,6 +130,12 @@ class AsmError(Rcb4Error, ValueError):
 
 class SimulationError(Rcb4Error):
     """The emulated board did not accept a host frame during a simulation."""
+
+
+class RobotModelError(Rcb4Error, ValueError):
+    """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
+    malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
+    indices the project does not have."""
 
 
 class PhysicsError(Rcb4Error):
