@@ -82,6 +82,11 @@ class PhysicsBackend:
         """Physics seconds simulated so far."""
         return self._steps * self._dt_us / _US
 
+    @property
+    def board_time(self) -> float:
+        """The board time (s) the physics has reached."""
+        return (self._t0_us + self._steps * self._dt_us) / _US
+
     # ------------------------------------------------------------------ the period
 
     def _period(self, t: float, outs: dict[int, int]) -> None:

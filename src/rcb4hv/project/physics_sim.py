@@ -24,10 +24,11 @@ motion's :class:`PhysicsOutcome` says:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Final
 
+from rcb4hv.errors import RobotModelError
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.project.simulate import BOOT_LIMIT, DEFAULT_LIMIT, SampleListener, Simulator
@@ -43,6 +44,8 @@ __all__ = [
     "PhysicsOutcome",
     "PhysicsSimulator",
     "TrackPoint",
+    "play_physics",
+    "project_robot",
 ]
 
 SETTLE_S: Final = 1.0
@@ -178,7 +181,7 @@ class PhysicsSimulator(Simulator):
     def _observe(self, backend: PhysicsBackend) -> None:
         w = self._watch
         base = self.world.base()
-        t = self.now
+        t = backend.board_time
         if self.track is not None:
             self.track.append(TrackPoint(t, base.x, base.y, base.yaw, base.tilt))
         if w is None:
@@ -199,8 +202,9 @@ class PhysicsSimulator(Simulator):
                     w.saturated[servo.joint] = w.saturated.get(servo.joint, 0.0) + dt
 
     def _start_watch(self) -> None:
+        assert self.backend is not None
         base = self.world.base()
-        t = self.now
+        t = self.backend.board_time
         self._watch = _Watch(
             t,
             base.x,
@@ -297,3 +301,26 @@ def play_physics(
     if boot is None:
         raise ValueError("no motions to play")
     return boot, out, virtual, path
+
+
+def project_robot(
+    robot: str | None, servo_names: Mapping[int, str] | None, indices: Iterable[int]
+) -> RobotModel:
+    """The robot a project drives: ``robot`` (a built-in name or a URDF file) when given,
+    else detected from the project's servo table ``servo_names`` (ICS -> name of the slots
+    in use). ``indices`` are the servo indices the project uses; a model mapping one it lacks
+    is refused (:class:`~rcb4hv.errors.RobotModelError`)."""
+    from rcb4hv.robot.builtin import check_indices, detect_robot, load_robot
+
+    used = sorted(set(indices))
+    if robot is None:
+        found = detect_robot(servo_names, used) if servo_names else None
+        if found is None:
+            raise RobotModelError(
+                "cannot tell which robot this project drives from its servo table; "
+                "name it with --robot khr3hv|khr3hv-22|kxr-l2|kxr-l2-gripper|FILE"
+            )
+        robot = found
+    model = load_robot(robot)
+    check_indices(model, used)
+    return model

@@ -31,7 +31,6 @@ from xml.sax.saxutils import quoteattr
 from rcb4hv.robot.model import Geom, Joint, Link, RobotModel, ServoSpec, Vec3, chain
 
 __all__ = [
-    "ARMATURE",
     "DEFAULT_SERVO",
     "DEFAULT_SPEED",
     "DEFAULT_STRETCH",
@@ -39,8 +38,10 @@ __all__ = [
     "FREE_DAMPING_FRACTION",
     "FULL_TORQUE_ERROR_DEG",
     "IMU_SITE",
+    "MOTOR_TIME_CONSTANT",
     "STRETCH_MAX",
     "TIMESTEP",
+    "armature",
     "back_emf_damping",
     "quat_from_rpy",
     "speed_cap",
@@ -70,9 +71,13 @@ scales with stretch (kp = stretch/127 x stall / error). Chosen - no public sourc
 stretch to N·m/rad (FACTS.md). It puts kp of a KRS-3304 at stretch 60 at 18.4 N·m/rad, inside
 the kp 10-30 kxreus's MuJoCo models of the same servos use."""
 
-ARMATURE = 0.011
-"""Reflected inertia of a servo's motor and gear train (kg·m²): kxreus's MuJoCo models of
-Kondo servos (FACTS.md)."""
+MOTOR_TIME_CONSTANT = 0.008
+"""Mechanical time constant of a servo's motor (s): the time its speed takes to reach 63% of
+no-load speed from rest. Gearing leaves it unchanged (the reflected inertia grows with the
+ratio squared, stall torque and 1/speed with the ratio), so it is the servo's as well. Small
+DC micromotors of a servo's size have 7-8.5 ms (Faulhaber 1331 SR: 7 ms, 1524 SR: 8.2-8.5 ms,
+their datasheets); 8 ms taken. It keeps the "0.13 s/60°" rating honest: a servo with this
+time constant turns 60° in 0.14 s from rest."""
 
 FREE_DAMPING_FRACTION = 0.1
 """A free servo's motor is disconnected: only gear and bearing friction remain, taken as this
@@ -114,6 +119,12 @@ def stiffness(spec: ServoSpec, stretch: int | None) -> float:
 def speed_cap(spec: ServoSpec, speed: int | None) -> float:
     """Largest rotation speed (rad/s) at ICS ``speed``: that fraction of the no-load speed."""
     return _clamp_parameter(speed, DEFAULT_SPEED) / STRETCH_MAX * spec.no_load_speed
+
+
+def armature(spec: ServoSpec) -> float:
+    """Reflected inertia (kg·m²) of the servo's motor and gear train at its output shaft:
+    J = time constant x stall torque / no-load speed (see MOTOR_TIME_CONSTANT)."""
+    return MOTOR_TIME_CONSTANT * spec.stall_torque / spec.no_load_speed
 
 
 def back_emf_damping(spec: ServoSpec) -> float:
@@ -204,11 +215,11 @@ def _spec(model: RobotModel, joint: str) -> ServoSpec | None:
 def _hinge(model: RobotModel, j: Joint) -> str:
     spec = _spec(model, j.name)
     damping = back_emf_damping(spec) if spec is not None else 0.0
-    armature = ARMATURE if spec is not None else 0.0
+    inertia = armature(spec) if spec is not None else 0.0
     return (
         f'<joint name={quoteattr(j.name)} type="hinge" axis="{_v(j.axis)}" '
         f'range="{_f(j.lower)} {_f(j.upper)}" limited="true" '
-        f'damping="{_f(damping)}" armature="{_f(armature)}"/>'
+        f'damping="{_f(damping)}" armature="{_f(inertia)}"/>'
     )
 
 
