@@ -23,6 +23,7 @@ fell to, and a limb pushed by hand (or by the floor) can be read.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Callable
 from typing import Final
 
@@ -37,6 +38,9 @@ __all__ = ["PhysicsBackend"]
 
 Observer = Callable[["PhysicsBackend"], None]
 _US: Final = 1_000_000
+_ANGLES_KEPT: Final = 4096
+_u16 = struct.Struct("<H").unpack_from
+_s16 = struct.Struct("<h").unpack_from
 
 
 class PhysicsBackend:
@@ -66,10 +70,14 @@ class PhysicsBackend:
         """The board's target angle (rad) of each servo at the last period (None: free)."""
         self._effective: dict[int, float] = {}
         self._hold: dict[int, float] = {}
+        self._angles: dict[tuple[int, int, int], float] = {}
+        self._gains: dict[tuple[int, int | None], float] = {}
+        self._caps: dict[tuple[int, int | None], float] = {}
         self._hold_is_free = board.config.position_7fff == "free"
         board.external_servos = True
-        self._command(0.0, board.servo_outputs())
-        self._measure()
+        blocks = self._blocks()
+        self._command(0.0, board.servo_outputs(), blocks)
+        self._measure(blocks)
         board.add_output_listener(self._period)
 
     def close(self) -> None:
@@ -92,9 +100,10 @@ class PhysicsBackend:
     def _period(self, t: float, outs: dict[int, int]) -> None:
         t_us = round(t * _US)
         self._advance(t_us)
-        self._command((t_us - self._last_us) / _US, outs)
+        blocks = self._blocks()
+        self._command((t_us - self._last_us) / _US, outs, blocks)
         self._last_us = t_us
-        self._measure()
+        self._measure(blocks)
 
     def sync(self) -> None:
         """Bring the physics up to the board's time (call outside an output period)."""
@@ -109,51 +118,84 @@ class PhysicsBackend:
             for cb in self.observers:
                 cb(self)
 
-    def _command(self, dt: float, outs: dict[int, int]) -> None:
-        """New servo targets from the blocks; ``outs`` the values sent (output + base +
+    def _blocks(self) -> list[tuple[int, int, int]]:
+        """(index, block address, base) of each mapped servo with a type-0 block."""
+        b = self.board
+        ram = b.ram
+        out = []
+        for index in self.world.servos:
+            blk = b.alloc(index)
+            if blk != NO_BLOCK and blk + SERVO.SIZE <= len(ram) and ram[blk + SERVO.TYPE] == 0:
+                out.append((index, blk, _s16(ram, blk + SERVO.BASE)[0]))
+        return out
+
+    def _angle(self, index: int, sent: int, base: int) -> float:
+        """``RobotModel.angle``, remembered: a held pose sends the same values every period."""
+        key = (index, sent, base)
+        a = self._angles.get(key)
+        if a is None:
+            if len(self._angles) > _ANGLES_KEPT:
+                self._angles.clear()
+            a = self._angles[key] = self.world.model.angle(index, sent, base)
+        return a
+
+    def _gain(self, index: int, stretch: int | None) -> float:
+        key = (index, stretch)
+        kp = self._gains.get(key)
+        if kp is None:
+            kp = self._gains[key] = self.world.stiffness(index, stretch)
+        return kp
+
+    def _cap(self, index: int, speed: int | None) -> float:
+        key = (index, speed)
+        v = self._caps.get(key)
+        if v is None:
+            v = self._caps[key] = speed_cap(self.world.servos[index].spec, speed)
+        return v
+
+    def _command(self, dt: float, outs: dict[int, int], blocks: list[tuple[int, int, int]]) -> None:
+        """New servo targets from the ``blocks``; ``outs`` the values sent (output + base +
         mixing), ``dt`` the seconds since the last period."""
         b = self.board
         ram = b.ram
         world = self.world
-        model = world.model
         stretch = b.stretch
         speed = b.speed_parameter
-        for index, servo in world.servos.items():
-            blk = b.alloc(index)
-            if blk == NO_BLOCK or SERVO.F_TYPE.get(ram, blk) != 0:
-                continue
-            out = SERVO.F_OUTPUT.get(ram, blk)
+        commanded = self.commanded
+        effective = self._effective
+        hold = self._hold
+        for index, blk, base in blocks:
+            out = _u16(ram, blk + SERVO.OUTPUT)[0]
             if out == POSITION_FREE or (out == POSITION_HOLD and self._hold_is_free):
                 world.release(index)
-                self.commanded[index] = None
-                self._effective.pop(index, None)
-                self._hold.pop(index, None)
+                commanded[index] = None
+                effective.pop(index, None)
+                hold.pop(index, None)
                 continue
-            now = world.servo_angle(index)
             if out == POSITION_HOLD:
-                goal = self._hold.setdefault(index, now)
+                goal = hold.get(index)
+                if goal is None:
+                    goal = hold[index] = world.servo_angle(index)
             else:
-                self._hold.pop(index, None)
-                sent = outs.get(index, out)
-                goal = model.angle(index, sent, SERVO.F_BASE.get(ram, blk))
-            self.commanded[index] = goal
-            prev = self._effective.get(index, now)
-            step = speed_cap(servo.spec, speed.get(index)) * dt
-            eff = prev + max(-step, min(step, goal - prev)) if dt > 0 else goal
-            self._effective[index] = eff
-            world.drive(index, eff, world.stiffness(index, stretch.get(index)))
+                if hold:
+                    hold.pop(index, None)
+                goal = self._angle(index, outs.get(index, out), base)
+            commanded[index] = goal
+            prev = effective.get(index)
+            if prev is None:
+                prev = world.servo_angle(index)
+            if dt > 0:
+                step = self._cap(index, speed.get(index)) * dt
+                eff = prev + max(-step, min(step, goal - prev))
+            else:
+                eff = goal
+            effective[index] = eff
+            world.drive(index, eff, self._gain(index, stretch.get(index)))
 
-    def _measure(self) -> None:
+    def _measure(self, blocks: list[tuple[int, int, int]]) -> None:
         b = self.board
-        ram = b.ram
-        world = self.world
-        model = world.model
-        positions: dict[int, int] = {}
-        for index in world.servos:
-            blk = b.alloc(index)
-            if blk == NO_BLOCK:
-                continue
-            base = SERVO.F_BASE.get(ram, blk)
-            positions[index] = model.value(index, world.servo_angle(index), base)
-        gyro, accel = world.imu()
+        model = self.world.model
+        angles = self.world.servo_angles()
+        positions = {index: model.value(index, angles[index], base) for index, _, base in blocks}
+        gyro, accel = self.world.imu()
         b.measure(positions, self.sensors.channels(gyro, accel))

@@ -89,6 +89,8 @@ class PhysicsWorld:
                 int(j.dofadr[0]),
                 int(m.actuator(f"servo{s.index}").id),
             )
+        self._indices = list(self.servos)
+        self._qpos = [s.qpos for s in self.servos.values()]
         self._joint_qpos = {j.name: int(m.joint(j.name).qposadr[0]) for j in model.joints}
         self._gyro = int(m.sensor("gyro").adr[0])
         self._accel = int(m.sensor("accelerometer").adr[0])
@@ -171,6 +173,10 @@ class PhysicsWorld:
 
     def servo_angle(self, index: int) -> float:
         return float(self.d.qpos[self.servos[index].qpos])
+
+    def servo_angles(self) -> dict[int, float]:
+        """Every mapped servo's joint angle (rad) by servo index."""
+        return dict(zip(self._indices, self.d.qpos[self._qpos].tolist(), strict=True))
 
     # ------------------------------------------------------------------ servos
 

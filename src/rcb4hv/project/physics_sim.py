@@ -34,6 +34,7 @@ from rcb4hv.project.simresult import MotionResult
 from rcb4hv.project.simulate import BOOT_LIMIT, DEFAULT_LIMIT, SampleListener, Simulator
 from rcb4hv.protocol import POSITION_HOLD
 from rcb4hv.protocol.memory import NO_BLOCK, SERVO
+from rcb4hv.robot.mjcf import TIMESTEP
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom.layout import MotionLayout
 
@@ -137,10 +138,11 @@ class PhysicsSimulator(Simulator):
         listener: SampleListener | None = None,
         sensors: SensorLayout = DEFAULT_SENSORS,
         track: bool = False,
+        timestep: float = TIMESTEP,
     ) -> None:
         super().__init__(image, motion_layout=motion_layout, listener=listener)
         self.robot = robot
-        self.world = PhysicsWorld(robot)
+        self.world = PhysicsWorld(robot, timestep=timestep)
         self._sensors = sensors
         self.backend: PhysicsBackend | None = None
         self._watch: _Watch | None = None
@@ -265,6 +267,7 @@ def play_physics(
     hold: int = 0,
     hold_for: float = 0.0,
     track: bool = False,
+    timestep: float = TIMESTEP,
     progress: Callable[[MotionResult, PhysicsOutcome], None] | None = None,
 ) -> tuple[MotionResult, list[tuple[MotionResult, PhysicsOutcome]], float, list[TrackPoint]]:
     """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
@@ -279,7 +282,9 @@ def play_physics(
         if sim is None or not sequence:
             if sim is not None:
                 virtual += sim.now
-            sim = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track)
+            sim = PhysicsSimulator(
+                image, robot, motion_layout=motion_layout, track=track, timestep=timestep
+            )
             b = sim.boot()
             boot = boot or b
         res = sim.play(

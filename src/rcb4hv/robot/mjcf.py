@@ -51,9 +51,13 @@ __all__ = [
 
 # ----------------------------------------------------------------------------- servo model
 
-TIMESTEP = 0.001
-"""Physics step (s). 1 ms: a tenth of the shortest output period (10 ms) and the step kxreus's
-MuJoCo model of the same robots uses (``../shared/robots/FACTS.md``)."""
+TIMESTEP = 0.002
+"""Physics step (s). The fastest dynamics are a servo's position loop (at most
+sqrt(kp / armature) = 170 rad/s at stretch 127, a 37 ms period) and MuJoCo's contact (time
+constant 20 ms): 2 ms resolves both with 10 or more steps, and a 10/15/20/25 ms output period
+is a whole number of steps. The fixture's motions give the same outcomes at 1 ms (checked:
+falls, end poses and turns agree, displacements within a few mm; docs/physics.md), at about
+two thirds of the cost."""
 
 STRETCH_MAX = 127
 """ICS stretch and speed run 1-127 (Kondo ICS 3.5 software manual)."""
