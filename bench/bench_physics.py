@@ -1,4 +1,4 @@
-"""Physics: wall time of the emulator driving a robot in MuJoCo, against the virtual time.
+"""Physics: CPU time of the emulator driving a robot in MuJoCo, against the virtual time.
 
 For the 17-axis KHR-3HV and the 22-axis KHR-3HV Ver.2 (built-in models): an emulated board
 set up for the robot's servos (``rcb4hv.physics.standalone.robot_board``) with a
@@ -6,8 +6,9 @@ set up for the robot's servos (``rcb4hv.physics.standalone.robot_board``) with a
 (RunConstFrameServo through ``Board.feed``, as a host sends them) for 10 virtual seconds,
 output period 10 ms (the board's default), physics step ``rcb4hv.robot.mjcf.TIMESTEP``
 (2 ms). ``ours_us`` is the CPU time of this process (``time.process_time``: the machine is
-shared, and wall time measures the other jobs too), ``wire_us`` the virtual (real robot) time; the target is 30x faster than real time on one
-core (ratio <= 1/30). Best of 3 runs. Skipped without MuJoCo (the ``sim`` extra).
+shared, and wall time measures the other jobs too), ``wire_us`` the virtual (real robot)
+time; the target is 30x faster than real time on one core (ratio <= 1/30). Best of 3 runs.
+Skipped without MuJoCo (the ``sim`` extra).
 """
 
 from __future__ import annotations
