@@ -14,7 +14,7 @@ $(VENV)/.installed-plot: pyproject.toml | $(BIN)/python
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim]'
 	touch $@ $(VENV)/.installed-plot
 
 $(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev

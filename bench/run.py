@@ -23,6 +23,7 @@ MODULES = (
     "bench.bench_emulator",
     "bench.bench_client",
     "bench.bench_project",
+    "bench.bench_physics",
     "bench.bench_peer",
     "bench.bench_ui",
 )
