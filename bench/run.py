@@ -26,6 +26,7 @@ MODULES = (
     "bench.bench_physics",
     "bench.bench_peer",
     "bench.bench_ui",
+    "bench.bench_view3d",
 )
 
 RESULTS = Path(__file__).resolve().parent / "results.json"

@@ -95,11 +95,19 @@ export default class RobotBody {
       new THREE.MeshBasicMaterial({ color: 0x60a5fa, transparent: true, opacity: 0.35, side: THREE.DoubleSide }),
     );
     this.root.add(this.com, this.plumb, this.outline, this.area);
-    this.set_pose(pose);
+    this.apply_pose(pose);
     return this.root;
   }
 
   set_pose(pose) {
+    const started = performance.now();
+    this.apply_pose(pose);
+    // counters for the browser tests and `make bench` (poses applied, milliseconds spent)
+    window.rcb4hvPoses = (window.rcb4hvPoses || 0) + 1;
+    window.rcb4hvPoseMs = (window.rcb4hvPoseMs || 0) + (performance.now() - started);
+  }
+
+  apply_pose(pose) {
     const [frames, com, support, inside, fallen] = pose;
     frames.forEach((m, i) => {
       const group = this.links[i];
