@@ -93,3 +93,8 @@ class UiContext:
 
     def on_project(self, fn: Callable[[], None]) -> None:
         self._listeners.append(fn)
+
+    def off_project(self, fn: Callable[[], None]) -> None:
+        """Stop calling ``fn`` (a view of a closed browser tab)."""
+        if fn in self._listeners:
+            self._listeners.remove(fn)

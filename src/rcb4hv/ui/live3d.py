@@ -66,7 +66,9 @@ class LiveView:
         self.caption.text = f"{self._model.title} ({self.ctx.robot_source})"
 
     def _model_changed(self) -> None:
-        if self.ctx.robot is not self._model:
+        if self.holder.is_deleted:  # its browser tab is gone
+            self.ctx.off_project(self._model_changed)
+        elif self.ctx.robot is not self._model:
             self._build()
 
     def follow(self) -> None:

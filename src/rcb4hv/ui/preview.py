@@ -132,7 +132,9 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         player.append(Player(view, status, scrubber))
 
     def model_changed() -> None:
-        if ctx.robot is not shown[0]:
+        if holder.is_deleted:  # its browser tab is gone
+            ctx.off_project(model_changed)
+        elif ctx.robot is not shown[0]:
             make_view()
 
     make_view()
