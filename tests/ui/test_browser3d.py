@@ -117,4 +117,12 @@ def test_a_project_motion_previews_and_scrubs(page: Any, kxr_project_path: Any) 
         time.sleep(0.3)
         frames.append(_still(canvas))
     assert _changed(frames[0], frames[1]) > 500  # the greeting moves the arms
-    _save(_shot(page.get_by_test_id("preview-3d").locator("..")), "3d-preview")
+    # for the docs: the controls and the view
+    page.set_viewport_size({"width": 1400, "height": 1200})
+    page.evaluate("window.scrollTo(0, 0)")
+    _still(canvas)
+    top = page.get_by_test_id("preview-run").bounding_box()["y"] - 12
+    view = canvas.bounding_box()
+    bottom = view["y"] + view["height"] + 12
+    clip = {"x": 0, "y": top, "width": 1400, "height": bottom - top}
+    page.screenshot(path=str(SHOTS / "3d-preview.png"), clip=clip)
