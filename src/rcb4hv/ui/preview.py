@@ -142,6 +142,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
 
     def show_state() -> None:
         playing = bool(player) and player[0].playing
+        clock.active = playing  # the clock only runs while a motion plays
         text = "Pause" if playing else "Play"
         if play.text != text:
             play.text = text
@@ -152,7 +153,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             player[0].tick()
             show_state()
 
-    ui.timer(FRAME_PERIOD_S, tick)
+    clock = ui.timer(FRAME_PERIOD_S, tick, active=False)
 
     def toggle() -> None:
         if player:
