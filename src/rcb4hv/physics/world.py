@@ -111,13 +111,17 @@ class PhysicsWorld:
 
     # ------------------------------------------------------------------ pose
 
-    def place(self, angles: Mapping[str, float], yaw: float = 0.0) -> None:
+    def place(self, angles: Mapping[str, float], yaw: float = 0.0, pitch: float = 0.0) -> None:
         """Put the robot at rest with joint ``angles`` (rad), its root at the origin turned
-        by ``yaw``, lowered until its lowest point just touches the floor."""
+        by ``yaw`` about z and then ``pitch`` about its y axis (-pi/2: lying on its back, +pi/2:
+        on its front), lowered until its lowest point just touches the floor."""
         d = self.d
         d.qpos[:] = 0.0
         d.qvel[:] = 0.0
-        d.qpos[3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+        cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+        # q = q_yaw(z) * q_pitch(y)
+        d.qpos[3:7] = (cy * cp, -sy * sp, cy * sp, sy * cp)
         for name, a in angles.items():
             adr = self._joint_qpos.get(name)
             if adr is not None:

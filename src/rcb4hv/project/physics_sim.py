@@ -26,10 +26,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Final
+from typing import Any, Final, Literal
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
+from rcb4hv.project.check import Finding
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.project.simulate import BOOT_LIMIT, DEFAULT_LIMIT, SampleListener, Simulator
 from rcb4hv.protocol import POSITION_HOLD
@@ -44,7 +45,9 @@ __all__ = [
     "SETTLE_S",
     "PhysicsOutcome",
     "PhysicsSimulator",
+    "StartPose",
     "TrackPoint",
+    "physics_findings",
     "play_physics",
     "project_robot",
 ]
@@ -59,6 +62,14 @@ leans the torso this far; lying on the floor is about 90°)."""
 SATURATED_S: Final = 0.1
 """Total time at the stall torque that makes a joint saturated (a move's first instant
 always pulls at the limit for a few milliseconds)."""
+
+
+StartPose = Literal["upright", "on_back", "on_front"]
+_START_PITCH: Final[dict[str, float]] = {
+    "upright": 0.0,
+    "on_back": -math.pi / 2,
+    "on_front": math.pi / 2,
+}
 
 
 @dataclass(frozen=True)
@@ -139,8 +150,10 @@ class PhysicsSimulator(Simulator):
         sensors: SensorLayout = DEFAULT_SENSORS,
         track: bool = False,
         timestep: float = TIMESTEP,
+        start: StartPose = "upright",
     ) -> None:
         super().__init__(image, motion_layout=motion_layout, listener=listener)
+        self.start = start
         self.robot = robot
         self.world = PhysicsWorld(robot, timestep=timestep)
         self._sensors = sensors
@@ -155,7 +168,7 @@ class PhysicsSimulator(Simulator):
         """Boot on the board alone, then stand the robot in the pose the board holds and let
         it settle for :data:`SETTLE_S`."""
         res = super().boot(limit)
-        self.world.place(self.board_pose())
+        self.world.place(self.board_pose(), pitch=_START_PITCH[self.start])
         self.backend = PhysicsBackend(self.board, self.world, sensors=self._sensors)
         self.backend.observers.append(self._observe)
         self._run_us(round(SETTLE_S * 1e6))
@@ -268,6 +281,7 @@ def play_physics(
     hold_for: float = 0.0,
     track: bool = False,
     timestep: float = TIMESTEP,
+    start: StartPose = "upright",
     progress: Callable[[MotionResult, PhysicsOutcome], None] | None = None,
 ) -> tuple[MotionResult, list[tuple[MotionResult, PhysicsOutcome]], float, list[TrackPoint]]:
     """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
@@ -283,7 +297,12 @@ def play_physics(
             if sim is not None:
                 virtual += sim.now
             sim = PhysicsSimulator(
-                image, robot, motion_layout=motion_layout, track=track, timestep=timestep
+                image,
+                robot,
+                motion_layout=motion_layout,
+                track=track,
+                timestep=timestep,
+                start=start,
             )
             b = sim.boot()
             boot = boot or b
@@ -329,3 +348,38 @@ def project_robot(
     model = load_robot(robot)
     check_indices(model, used)
     return model
+
+
+def physics_findings(results: Iterable[tuple[MotionResult, PhysicsOutcome]]) -> list[Finding]:
+    """``project check --physics`` findings (warnings: the physics is a model of the robot):
+    each motion that makes the robot fall, and each joint at its torque limit."""
+    out: list[Finding] = []
+    for r, o in results:
+        where = f"{r.address:05X}h"
+        if o.fell and o.fell_at_s is not None:
+            out.append(
+                Finding(
+                    "warning",
+                    "physics-fall",
+                    r.slot,
+                    r.name,
+                    r.address,
+                    "",
+                    f"motion {r.slot} makes the robot fall at {o.fell_at_s:.2f} s "
+                    f"(ends {o.end_pose.replace('_', ' ')}; played from {where})",
+                )
+            )
+        for joint in o.saturated_joints:
+            out.append(
+                Finding(
+                    "warning",
+                    "physics-saturation",
+                    r.slot,
+                    r.name,
+                    r.address,
+                    "",
+                    f"joint {joint} saturates (at its servo's stall torque for "
+                    f"{SATURATED_S:g} s or more) in motion {r.slot}",
+                )
+            )
+    return out
