@@ -102,11 +102,11 @@ def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
 
     image, lay, names = load_image(file)
     model = physics_robot(file, image, robot)
-    _, results, _, _ = run_physics(
+    run, _ = run_physics(
         image, lay, names, sorted(names), model, sequence=False, limit=DEFAULT_LIMIT, hold=0,
         hold_for=0.0, track=False,
     )  # fmt: skip
-    return physics_findings(results)
+    return physics_findings(run.motions)
 
 
 def register(project: click.Group) -> None:

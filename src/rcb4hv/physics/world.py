@@ -156,6 +156,37 @@ class PhysicsWorld:
             low = min(low, z)
         return low
 
+    def shapes(self) -> list[tuple[tuple[float, float, float], ...]]:
+        """The corners (world, m) of each robot geom's box (a cylinder's or sphere's bounding
+        box): enough to draw the robot from any side."""
+        m, d = self.m, self.d
+        out = []
+        signs = [(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
+        for g in range(m.ngeom):
+            if g == self._floor:
+                continue
+            r = d.geom_xmat[g].tolist()
+            px, py, pz = d.geom_xpos[g].tolist()
+            size = m.geom_size[g].tolist()
+            kind = int(m.geom_type[g])
+            if kind == self._mj.mjtGeom.mjGEOM_BOX:
+                hx, hy, hz = size
+            elif kind == self._mj.mjtGeom.mjGEOM_CYLINDER:
+                hx, hy, hz = size[0], size[0], size[1]
+            else:
+                hx = hy = hz = size[0]
+            out.append(
+                tuple(
+                    (
+                        px + r[0] * a * hx + r[1] * b * hy + r[2] * c * hz,
+                        py + r[3] * a * hx + r[4] * b * hy + r[5] * c * hz,
+                        pz + r[6] * a * hx + r[7] * b * hy + r[8] * c * hz,
+                    )
+                    for a, b, c in signs
+                )
+            )
+        return out
+
     def base(self) -> BasePose:
         d = self.d
         x, y, z = (float(v) for v in d.qpos[0:3])
