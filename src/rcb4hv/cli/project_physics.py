@@ -10,20 +10,22 @@ from __future__ import annotations
 import math
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from rcb4hv.cli._output import plot_to
 from rcb4hv.cli._util import print_json, print_table
-from rcb4hv.project.physics_sim import FALL_TILT_DEG, PhysicsOutcome, TrackPoint
-from rcb4hv.project.simresult import MotionResult
-from rcb4hv.robot.model import RobotModel
-from rcb4hv.rom.layout import MotionLayout
+
+if TYPE_CHECKING:
+    from rcb4hv.project.physics_sim import Frame, PhysicsRun, StartPose
+    from rcb4hv.robot.model import RobotModel
+    from rcb4hv.rom.layout import MotionLayout
 
 __all__ = [
+    "draw_frames",
     "parse_sequence",
     "physics_robot",
-    "plot_trajectory",
+    "plot_run",
     "print_physics",
     "run_physics",
 ]
@@ -74,14 +76,13 @@ def run_physics(
     hold: int,
     hold_for: float,
     track: bool,
-) -> tuple[
-    MotionResult, list[tuple[MotionResult, PhysicsOutcome]], dict[str, object], list[TrackPoint]
-]:
-    """Play ``slots`` on ``model``; (boot, results, the top-level ``physics`` object, path)."""
+    start: StartPose = "upright",
+) -> tuple[PhysicsRun, dict[str, object]]:
+    """Play ``slots`` on ``model``: the run and the top-level ``physics`` JSON object."""
     from rcb4hv.project.physics_sim import play_physics
 
     t0 = time.perf_counter()
-    boot, results, virtual, path = play_physics(
+    run = play_physics(
         image,
         model,
         slots,
@@ -92,72 +93,143 @@ def run_physics(
         hold=hold,
         hold_for=hold_for,
         track=track,
+        start=start,
     )
     wall = time.perf_counter() - t0
     summary: dict[str, object] = {
         "robot": model.name,
-        "virtual_s": round(virtual, 3),
+        "virtual_s": round(run.virtual_s, 3),
         "wall_s": round(wall, 3),
     }
-    return boot, results, summary, path
+    return run, summary
 
 
-def print_physics(
-    boot: MotionResult,
-    results: list[tuple[MotionResult, PhysicsOutcome]],
-    summary: dict[str, object],
-    as_json: bool,
-) -> None:
+def print_physics(run: PhysicsRun, summary: dict[str, object], as_json: bool) -> None:
     """The table (or JSON) of a physics run."""
     if as_json:
         motions = []
-        for r, o in results:
-            d = r.to_dict()
-            d["physics"] = o.to_dict()
+        for m in run.motions:
+            d = m.result.to_dict()
+            d["physics"] = m.outcome.to_dict()
             motions.append(d)
-        print_json({"boot": boot.to_dict(), "motions": motions, "physics": summary})
+        print_json({"boot": run.boot.to_dict(), "motions": motions, "physics": summary})
         return
     click.echo(
-        f"robot {summary['robot']}: boot {boot.status}, then standing on flat ground "
+        f"robot {summary['robot']}: boot {run.boot.status}, then on flat ground "
         f"({summary['virtual_s']} s virtual in {summary['wall_s']} s)"
     )
     print_table(
         ("slot", "name", "status", "fell", "end pose", "dx m", "dy m", "dyaw°", "tilt°", "err°"),
         [
             [
-                r.slot or "-",
-                r.name,
-                r.status,
-                f"at {o.fell_at_s:.2f} s" if o.fell_at_s is not None else "no",
-                o.end_pose,
-                f"{o.dx_m:+.3f}",
-                f"{o.dy_m:+.3f}",
-                f"{o.dyaw_deg:+.1f}",
-                f"{o.max_tilt_deg:.1f}",
-                f"{o.max_tracking_error_deg:.1f}",
+                m.result.slot or "-",
+                m.result.name,
+                m.result.status,
+                "no" if m.outcome.fell_at_s is None else f"at {m.outcome.fell_at_s:.2f} s",
+                m.outcome.end_pose,
+                f"{m.outcome.dx_m:+.3f}",
+                f"{m.outcome.dy_m:+.3f}",
+                f"{m.outcome.dyaw_deg:+.1f}",
+                f"{m.outcome.max_tilt_deg:.1f}",
+                f"{m.outcome.max_tracking_error_deg:.1f}",
             ]
-            for r, o in results
+            for m in run.motions
         ],
     )
-    for r, o in results:
-        if o.saturated_joints:
-            click.echo(f"slot {r.slot}: at the torque limit: {', '.join(o.saturated_joints)}")
+    for m in run.motions:
+        if m.outcome.saturated_joints:
+            click.echo(
+                f"slot {m.result.slot}: at the torque limit: "
+                + ", ".join(m.outcome.saturated_joints)
+            )
 
 
-def plot_trajectory(path: Path, points: list[TrackPoint]) -> None:
-    """The torso's path on the floor (x, y), fallen stretches in red."""
-    with plot_to(path, (7.0, 7.0)) as ax:
-        xs = [p.x for p in points]
-        ys = [p.y for p in points]
-        ax.plot(xs, ys, linewidth=1.0, color="tab:blue", label="torso")
-        down = [p for p in points if p.tilt >= math.radians(FALL_TILT_DEG)]
-        if down:
-            ax.scatter([p.x for p in down], [p.y for p in down], s=4, color="tab:red",
-                       label=f"fallen (tilt ≥ {FALL_TILT_DEG:g}°)")  # fmt: skip
-        if points:
-            ax.scatter([xs[0]], [ys[0]], marker="o", color="black", label="start")
+def _hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Convex hull of 2D points (Andrew's monotone chain), counter-clockwise."""
+    pts = sorted(set(points))
+    if len(pts) < 3:
+        return pts
+
+    def cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower: list[tuple[float, float]] = []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    upper: list[tuple[float, float]] = []
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def draw_frames(ax: Any, frames: tuple[Frame, ...], axis: int = 0, spacing: float = 0.3) -> None:
+    """Side views of the robot (``axis`` 0: seen from its side, x-z; 1: from the front, y-z),
+    one per frame, ``spacing`` m apart, time under each."""
+    from matplotlib.patches import Polygon
+
+    for k, frame in enumerate(frames):
+        shift = k * spacing
+        origin = frame.shapes[0][0][axis] if frame.shapes else 0.0
+        for corners in frame.shapes:
+            hull = _hull([(c[axis] - origin + shift, c[2]) for c in corners])
+            ax.add_patch(Polygon(hull, closed=True, facecolor="0.6", edgecolor="0.2", lw=0.4))
+        ax.annotate(f"{frame.t:.2f} s", (shift, -0.02), ha="center", va="top", fontsize=7)
+    ax.axhline(0.0, color="0.3", linewidth=0.8)
+    ax.set_xlim(-spacing / 2, max(1, len(frames)) * spacing - spacing / 2)
+    ax.set_ylim(-0.05, 0.45)
+    ax.set_aspect("equal")
+    ax.set_yticks([])
+    ax.set_xticks([])
+
+
+def plot_run(path: Path, run: PhysicsRun) -> None:
+    """``--plot`` with ``--physics``: each motion's filmstrip (side view) and the torso's
+    path on the floor, fallen stretches in red."""
+    import matplotlib
+
+    from rcb4hv.project.physics_sim import FALL_TILT_DEG
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = len(run.motions)
+    longest = max((len(m.frames) for m in run.motions), default=1)
+    fig = plt.figure(figsize=(max(8.0, min(30.0, 0.6 * longest + 4)), 2.2 * n + 4), dpi=100)
+    grid = fig.add_gridspec(n + 1, 1, height_ratios=[1.0] * n + [2.0])
+    try:
+        for k, m in enumerate(run.motions):
+            ax = fig.add_subplot(grid[k])
+            draw_frames(ax, m.frames)
+            ax.set_title(
+                f"slot {m.result.slot}: {m.outcome.end_pose}"
+                + (f", fell at {m.outcome.fell_at_s:.2f} s" if m.outcome.fell_at_s else ""),
+                fontsize=9,
+                loc="left",
+            )
+        ax = fig.add_subplot(grid[n])
+        for m in run.motions:
+            if not m.track:
+                continue
+            x0, y0 = m.track[0].x, m.track[0].y
+            xs = [p.x - x0 for p in m.track]
+            ys = [p.y - y0 for p in m.track]
+            ax.plot(xs, ys, linewidth=1.0, label=f"slot {m.result.slot}")
+            down = [(p.x - x0, p.y - y0) for p in m.track if p.tilt >= math.radians(FALL_TILT_DEG)]
+            if down:
+                ax.scatter([d[0] for d in down], [d[1] for d in down], s=3, color="tab:red")
+        ax.scatter([0.0], [0.0], marker="o", color="black")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("x (m, forward at the start)")
-        ax.set_ylabel("y (m, left)")
-        ax.legend(fontsize=8, loc="best")
+        ax.set_xlabel("x (m; each path from its motion's start, red: fallen)")
+        ax.set_ylabel("y (m)")
         ax.grid(True, linewidth=0.3)
+        if n <= 12:
+            ax.legend(fontsize=7, loc="best")
+        fig.tight_layout()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path)
+    finally:
+        plt.close(fig)

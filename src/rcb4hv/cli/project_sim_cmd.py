@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -20,12 +21,15 @@ from rcb4hv.cli.project_cmd import (
 from rcb4hv.cli.project_physics import (
     parse_sequence,
     physics_robot,
-    plot_trajectory,
+    plot_run,
     print_physics,
     run_physics,
 )
 from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
-from rcb4hv.rom.layout import MotionLayout
+
+if TYPE_CHECKING:
+    from rcb4hv.project.physics_sim import StartPose
+    from rcb4hv.rom.layout import MotionLayout
 
 
 @click.command("simulate")
@@ -78,6 +82,14 @@ from rcb4hv.rom.layout import MotionLayout
     "[default: detected from the project's servo table].",
 )
 @click.option(
+    "--start",
+    type=click.Choice(["upright", "on_back", "on_front"]),
+    default="upright",
+    show_default=True,
+    help="With --physics: how the robot lies before each motion (or the sequence): "
+    "standing, or on its back or front (for get-up motions).",
+)
+@click.option(
     "--sequence",
     metavar="SLOTS",
     help="With --physics: play these slots (e.g. 33,15) one after another on the same "
@@ -96,6 +108,7 @@ def simulate(
     limit: float,
     physics: bool,
     robot: str | None,
+    start: StartPose,
     sequence: str | None,
     layout_name: str | None,
 ) -> None:
@@ -131,10 +144,10 @@ def simulate(
         slots = sorted(names) if names else image_slots(image, lay)
     if physics:
         _physics(file, image, lay, names, slots, robot, sequence is not None, as_json, plot,
-                 limit=limit, hold=hold, hold_for=hold_for)  # fmt: skip
+                 limit=limit, hold=hold, hold_for=hold_for, start=start)  # fmt: skip
         return
-    if robot is not None:
-        raise click.UsageError("--robot chooses the robot of --physics: add --physics")
+    if robot is not None or start != "upright":
+        raise click.UsageError("--robot and --start set up the robot of --physics: add --physics")
     samples: list[tuple[float, dict[int, int | None]]] = []
     sim: Simulator
 
@@ -226,18 +239,19 @@ def _physics(
     limit: float,
     hold: int,
     hold_for: float,
+    start: StartPose,
 ) -> None:
     model = physics_robot(file, image, robot)
-    boot, results, summary, path = run_physics(
+    run, summary = run_physics(
         image, lay, names, slots, model, sequence=sequence, limit=limit, hold=hold,
-        hold_for=hold_for, track=plot is not None,
+        hold_for=hold_for, track=plot is not None, start=start,
     )  # fmt: skip
-    print_physics(boot, results, summary, as_json)
+    print_physics(run, summary, as_json)
     if plot is not None:
-        plot_trajectory(plot, path)
+        plot_run(plot, run)
         if not as_json:
             click.echo(f"wrote {plot}")
-    codes = {STATUS_EXIT.get(r.status, 0) for r in [boot, *(r for r, _ in results)]}
+    codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *(m.result for m in run.motions)]}
     sys.exit(1 if 1 in codes else max(codes))
 
 

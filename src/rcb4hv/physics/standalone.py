@@ -2,7 +2,8 @@
 
 :func:`robot_board` gives an emulated :class:`~rcb4hv.emulator.Board` on a virtual clock with
 a servo block for every servo the model maps (HeartToHeart4's layout: block n at 0090h + 20n,
-ICS ID = index // 2), each holding the model's joint angle 0, and servo output on. It is
+ICS ID = index // 2), each holding the model's joint angle 0, servo output on and the ROM
+program stopped (it would install its own allocation table). It is
 set up the way a host would, through real MOVE frames, so it can be driven with servo
 commands (or a host client) and given a :class:`~rcb4hv.physics.PhysicsBackend`: the
 benchmarks and tests use it, and so can a view that previews a robot without a project.
@@ -40,6 +41,8 @@ def robot_board(model: RobotModel) -> Board:
         block = ServoBlock(ics_id=index // 2, measured=centre, output=centre, end=centre)
         _send(board, Move(Ram(address), Data(block.to_bytes())))
     _send(board, Move(Ram(ADDR.ICS_ALLOC), Data(pack_alloc(table))))
-    word = board.system_register | SYS.ICS_OUTPUT
+    # servo output on; the ROM program and vector jumps off, so the board's own start-up
+    # program never replaces this allocation table (the host drives the servos)
+    word = (board.system_register | SYS.ICS_OUTPUT) & ~(SYS.ROM_RUN | SYS.VECTOR_JUMP)
     _send(board, Move(Ram(ADDR.SYSTEM), Data(word.to_bytes(2, "little"))))
     return board

@@ -111,13 +111,17 @@ class PhysicsWorld:
 
     # ------------------------------------------------------------------ pose
 
-    def place(self, angles: Mapping[str, float], yaw: float = 0.0) -> None:
+    def place(self, angles: Mapping[str, float], yaw: float = 0.0, pitch: float = 0.0) -> None:
         """Put the robot at rest with joint ``angles`` (rad), its root at the origin turned
-        by ``yaw``, lowered until its lowest point just touches the floor."""
+        by ``yaw`` about z and then ``pitch`` about its y axis (-pi/2: lying on its back, +pi/2:
+        on its front), lowered until its lowest point just touches the floor."""
         d = self.d
         d.qpos[:] = 0.0
         d.qvel[:] = 0.0
-        d.qpos[3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+        cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+        # q = q_yaw(z) * q_pitch(y)
+        d.qpos[3:7] = (cy * cp, -sy * sp, cy * sp, sy * cp)
         for name, a in angles.items():
             adr = self._joint_qpos.get(name)
             if adr is not None:
@@ -151,6 +155,37 @@ class PhysicsWorld:
                 z = cz - size[0]
             low = min(low, z)
         return low
+
+    def shapes(self) -> list[tuple[tuple[float, float, float], ...]]:
+        """The corners (world, m) of each robot geom's box (a cylinder's or sphere's bounding
+        box): enough to draw the robot from any side."""
+        m, d = self.m, self.d
+        out = []
+        signs = [(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
+        for g in range(m.ngeom):
+            if g == self._floor:
+                continue
+            r = d.geom_xmat[g].tolist()
+            px, py, pz = d.geom_xpos[g].tolist()
+            size = m.geom_size[g].tolist()
+            kind = int(m.geom_type[g])
+            if kind == self._mj.mjtGeom.mjGEOM_BOX:
+                hx, hy, hz = size
+            elif kind == self._mj.mjtGeom.mjGEOM_CYLINDER:
+                hx, hy, hz = size[0], size[0], size[1]
+            else:
+                hx = hy = hz = size[0]
+            out.append(
+                tuple(
+                    (
+                        px + r[0] * a * hx + r[1] * b * hy + r[2] * c * hz,
+                        py + r[3] * a * hx + r[4] * b * hy + r[5] * c * hz,
+                        pz + r[6] * a * hx + r[7] * b * hy + r[8] * c * hz,
+                    )
+                    for a, b, c in signs
+                )
+            )
+        return out
 
     def base(self) -> BasePose:
         d = self.d

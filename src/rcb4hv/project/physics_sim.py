@@ -26,10 +26,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Final
+from typing import Any, Final, Literal
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
+from rcb4hv.project.check import Finding
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.project.simulate import BOOT_LIMIT, DEFAULT_LIMIT, SampleListener, Simulator
 from rcb4hv.protocol import POSITION_HOLD
@@ -40,11 +41,17 @@ from rcb4hv.rom.layout import MotionLayout
 
 __all__ = [
     "FALL_TILT_DEG",
+    "FRAME_EVERY_S",
     "SATURATED_S",
     "SETTLE_S",
+    "Frame",
+    "MotionRun",
     "PhysicsOutcome",
+    "PhysicsRun",
     "PhysicsSimulator",
+    "StartPose",
     "TrackPoint",
+    "physics_findings",
     "play_physics",
     "project_robot",
 ]
@@ -56,9 +63,19 @@ standing height lies on the floor well within a second (a 0.4 m robot falls over
 FALL_TILT_DEG: Final = 60.0
 """Tilt of the torso from the vertical that counts as fallen (no walking or greeting pose
 leans the torso this far; lying on the floor is about 90°)."""
+FRAME_EVERY_S: Final = 0.25
+"""With ``track``, the robot's shapes are kept this often (virtual seconds) for drawing."""
 SATURATED_S: Final = 0.1
 """Total time at the stall torque that makes a joint saturated (a move's first instant
 always pulls at the limit for a few milliseconds)."""
+
+
+StartPose = Literal["upright", "on_back", "on_front"]
+_START_PITCH: Final[dict[str, float]] = {
+    "upright": 0.0,
+    "on_back": -math.pi / 2,
+    "on_front": math.pi / 2,
+}
 
 
 @dataclass(frozen=True)
@@ -100,6 +117,34 @@ class TrackPoint:
     tilt: float
 
 
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """The robot at virtual time ``t``: the corners of each of its shapes (world, m)."""
+
+    t: float
+    shapes: list[tuple[tuple[float, float, float], ...]]
+
+
+@dataclass(frozen=True)
+class MotionRun:
+    """One motion played with physics: its result, outcome and (``track``) the torso's path
+    and the robot's frames from the motion's start to :data:`SETTLE_S` after its end."""
+
+    result: MotionResult
+    outcome: PhysicsOutcome
+    track: tuple[TrackPoint, ...] = ()
+    frames: tuple[Frame, ...] = ()
+
+
+@dataclass(frozen=True)
+class PhysicsRun:
+    """:func:`play_physics`'s answer: the (first) boot, each motion, the virtual seconds."""
+
+    boot: MotionResult
+    motions: tuple[MotionRun, ...]
+    virtual_s: float
+
+
 @dataclass
 class _Watch:
     """Accumulates one motion's outcome, one output period at a time."""
@@ -139,15 +184,20 @@ class PhysicsSimulator(Simulator):
         sensors: SensorLayout = DEFAULT_SENSORS,
         track: bool = False,
         timestep: float = TIMESTEP,
+        start: StartPose = "upright",
     ) -> None:
         super().__init__(image, motion_layout=motion_layout, listener=listener)
+        self.start = start
         self.robot = robot
         self.world = PhysicsWorld(robot, timestep=timestep)
         self._sensors = sensors
         self.backend: PhysicsBackend | None = None
         self._watch: _Watch | None = None
         self.track: list[TrackPoint] | None = [] if track else None
+        self.frames: list[Frame] = []
+        self._next_frame = 0.0
         self.outcomes: list[PhysicsOutcome] = []
+        self.runs: list[MotionRun] = []
 
     # ------------------------------------------------------------------ start
 
@@ -155,7 +205,7 @@ class PhysicsSimulator(Simulator):
         """Boot on the board alone, then stand the robot in the pose the board holds and let
         it settle for :data:`SETTLE_S`."""
         res = super().boot(limit)
-        self.world.place(self.board_pose())
+        self.world.place(self.board_pose(), pitch=_START_PITCH[self.start])
         self.backend = PhysicsBackend(self.board, self.world, sensors=self._sensors)
         self.backend.observers.append(self._observe)
         self._run_us(round(SETTLE_S * 1e6))
@@ -186,6 +236,9 @@ class PhysicsSimulator(Simulator):
         t = backend.board_time
         if self.track is not None:
             self.track.append(TrackPoint(t, base.x, base.y, base.yaw, base.tilt))
+            if t >= self._next_frame:
+                self.frames.append(Frame(t, self.world.shapes()))
+                self._next_frame = t + FRAME_EVERY_S
         if w is None:
             return
         # unwrapped yaw: turns beyond 180° add up
@@ -247,10 +300,15 @@ class PhysicsSimulator(Simulator):
         assert self.backend is not None
         self.backend.sync()
         self._start_watch()
+        n_track = len(self.track) if self.track is not None else 0
+        n_frames = len(self.frames)
         res = super().play(address, **kw)
         self._run_us(round(SETTLE_S * 1e6))
         self.backend.sync()
-        self.outcomes.append(self._outcome())
+        outcome = self._outcome()
+        self.outcomes.append(outcome)
+        track = tuple(self.track[n_track:]) if self.track is not None else ()
+        self.runs.append(MotionRun(res, outcome, track, tuple(self.frames[n_frames:])))
         self._watch = None
         return res
 
@@ -268,14 +326,13 @@ def play_physics(
     hold_for: float = 0.0,
     track: bool = False,
     timestep: float = TIMESTEP,
-    progress: Callable[[MotionResult, PhysicsOutcome], None] | None = None,
-) -> tuple[MotionResult, list[tuple[MotionResult, PhysicsOutcome]], float, list[TrackPoint]]:
+    start: StartPose = "upright",
+    progress: Callable[[MotionRun], None] | None = None,
+) -> PhysicsRun:
     """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
-    stand for each. Returns the (first) boot, each motion's result and outcome, the virtual
-    seconds simulated and (``track``) the torso's path."""
-    out: list[tuple[MotionResult, PhysicsOutcome]] = []
+    stand for each (``start``: standing, or lying on its back or front)."""
+    runs: list[MotionRun] = []
     virtual = 0.0
-    path: list[TrackPoint] = []
     boot: MotionResult | None = None
     sim: PhysicsSimulator | None = None
     for slot in slots:
@@ -283,11 +340,16 @@ def play_physics(
             if sim is not None:
                 virtual += sim.now
             sim = PhysicsSimulator(
-                image, robot, motion_layout=motion_layout, track=track, timestep=timestep
+                image,
+                robot,
+                motion_layout=motion_layout,
+                track=track,
+                timestep=timestep,
+                start=start,
             )
             b = sim.boot()
             boot = boot or b
-        res = sim.play(
+        sim.play(
             motion_layout.address(slot),
             slot=slot,
             name=names.get(slot, ""),
@@ -295,17 +357,14 @@ def play_physics(
             hold_for=hold_for,
             limit=limit,
         )
-        outcome = sim.outcomes[-1]
-        out.append((res, outcome))
+        runs.append(sim.runs[-1])
         if progress is not None:
-            progress(res, outcome)
-        if sim.track is not None and (not sequence or len(out) == len(slots)):
-            path.extend(sim.track)
+            progress(sim.runs[-1])
     if sim is not None:
         virtual += sim.now
     if boot is None:
         raise ValueError("no motions to play")
-    return boot, out, virtual, path
+    return PhysicsRun(boot, tuple(runs), virtual)
 
 
 def project_robot(
@@ -329,3 +388,39 @@ def project_robot(
     model = load_robot(robot)
     check_indices(model, used)
     return model
+
+
+def physics_findings(runs: Iterable[MotionRun]) -> list[Finding]:
+    """``project check --physics`` findings (warnings: the physics is a model of the robot):
+    each motion that makes the robot fall, and each joint at its torque limit."""
+    out: list[Finding] = []
+    for run in runs:
+        r, o = run.result, run.outcome
+        where = f"{r.address:05X}h"
+        if o.fell and o.fell_at_s is not None:
+            out.append(
+                Finding(
+                    "warning",
+                    "physics-fall",
+                    r.slot,
+                    r.name,
+                    r.address,
+                    "",
+                    f"motion {r.slot} makes the robot fall at {o.fell_at_s:.2f} s "
+                    f"(ends {o.end_pose.replace('_', ' ')}; played from {where})",
+                )
+            )
+        for joint in o.saturated_joints:
+            out.append(
+                Finding(
+                    "warning",
+                    "physics-saturation",
+                    r.slot,
+                    r.name,
+                    r.address,
+                    "",
+                    f"joint {joint} saturates (at its servo's stall torque for "
+                    f"{SATURATED_S:g} s or more) in motion {r.slot}",
+                )
+            )
+    return out

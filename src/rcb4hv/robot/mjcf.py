@@ -24,10 +24,12 @@ through each other, which keeps the contact count, and so the cost, low.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable
 from xml.sax.saxutils import quoteattr
 
+from rcb4hv.robot.kinematics import apply, compose, forward, from_xyz_rpy
 from rcb4hv.robot.model import Geom, Joint, Link, RobotModel, ServoSpec, Vec3, chain
 
 __all__ = [
@@ -43,7 +45,7 @@ __all__ = [
     "TIMESTEP",
     "armature",
     "back_emf_damping",
-    "quat_from_rpy",
+    "lowest_point",
     "speed_cap",
     "stiffness",
     "to_mjcf",
@@ -158,29 +160,11 @@ def _v(values: Iterable[float]) -> str:
     return " ".join(_f(x) for x in values)
 
 
-def quat_from_rpy(rpy: Vec3) -> tuple[float, float, float, float]:
-    """URDF fixed-axis roll, pitch, yaw (Rz @ Ry @ Rx) as a MuJoCo quaternion (w, x, y, z)."""
-    r, p, y = (a / 2.0 for a in rpy)
-    cr, sr, cp, sp, cy, sy = (
-        math.cos(r),
-        math.sin(r),
-        math.cos(p),
-        math.sin(p),
-        math.cos(y),
-        math.sin(y),
-    )
-    return (
-        cy * cp * cr + sy * sp * sr,
-        cy * cp * sr - sy * sp * cr,
-        cy * sp * cr + sy * cp * sr,
-        sy * cp * cr - cy * sp * sr,
-    )
-
-
 def _pose(pos: Vec3, rpy: Vec3) -> str:
     out = f'pos="{_v(pos)}"'
     if any(rpy):
-        out += f' quat="{_v(quat_from_rpy(rpy))}"'
+        # URDF's fixed-axis roll, pitch, yaw (Rz @ Ry @ Rx): MuJoCo's extrinsic "XYZ" order
+        out += f' euler="{_v(rpy)}"'
     return out
 
 
@@ -227,6 +211,24 @@ def _hinge(model: RobotModel, j: Joint) -> str:
     )
 
 
+def lowest_point(model: RobotModel) -> float:
+    """The lowest z (m) of the model's shapes in its zero pose, root link at the origin."""
+    frames = forward(model, {})
+    low = 0.0
+    for link in model.links:
+        for g in link.geoms:
+            t = compose(frames[link.name], from_xyz_rpy(g.pos, g.rpy))
+            if g.shape == "box":
+                half = (g.size[0] / 2, g.size[1] / 2, g.size[2] / 2)
+            elif g.shape == "cylinder":
+                half = (g.size[0], g.size[0], g.size[1] / 2)
+            else:
+                half = (g.size[0], g.size[0], g.size[0])
+            for corner in itertools.product(*((-h, h) for h in half)):
+                low = min(low, apply(t, (corner[0], corner[1], corner[2]))[2])
+    return low
+
+
 def _body(model: RobotModel, link: Link, indent: str, lines: list[str]) -> None:
     lines.append(indent + _inertial(link))
     lines.extend(indent + _geom(link, k, g) for k, g in enumerate(link.geoms))
@@ -238,14 +240,17 @@ def to_mjcf(
     timestep: float = TIMESTEP,
     floor_friction: float = FLOOR_FRICTION,
     stretch: int = DEFAULT_STRETCH,
-    base_height: float = 0.0,
+    base_height: float | None = None,
 ) -> str:
     """The MJCF document of ``model`` (see the module docstring).
 
     ``timestep`` is the physics step (s), ``floor_friction`` the sliding friction coefficient
     of the robot's feet on the floor, ``stretch`` the ICS stretch (1-127) the exported
-    position servos get, ``base_height`` the root link's start height above the floor (m).
+    position servos get, ``base_height`` the root link's start height above the floor (m;
+    default: the zero pose standing on the floor).
     """
+    if base_height is None:
+        base_height = -lowest_point(model)
     if not timestep > 0:
         raise ValueError("timestep must be > 0")
     joints = chain(model.joints, model.root)
@@ -255,7 +260,7 @@ def to_mjcf(
     friction = f"{_f(floor_friction)} {_f(TORSIONAL_FRICTION)} {_f(ROLLING_FRICTION)}"
     lines = [
         f"<mujoco model={quoteattr(model.name)}>",
-        '  <compiler angle="radian" autolimits="true"/>',
+        '  <compiler angle="radian" eulerseq="XYZ" autolimits="true"/>',
         f'  <option timestep="{_f(timestep)}" integrator="implicitfast" gravity="0 0 -9.81"/>',
         "  <default>",
         f'    <geom contype="{_ROBOT_CONTYPE}" conaffinity="{_ROBOT_AFFINITY}" '
