@@ -18,22 +18,38 @@ function setPoints(geometry, points) {
   geometry.computeBoundingSphere();
 }
 
-function groundGrid(size, divisions) {
-  // one segment per cell edge, not one line across the ground: a line with an end behind the
-  // camera can vanish in software renderers (SwiftShader clips it away whole)
+function groundGrid(size, divisions, per) {
+  // segments of ``per`` cells, not lines across the whole ground: a line with an end behind
+  // the camera can vanish in software renderers (SwiftShader clips it away whole), and
+  // fewer, longer segments are cheaper to draw there than one per cell edge
   const cell = size / divisions;
   const half = size / 2;
   const points = [];
   for (let i = 0; i <= divisions; i++) {
     const a = -half + i * cell;
-    for (let j = 0; j < divisions; j++) {
+    for (let j = 0; j < divisions; j += per) {
       const b = -half + j * cell;
-      points.push(a, b, 0, a, b + cell, 0, b, a, 0, b + cell, a, 0);
+      const e = -half + Math.min(j + per, divisions) * cell;
+      points.push(a, b, 0, a, e, 0, b, a, 0, e, a, 0);
     }
   }
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute("position", new THREE.Float32BufferAttribute(points, 3));
   return new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: 0xa3afbf }));
+}
+
+function sentinel(body) {
+  // An empty triangle rendered with every frame: it hides ``body`` while the canvas is not
+  // displayed (a page tab in the background), so a hidden view costs a clear, not a scene
+  // rasterised in software. The change shows from the next frame on.
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.Float32BufferAttribute(new Array(9).fill(0), 3));
+  const mesh = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ colorWrite: false, depthWrite: false }));
+  mesh.frustumCulled = false;
+  mesh.onBeforeRender = (renderer) => {
+    body.visible = renderer.domElement.offsetParent !== null;
+  };
+  return mesh;
 }
 
 function geometry(shape, size) {
@@ -50,16 +66,18 @@ function geometry(shape, size) {
 export default class RobotBody {
   create_mesh(links, pose, ground) {
     this.root = new THREE.Group();
+    this.body = new THREE.Group(); // everything drawn; hidden while the canvas is not shown
+    this.root.add(this.body, sentinel(this.body));
     if (ground) {
-      // the ground: a plane and a grid of [size, divisions] in x-y
-      const [size, divisions] = ground;
+      // the ground: a plane and a grid of [size, divisions, cells per segment] in x-y
+      const [size, divisions, per] = ground;
       const plane = new THREE.Mesh(
         new THREE.PlaneGeometry(size, size),
         new THREE.MeshPhongMaterial({ color: 0xe2e8f0 }),
       );
       plane.position.z = -GROUND_LIFT;
-      const grid = groundGrid(size, divisions);
-      this.root.add(plane, grid);
+      const grid = groundGrid(size, divisions, per);
+      this.body.add(plane, grid);
     }
     this.links = links.map((geoms) => {
       const group = new THREE.Group();
@@ -75,7 +93,7 @@ export default class RobotBody {
         mesh.matrix.copy(matrix(local));
         group.add(mesh);
       }
-      this.root.add(group);
+      this.body.add(group);
       return group;
     });
     this.com = new THREE.Mesh(
@@ -94,7 +112,7 @@ export default class RobotBody {
       new THREE.BufferGeometry(),
       new THREE.MeshBasicMaterial({ color: 0x60a5fa, transparent: true, opacity: 0.35, side: THREE.DoubleSide }),
     );
-    this.root.add(this.com, this.plumb, this.outline, this.area);
+    this.body.add(this.com, this.plumb, this.outline, this.area);
     this.apply_pose(pose);
     return this.root;
   }

@@ -31,8 +31,13 @@ __all__ = ["GRID_CELL_M", "RobotBody", "RobotScene"]
 
 GRID_CELL_M = 0.05
 """Ground grid cell: 5 cm, so a step (a few centimetres on a 40 cm humanoid) can be read off."""
-GRID_SIZE_M = 4.0
-"""Ground extent: 4 m square, ten times the height of the largest built-in robot."""
+GRID_SIZE_M = 3.0
+"""Ground extent: 3 m square, seven times the height of the largest built-in robot."""
+GRID_SEGMENT_M = 0.2
+"""The grid is drawn in 20 cm segments. Software WebGL drops a whole segment that reaches
+behind the camera; the default camera's nearest visible ground is about 1.2 robot heights
+(0.4-0.5 m) ahead of it, more than twice this, so no dropped segment is in view. Fewer,
+longer segments also cost a software renderer less than one per cell edge."""
 FIELD_OF_VIEW_DEG = 45.0
 """Vertical field of view of the camera (a moderate lens: little perspective distortion)."""
 DIGITS = 5
@@ -49,12 +54,16 @@ class RobotBody(Object3D, component=_JS):
     """The three.js object of one robot: link groups, centre-of-mass mark, support polygon.
 
     ``links``: per link a list of ``[shape, size, local transform rows, rgba]``; ``pose``: see
-    :meth:`set_pose`; ``ground``: (size in metres, grid divisions) or None. All are kept in
+    :meth:`set_pose`; ``ground``: (size in metres, grid cells a side, cells per drawn grid
+    segment) or None. All are kept in
     ``args`` so a re-initialised scene redraws the last pose.
     """
 
     def __init__(
-        self, links: list[list[list[Any]]], pose: list[Any], ground: tuple[float, int] | None
+        self,
+        links: list[list[list[Any]]],
+        pose: list[Any],
+        ground: tuple[float, int, int] | None,
     ) -> None:
         super().__init__(links, pose, list(ground) if ground else None)
 
@@ -96,7 +105,8 @@ class RobotScene:
         self.scene.move_camera(x=1.5 * h, y=0.9 * h, z=0.8 * h, look_at_z=0.45 * h, duration=0.0)
         self._sent = self._payload(self.stance)
         with self.scene:
-            ground = (GRID_SIZE_M, round(GRID_SIZE_M / GRID_CELL_M))
+            cells = round(GRID_SIZE_M / GRID_CELL_M)
+            ground = (GRID_SIZE_M, cells, round(GRID_SEGMENT_M / GRID_CELL_M))
             self.body = RobotBody(self._links(), self._sent, ground)
 
     def _links(self) -> list[list[list[Any]]]:
