@@ -163,3 +163,16 @@ def test_a_physics_preview_marks_the_fall(
         assert b.args[1][0][root][11] == 0.05  # the root link where physics put it
 
     run(scenario, robot=robot)
+
+
+def test_the_fallback_model_gives_way_once_the_board_answers() -> None:
+    from rcb4hv.robot.builtin import load_builtin
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        await until(lambda: "toy humanoid" in one(user, "servos-3d-caption").text)
+        # as if the board had not answered when the dashboard started
+        ctx.auto_robot, ctx.robot, ctx.robot_source = True, load_builtin("khr3hv"), "default"
+        await until(lambda: "22-axis" in one(user, "servos-3d-caption").text)
+        assert ctx.robot_source == "matches the board's servos"
+
+    run(scenario, robot=MODEL)

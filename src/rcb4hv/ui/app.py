@@ -62,6 +62,7 @@ def build_root(ctx: UiContext) -> Callable[[], None]:
                     build(ctx)
 
         def refresh() -> None:
+            ctx.recheck_robot()
             st = ctx.session.state
             motion = "" if st.motion is None else f" - motion {st.motion}"
             link.text = (

@@ -15,6 +15,7 @@ from nicegui.element import Element
 from rcb4hv.hth4 import Project
 from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
+from rcb4hv.ui.robots import choose_robot
 
 __all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
 
@@ -75,15 +76,29 @@ class UiContext:
 
     def choose_robot(self, spec: str | None = None) -> None:
         """Choose the model from ``spec`` (``--robot``), the open project or the board."""
-        from rcb4hv.ui.robots import choose_robot
-
         indices = [s.ics for s in self.session.state.servos]
         self.robot, self.robot_source = choose_robot(spec, self.project, indices)
+
+    def recheck_robot(self) -> None:
+        """Choose again once the board's servos are known, if the model is the fallback
+        default (the board was not answering when the dashboard started)."""
+        if (
+            self.auto_robot
+            and self.project is None
+            and self.robot_source == "default"
+            and self.session.state.servos
+        ):
+            self.choose_robot()
+            if self.robot_source != "default":
+                self._notify()
 
     def set_project(self, project: Project | None, name: str = "") -> None:
         self.project, self.project_name = project, name
         if self.auto_robot:
             self.choose_robot()
+        self._notify()
+
+    def _notify(self) -> None:
         for fn in list(self._listeners):
             try:
                 fn()
