@@ -25,7 +25,7 @@ from nicegui.elements.scene.scene_object3d import Object3D
 
 from rcb4hv.robot import RobotModel, Transform
 from rcb4hv.robot.kinematics import from_xyz_rpy
-from rcb4hv.ui.stance import Stance, feet, stance
+from rcb4hv.ui.stance import Soles, Stance, stance
 
 __all__ = ["GRID_CELL_M", "RobotBody", "RobotScene"]
 
@@ -86,11 +86,11 @@ class RobotScene:
     ) -> None:
         self.model = model
         self.link_names = [link.name for link in model.links]
-        self.feet = tuple(foot_links) if foot_links is not None else feet(model)
+        self.soles = Soles.of(model, foot_links)
         self.fallen = False
         self.updates = 0
         """Poses sent to the browser (unchanged poses are not sent)."""
-        self.stance = stance(model, {}, None, self.feet)
+        self.stance = stance(model, {}, None, self.soles)
         top = max(t[2][3] for t in self.stance.frames.values())
         h = max(top, self.stance.com[2] * 2, 0.1)
         self.scene = ui.scene(
@@ -137,7 +137,7 @@ class RobotScene:
         """Show joint ``angles`` (radians by joint name; missing joints at 0) with the base at
         ``base`` (None: feet on the ground); ``fallen`` marks a fall."""
         self.fallen = fallen
-        self.stance = stance(self.model, angles, base, self.feet)
+        self.stance = stance(self.model, angles, base, self.soles)
         payload = self._payload(self.stance)
         if payload != self._sent:
             self._sent = payload

@@ -22,12 +22,14 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
 
 from rcb4hv.robot import Geom, RobotModel, Transform, Vec3, center_of_mass, forward
 from rcb4hv.robot.kinematics import IDENTITY, apply, compose, from_xyz_rpy, rotation_about
 
 __all__ = [
     "CONTACT_TOLERANCE_M",
+    "Soles",
     "Stance",
     "convex_hull",
     "feet",
@@ -51,13 +53,10 @@ def _translation(x: float, y: float, z: float) -> Transform:
     return from_xyz_rpy((x, y, z), (0.0, 0.0, 0.0))
 
 
-def geom_points(geom: Geom, link: Transform) -> list[Vec3]:
-    """The corner points of ``geom`` in the world, its link at ``link``."""
+@cache
+def _corners(geom: Geom) -> tuple[Vec3, ...]:
+    """A box's or cylinder's corner points in its link's frame (geoms are immutable)."""
     sx, sy, sz = geom.size
-    if geom.shape == "sphere":  # the same in every frame: its points are in the world's axes
-        cx, cy, cz = apply(link, geom.pos)
-        ring = [(cx + sx, cy, cz), (cx - sx, cy, cz), (cx, cy + sx, cz), (cx, cy - sx, cz)]
-        return [(cx, cy, cz - sx), *ring]
     local: list[Vec3]
     if geom.shape == "box":
         local = [
@@ -68,8 +67,18 @@ def geom_points(geom: Geom, link: Transform) -> list[Vec3]:
         for k in range(RIM_POINTS):
             phi = 2 * math.pi * k / RIM_POINTS
             local += [(sx * math.cos(phi), sx * math.sin(phi), h) for h in (-sy / 2, sy / 2)]
-    t = compose(link, from_xyz_rpy(geom.pos, geom.rpy))
-    return [apply(t, p) for p in local]
+    t = from_xyz_rpy(geom.pos, geom.rpy)
+    return tuple(apply(t, p) for p in local)
+
+
+def geom_points(geom: Geom, link: Transform) -> list[Vec3]:
+    """The corner points of ``geom`` in the world, its link at ``link``."""
+    if geom.shape == "sphere":  # the same in every frame: its points are in the world's axes
+        r = geom.size[0]
+        cx, cy, cz = apply(link, geom.pos)
+        ring = [(cx + r, cy, cz), (cx - r, cy, cz), (cx, cy + r, cz), (cx, cy - r, cz)]
+        return [(cx, cy, cz - r), *ring]
+    return [apply(link, p) for p in _corners(geom)]
 
 
 def _world_points(
@@ -127,28 +136,35 @@ def inside(polygon: Sequence[Point2], p: Point2) -> bool:
     return True
 
 
-def _levelling(
-    model: RobotModel, frames: Mapping[str, Transform], soles: Sequence[str]
-) -> Transform:
-    """The rotation (about a horizontal axis) that makes the feet's mean sole normal vertical.
+@dataclass(frozen=True)
+class Soles:
+    """The links a robot stands on and each one's up direction in its own frame (the world's
+    z axis in the zero pose: the models stand there with level soles)."""
 
-    A sole's normal is the world z axis of its foot link in the zero pose (the models stand
-    with level soles there), carried into the foot link's frame."""
-    if not soles:
-        return IDENTITY
-    zero = forward(model, {})
-    n = [0.0, 0.0, 0.0]
-    for name in soles:
-        r0, r = zero[name], frames[name]
-        local = (r0[2][0], r0[2][1], r0[2][2])  # R0^T z: the zero pose's up in the foot frame
-        for k in range(3):
-            n[k] += r[k][0] * local[0] + r[k][1] * local[1] + r[k][2] * local[2]
-    norm = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
-    if norm == 0.0:
-        return IDENTITY
-    nx, ny, nz = n[0] / norm, n[1] / norm, n[2] / norm
-    # n x z = (ny, -nx, 0); the angle between n and z
-    return rotation_about((ny, -nx, 0.0), math.atan2(math.hypot(nx, ny), nz))
+    links: tuple[str, ...]
+    up: tuple[Vec3, ...]
+
+    @classmethod
+    def of(cls, model: RobotModel, links: Sequence[str] | None = None) -> Soles:
+        """The soles of ``links`` (default :func:`feet`)."""
+        names = tuple(links if links is not None else feet(model))
+        zero = forward(model, {})
+        # R0^T z: the third row of the zero-pose rotation
+        return cls(names, tuple((zero[n][2][0], zero[n][2][1], zero[n][2][2]) for n in names))
+
+    def levelling(self, frames: Mapping[str, Transform]) -> Transform:
+        """The rotation (about a horizontal axis) that makes the soles' mean normal vertical."""
+        n = [0.0, 0.0, 0.0]
+        for name, (ux, uy, uz) in zip(self.links, self.up, strict=True):
+            r = frames[name]
+            for k in range(3):
+                n[k] += r[k][0] * ux + r[k][1] * uy + r[k][2] * uz
+        norm = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+        if norm == 0.0:
+            return IDENTITY
+        nx, ny, nz = n[0] / norm, n[1] / norm, n[2] / norm
+        # n x z = (ny, -nx, 0); the angle between n and z
+        return rotation_about((ny, -nx, 0.0), math.atan2(math.hypot(nx, ny), nz))
 
 
 @dataclass(frozen=True)
@@ -169,19 +185,27 @@ def stance(
     model: RobotModel,
     angles: Mapping[str, float],
     base: Transform | None = None,
-    foot_links: Sequence[str] | None = None,
+    soles: Soles | None = None,
 ) -> Stance:
     """Place ``angles`` in the world: at ``base`` if given (a simulated base pose), else on
-    the ground: the body tilted so the soles of ``foot_links`` (default :func:`feet`) are
-    level on average, and lowered so their lowest point is at z = 0."""
+    the ground: the body tilted so the ``soles`` (default :meth:`Soles.of` the model) are
+    level on average, and lowered so their lowest point is at z = 0. Pass ``soles`` when
+    placing many poses of one model: it is worked out once."""
     if base is None:
-        soles = tuple(foot_links if foot_links is not None else feet(model))
+        soles = soles if soles is not None else Soles.of(model)
         frames = forward(model, angles)
-        tilt = _levelling(model, frames, soles)
-        frames = {name: compose(tilt, t) for name, t in frames.items()}
-        pts = _world_points(model, frames, soles or [link.name for link in model.links])
-        lift = _translation(0.0, 0.0, -min((p[2] for p in pts), default=0.0))
-        frames = {name: compose(lift, t) for name, t in frames.items()}
+        tilt = soles.levelling(frames)
+        below = soles.links or [link.name for link in model.links]
+        row = tilt[2]  # the tilted height of a point p is row . p
+        low = min(
+            (
+                row[0] * p[0] + row[1] * p[1] + row[2] * p[2]
+                for p in _world_points(model, frames, below)
+            ),
+            default=0.0,
+        )
+        placed = compose(_translation(0.0, 0.0, -low), tilt)
+        frames = {name: compose(placed, t) for name, t in frames.items()}
     else:
         frames = forward(model, angles, base)
     pts = _world_points(model, frames, [link.name for link in model.links])
