@@ -90,10 +90,19 @@ def test_the_view_follows_a_servo(page: Any, board: tuple[Board, str]) -> None:
     page.screenshot(path=str(SHOTS / "servos-3d.png"))
 
 
-def test_the_remote_page_shows_the_robot_too(page: Any) -> None:
+def test_the_remote_page_shows_motion_1_raise_the_arms(page: Any) -> None:
     page.get_by_test_id("tab-remote").click()
-    png = _still(_canvas(page, "remote-3d"))
-    assert len(set(_pixels(png))) > 100
+    canvas = _canvas(page, "remote-3d")
+    home = _still(canvas)
+    assert len(set(_pixels(home))) > 100
+    page.get_by_test_id("pad-triangle").hover()
+    page.mouse.down()
+    page.mouse.up()
+    most = 0
+    deadline = time.monotonic() + 10
+    while most < 2000 and time.monotonic() < deadline:  # while the arms are up
+        most = max(most, _changed(home, _shot(canvas)))
+    assert most >= 2000, f"at most {most} pixels changed while motion 1 played"
 
 
 def test_a_project_motion_previews_and_scrubs(page: Any, kxr_project_path: Any) -> None:
