@@ -202,6 +202,11 @@ class PhysicsWorld:
         # the world's up (0, 0, 1) in the root frame is the third row of R
         return BasePose(x, y, z, yaw, tilt, (r20, r21, r22))
 
+    def quaternion(self) -> tuple[float, float, float, float]:
+        """The root link's orientation (w, x, y, z)."""
+        w, x, y, z = self.d.qpos[3:7].tolist()
+        return (w, x, y, z)
+
     def joint_angles(self) -> dict[str, float]:
         q = self.d.qpos
         return {name: float(q[adr]) for name, adr in self._joint_qpos.items()}

@@ -108,13 +108,18 @@ class PhysicsOutcome:
 
 @dataclass(frozen=True, slots=True)
 class TrackPoint:
-    """The torso at one output period: virtual time (s), position (m), yaw (rad), tilt."""
+    """The robot at one output period: virtual time (s), the torso's position (m), yaw and
+    tilt (rad) and orientation (quaternion w, x, y, z), and every joint's angle (rad): enough
+    to draw it (``kinematics.forward`` from the torso's pose)."""
 
     t: float
     x: float
     y: float
     yaw: float
     tilt: float
+    z: float = 0.0
+    quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    angles: Mapping[str, float] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, slots=True)
@@ -235,7 +240,13 @@ class PhysicsSimulator(Simulator):
         base = self.world.base()
         t = backend.board_time
         if self.track is not None:
-            self.track.append(TrackPoint(t, base.x, base.y, base.yaw, base.tilt))
+            world = self.world
+            angles = world.joint_angles()
+            self.track.append(
+                TrackPoint(
+                    t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles
+                )
+            )
             if t >= self._next_frame:
                 self.frames.append(Frame(t, self.world.shapes()))
                 self._next_frame = t + FRAME_EVERY_S
