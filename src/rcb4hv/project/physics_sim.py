@@ -28,6 +28,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Final, Literal
 
+from rcb4hv.emulator import EmulatorConfig
 from rcb4hv.errors import RobotModelError
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
 from rcb4hv.project.check import Finding
@@ -119,8 +120,9 @@ class PhysicsSimulator(Simulator):
         track: bool = False,
         timestep: float = TIMESTEP,
         start: StartPose = "upright",
+        config: EmulatorConfig | None = None,
     ) -> None:
-        super().__init__(image, motion_layout=motion_layout, listener=listener)
+        super().__init__(image, motion_layout=motion_layout, listener=listener, config=config)
         self.start = start
         self.robot = robot
         self.world = PhysicsWorld(robot, timestep=timestep)
