@@ -125,3 +125,14 @@ def test_the_cli_refuses_bad_physics_options(args: list[str], message: str) -> N
     res = CliRunner().invoke(cli, ["project", "simulate", str(PROJECT), *args])
     assert res.exit_code != 0
     assert message in res.output
+
+
+def test_without_mujoco_the_cli_says_which_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    res = CliRunner().invoke(
+        cli, ["project", "simulate", str(PROJECT), "--physics", "--motion", "13"]
+    )
+    assert res.exit_code == 1
+    assert "install rcb4hv[sim]" in res.output
