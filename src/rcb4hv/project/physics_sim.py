@@ -263,7 +263,7 @@ def play_physics(
     *,
     motion_layout: MotionLayout,
     sequence: bool,
-    limit: float = DEFAULT_LIMIT,
+    limit: float | None = None,
     hold: int = 0,
     hold_for: float = 0.0,
     track: bool = False,
@@ -272,7 +272,12 @@ def play_physics(
     progress: Callable[[MotionRun], None] | None = None,
 ) -> PhysicsRun:
     """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
-    stand for each (``start``: standing, or lying on its back or front)."""
+    stand for each (``start``: standing, or lying on its back or front). ``limit``: virtual
+    seconds per motion, :data:`~rcb4hv.project.simulate.DEFAULT_LIMIT` when None (a robot
+    in physics never stops changing its measured positions and sensors for certain, so
+    the motion's own progress cannot be what ends it)."""
+    if limit is None:
+        limit = DEFAULT_LIMIT
     runs: list[MotionRun] = []
     virtual = 0.0
     boot: MotionResult | None = None
