@@ -44,8 +44,8 @@ def require_mujoco() -> Any:
 class BasePose:
     """The root link's position (m) and orientation in the world: ``yaw`` (rad, CCW about
     z: the twist of its orientation about the vertical, which is the heading of its x axis
-    while upright and stays defined lying down), ``tilt`` (rad between its z axis and the vertical) and the
-    world's up direction in its frame (``up``: x forward, y left, z up)."""
+    while upright and stays defined lying down), ``tilt`` (rad between its z axis and the
+    vertical) and the world's up direction in its frame (``up``: x forward, y left, z up)."""
 
     x: float
     y: float
