@@ -60,7 +60,14 @@ def test_standing_still_stays_upright() -> None:
 
 def test_the_60_degree_lean_falls_on_its_front() -> None:
     sim = simulator()
+    pitch_rates: list[int] = []
+    assert sim.backend is not None
+    sim.backend.observers.append(
+        lambda _: pitch_rates.append(int.from_bytes(sim.board.ram[0x22 + 4 : 0x22 + 6], "little"))
+    )
     sim.play(LAYOUT.address(BAD_SLOT))
+    # the pitch gyro (AD2) saw the fall: pitching forward is a positive rate about y
+    assert max(pitch_rates) > DEFAULT_SENSORS.gyro_zero + 90 * DEFAULT_SENSORS.gyro_counts_per_dps
     out = sim.outcomes[-1]
     assert out.fell and out.fell_at_s is not None and 0.0 < out.fell_at_s < 2.0
     assert out.end_pose == "on_front"
