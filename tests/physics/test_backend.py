@@ -142,3 +142,23 @@ def test_without_mujoco_the_error_names_the_extra(monkeypatch: pytest.MonkeyPatc
     monkeypatch.setitem(sys.modules, "mujoco", None)
     with pytest.raises(PhysicsUnavailableError, match=r"install rcb4hv\[sim\]"):
         require_mujoco()
+
+
+def test_two_processes_give_the_same_bits() -> None:
+    import subprocess
+
+    script = (
+        "from tests.physics.test_backend import IMAGE, LAYOUT, NAMES, ROBOT, BAD_SLOT\n"
+        "from rcb4hv.project.physics_sim import play_physics\n"
+        "run = play_physics(IMAGE, ROBOT, [BAD_SLOT], NAMES, motion_layout=LAYOUT,"
+        " sequence=False, track=True)\n"
+        "print(repr(run.motions[0].outcome), [p.x.hex() for p in run.motions[0].track])\n"
+    )
+    outs = [
+        subprocess.run(
+            [sys.executable, "-c", script], capture_output=True, text=True, check=True
+        ).stdout
+        for _ in range(2)
+    ]
+    assert outs[0] == outs[1]
+    assert "on_front" in outs[0]
