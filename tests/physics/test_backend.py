@@ -60,7 +60,14 @@ def test_standing_still_stays_upright() -> None:
 
 def test_the_60_degree_lean_falls_on_its_front() -> None:
     sim = simulator()
+    pitch_rates: list[int] = []
+    assert sim.backend is not None
+    sim.backend.observers.append(
+        lambda _: pitch_rates.append(int.from_bytes(sim.board.ram[0x22 + 4 : 0x22 + 6], "little"))
+    )
     sim.play(LAYOUT.address(BAD_SLOT))
+    # the pitch gyro (AD2) saw the fall: pitching forward is a positive rate about y
+    assert max(pitch_rates) > DEFAULT_SENSORS.gyro_zero + 90 * DEFAULT_SENSORS.gyro_counts_per_dps
     out = sim.outcomes[-1]
     assert out.fell and out.fell_at_s is not None and 0.0 < out.fell_at_s < 2.0
     assert out.end_pose == "on_front"
@@ -135,3 +142,23 @@ def test_without_mujoco_the_error_names_the_extra(monkeypatch: pytest.MonkeyPatc
     monkeypatch.setitem(sys.modules, "mujoco", None)
     with pytest.raises(PhysicsUnavailableError, match=r"install rcb4hv\[sim\]"):
         require_mujoco()
+
+
+def test_two_processes_give_the_same_bits() -> None:
+    import subprocess
+
+    script = (
+        "from tests.physics.test_backend import IMAGE, LAYOUT, NAMES, ROBOT, BAD_SLOT\n"
+        "from rcb4hv.project.physics_sim import play_physics\n"
+        "run = play_physics(IMAGE, ROBOT, [BAD_SLOT], NAMES, motion_layout=LAYOUT,"
+        " sequence=False, track=True)\n"
+        "print(repr(run.motions[0].outcome), [p.x.hex() for p in run.motions[0].track])\n"
+    )
+    outs = [
+        subprocess.run(
+            [sys.executable, "-c", script], capture_output=True, text=True, check=True
+        ).stdout
+        for _ in range(2)
+    ]
+    assert outs[0] == outs[1]
+    assert "on_front" in outs[0]

@@ -6,13 +6,14 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
-from rcb4hv.cli.project_cmd import load_image
+from rcb4hv.cli.project_cmd import load_image, parse_buttons
 from rcb4hv.hth4.keyframes import Keyframe
 from rcb4hv.project.physics_sim import (
     MotionRun,
@@ -125,3 +126,41 @@ def test_the_cli_refuses_bad_physics_options(args: list[str], message: str) -> N
     res = CliRunner().invoke(cli, ["project", "simulate", str(PROJECT), *args])
     assert res.exit_code != 0
     assert message in res.output
+
+
+def test_without_mujoco_the_cli_says_which_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    res = CliRunner().invoke(
+        cli, ["project", "simulate", str(PROJECT), "--physics", "--motion", "13"]
+    )
+    assert res.exit_code == 1
+    assert "install rcb4hv[sim]" in res.output
+
+
+@pytest.mark.parametrize(
+    ("slot", "button", "check"),
+    [
+        (WALK_FORWARD, "UP", lambda o: o.dx_m > 0.08 and abs(o.dy_m) < 0.05),
+        (TURN_LEFT, "UP+LEFT", lambda o: o.dyaw_deg > 60.0),
+        (TURN_RIGHT, "UP+RIGHT", lambda o: o.dyaw_deg < -60.0),
+    ],
+)
+def test_held_on_its_button_a_walk_keeps_going_the_right_way(
+    slot: int, button: str, check: Callable[[PhysicsOutcome], bool]
+) -> None:
+    """As a user drives the robot: the remote button held 3 s repeats the step."""
+    run = play_physics(
+        IMAGE,
+        KXR,
+        [slot],
+        NAMES,
+        motion_layout=LAYOUT,
+        sequence=False,
+        hold=parse_buttons(button),
+        hold_for=3.0,
+    )
+    out = run.motions[0].outcome
+    assert not out.fell and out.end_pose == "upright"
+    assert check(out), out

@@ -66,3 +66,36 @@ def test_joint_origins_follow_the_models_kinematics() -> None:
         for k in range(3):
             assert math.isclose(got[i][k], want[i][k], abs_tol=1e-12)
     assert list(d.xpos[m.body("b").id]) == pytest.approx([want[i][3] for i in range(3)])
+
+
+def test_a_recorded_pose_redraws_the_simulated_robot() -> None:
+    """TrackPoint's torso pose and joint angles, through the model's own kinematics, put
+    every link where MuJoCo has it (what a 3D view draws from)."""
+    from rcb4hv.physics import PhysicsWorld
+
+    model = load_builtin("kxr-l2")
+    world = PhysicsWorld(model)
+    world.place(model.home)
+    for s in model.servos:
+        world.drive(s.index, model.home.get(s.joint, 0.0) + 0.2, 20.0)
+    world.step(200)
+    mujoco.mj_kinematics(world.m, world.d)  # link poses of the current state (a step ends
+    # with the positions integrated past the poses it computed)
+    w, x, y, z = world.quaternion()
+    rot = (
+        (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)),
+        (2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)),
+        (2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)),
+    )
+    b = world.base()
+    base = (
+        (*rot[0], b.x),
+        (*rot[1], b.y),
+        (*rot[2], b.z),
+        (0.0, 0.0, 0.0, 1.0),
+    )
+    frames = forward(model, world.joint_angles(), base)
+    for link in model.links:
+        got = world.d.xpos[world.m.body(link.name).id]
+        want = [frames[link.name][i][3] for i in range(3)]
+        assert list(got) == pytest.approx(want, abs=1e-9)

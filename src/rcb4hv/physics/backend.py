@@ -23,7 +23,6 @@ fell to, and a limb pushed by hand (or by the floor) can be read.
 
 from __future__ import annotations
 
-import struct
 from collections.abc import Callable
 from typing import Final
 
@@ -31,7 +30,7 @@ from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
-from rcb4hv.protocol.memory import NO_BLOCK, SERVO
+from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
 from rcb4hv.robot.mjcf import speed_cap
 
 __all__ = ["PhysicsBackend"]
@@ -39,8 +38,8 @@ __all__ = ["PhysicsBackend"]
 Observer = Callable[["PhysicsBackend"], None]
 _US: Final = 1_000_000
 _ANGLES_KEPT: Final = 4096
-_u16 = struct.Struct("<H").unpack_from
-_s16 = struct.Struct("<h").unpack_from
+_u16 = U16.unpack_from
+_s16 = S16.unpack_from
 
 
 class PhysicsBackend:

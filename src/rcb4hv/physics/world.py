@@ -43,8 +43,9 @@ def require_mujoco() -> Any:
 @dataclass(frozen=True, slots=True)
 class BasePose:
     """The root link's position (m) and orientation in the world: ``yaw`` (rad, CCW about
-    z, of the link's x axis), ``tilt`` (rad between its z axis and the vertical) and the
-    world's up direction in its frame (``up``: x forward, y left, z up)."""
+    z: the twist of its orientation about the vertical, which is the heading of its x axis
+    while upright and stays defined lying down), ``tilt`` (rad between its z axis and the
+    vertical) and the world's up direction in its frame (``up``: x forward, y left, z up)."""
 
     x: float
     y: float
@@ -191,16 +192,21 @@ class PhysicsWorld:
         d = self.d
         x, y, z = (float(v) for v in d.qpos[0:3])
         w, qx, qy, qz = (float(v) for v in d.qpos[3:7])
-        # rotation matrix rows/columns from the unit quaternion
-        r00 = 1 - 2 * (qy * qy + qz * qz)
-        r10 = 2 * (qx * qy + w * qz)
+        # the third row of the rotation matrix of the unit quaternion
         r20 = 2 * (qx * qz - w * qy)
         r21 = 2 * (qy * qz + w * qx)
         r22 = 1 - 2 * (qx * qx + qy * qy)
-        yaw = math.atan2(r10, r00)
+        # the twist about the vertical of a swing-twist decomposition: the heading, also
+        # where the forward axis points up or down (lying on the back or front)
+        yaw = math.remainder(2 * math.atan2(qz, w), 2 * math.pi)
         tilt = math.acos(max(-1.0, min(1.0, r22)))
         # the world's up (0, 0, 1) in the root frame is the third row of R
         return BasePose(x, y, z, yaw, tilt, (r20, r21, r22))
+
+    def quaternion(self) -> tuple[float, float, float, float]:
+        """The root link's orientation (w, x, y, z)."""
+        w, x, y, z = self.d.qpos[3:7].tolist()
+        return (w, x, y, z)
 
     def joint_angles(self) -> dict[str, float]:
         q = self.d.qpos

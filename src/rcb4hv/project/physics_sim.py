@@ -28,9 +28,11 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Final, Literal
 
+from rcb4hv.emulator import EmulatorConfig
 from rcb4hv.errors import RobotModelError
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
 from rcb4hv.project.check import Finding
+from rcb4hv.project.physicsresult import Frame, MotionRun, PhysicsOutcome, PhysicsRun, TrackPoint
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.project.simulate import BOOT_LIMIT, DEFAULT_LIMIT, SampleListener, Simulator
 from rcb4hv.protocol import POSITION_HOLD
@@ -78,73 +80,6 @@ _START_PITCH: Final[dict[str, float]] = {
 }
 
 
-@dataclass(frozen=True)
-class PhysicsOutcome:
-    """What one motion did to the simulated robot (see the module docstring)."""
-
-    fell: bool
-    fell_at_s: float | None
-    end_pose: str
-    dx_m: float
-    dy_m: float
-    dyaw_deg: float
-    max_tilt_deg: float
-    max_tracking_error_deg: float
-    saturated_joints: tuple[str, ...]
-
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "fell": self.fell,
-            "fell_at_s": None if self.fell_at_s is None else round(self.fell_at_s, 3),
-            "end_pose": self.end_pose,
-            "dx_m": round(self.dx_m, 4),
-            "dy_m": round(self.dy_m, 4),
-            "dyaw_deg": round(self.dyaw_deg, 1),
-            "max_tilt_deg": round(self.max_tilt_deg, 1),
-            "max_tracking_error_deg": round(self.max_tracking_error_deg, 1),
-            "saturated_joints": list(self.saturated_joints),
-        }
-
-
-@dataclass(frozen=True, slots=True)
-class TrackPoint:
-    """The torso at one output period: virtual time (s), position (m), yaw (rad), tilt."""
-
-    t: float
-    x: float
-    y: float
-    yaw: float
-    tilt: float
-
-
-@dataclass(frozen=True, slots=True)
-class Frame:
-    """The robot at virtual time ``t``: the corners of each of its shapes (world, m)."""
-
-    t: float
-    shapes: list[tuple[tuple[float, float, float], ...]]
-
-
-@dataclass(frozen=True)
-class MotionRun:
-    """One motion played with physics: its result, outcome and (``track``) the torso's path
-    and the robot's frames from the motion's start to :data:`SETTLE_S` after its end."""
-
-    result: MotionResult
-    outcome: PhysicsOutcome
-    track: tuple[TrackPoint, ...] = ()
-    frames: tuple[Frame, ...] = ()
-
-
-@dataclass(frozen=True)
-class PhysicsRun:
-    """:func:`play_physics`'s answer: the (first) boot, each motion, the virtual seconds."""
-
-    boot: MotionResult
-    motions: tuple[MotionRun, ...]
-    virtual_s: float
-
-
 @dataclass
 class _Watch:
     """Accumulates one motion's outcome, one output period at a time."""
@@ -185,8 +120,9 @@ class PhysicsSimulator(Simulator):
         track: bool = False,
         timestep: float = TIMESTEP,
         start: StartPose = "upright",
+        config: EmulatorConfig | None = None,
     ) -> None:
-        super().__init__(image, motion_layout=motion_layout, listener=listener)
+        super().__init__(image, motion_layout=motion_layout, listener=listener, config=config)
         self.start = start
         self.robot = robot
         self.world = PhysicsWorld(robot, timestep=timestep)
@@ -235,7 +171,13 @@ class PhysicsSimulator(Simulator):
         base = self.world.base()
         t = backend.board_time
         if self.track is not None:
-            self.track.append(TrackPoint(t, base.x, base.y, base.yaw, base.tilt))
+            world = self.world
+            angles = world.joint_angles()
+            self.track.append(
+                TrackPoint(
+                    t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles
+                )
+            )
             if t >= self._next_frame:
                 self.frames.append(Frame(t, self.world.shapes()))
                 self._next_frame = t + FRAME_EVERY_S
@@ -321,7 +263,7 @@ def play_physics(
     *,
     motion_layout: MotionLayout,
     sequence: bool,
-    limit: float = DEFAULT_LIMIT,
+    limit: float | None = None,
     hold: int = 0,
     hold_for: float = 0.0,
     track: bool = False,
@@ -330,7 +272,12 @@ def play_physics(
     progress: Callable[[MotionRun], None] | None = None,
 ) -> PhysicsRun:
     """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
-    stand for each (``start``: standing, or lying on its back or front)."""
+    stand for each (``start``: standing, or lying on its back or front). ``limit``: virtual
+    seconds per motion, :data:`~rcb4hv.project.simulate.DEFAULT_LIMIT` when None (a robot
+    in physics never stops changing its measured positions and sensors for certain, so
+    the motion's own progress cannot be what ends it)."""
+    if limit is None:
+        limit = DEFAULT_LIMIT
     runs: list[MotionRun] = []
     virtual = 0.0
     boot: MotionResult | None = None
