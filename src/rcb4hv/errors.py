@@ -17,10 +17,13 @@
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
     ├── SimulationError            the emulated board refused a host frame in a simulation
-    └── RobotModelError            a robot model, URDF or joint map that cannot be used (an
-                                   unknown robot name, a link without inertia, a joint map
-                                   naming an unknown joint or a servo the project lacks);
-                                   also a ValueError
+    ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
+    │                              unknown robot name, a link without inertia, a joint map
+    │                              naming an unknown joint or a servo the project lacks);
+    │                              also a ValueError
+    └── PhysicsError               the physics simulation cannot run
+        └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
+                                   ImportError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -37,6 +40,8 @@ __all__ = [
     "Hth4FormatError",
     "LayoutError",
     "NakError",
+    "PhysicsError",
+    "PhysicsUnavailableError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
@@ -131,3 +136,11 @@ class RobotModelError(Rcb4Error, ValueError):
     """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
     malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
     indices the project does not have."""
+
+
+class PhysicsError(Rcb4Error):
+    """The physics simulation cannot run: a robot model MuJoCo refuses, or no robot model."""
+
+
+class PhysicsUnavailableError(PhysicsError, ImportError):
+    """MuJoCo is not installed: ``pip install 'rcb4hv[sim]'``."""
