@@ -16,6 +16,9 @@
     │                              also a ValueError
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
+    ├── EditError                  a motion edit that is refused (range, joint limit, slot in
+    │   │                          use, a block that is not a pose); also a ValueError
+    │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one
     └── SimulationError            the emulated board refused a host frame in a simulation
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
@@ -29,10 +32,12 @@ __all__ = [
     "AsmError",
     "ChecksumError",
     "CommandNotAllowedError",
+    "EditError",
     "FrameError",
     "Hth4FormatError",
     "LayoutError",
     "NakError",
+    "NoRobotModelError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
@@ -116,6 +121,16 @@ class AsmError(Rcb4Error, ValueError):
         self.column = column
         self.source = source
         super().__init__(f"line {line}, column {column}: {message}")
+
+
+class EditError(Rcb4Error, ValueError):
+    """A project edit that is refused: a value outside the documented range or the joint's
+    limits (without the override), a slot in use, a block that is not a pose."""
+
+
+class NoRobotModelError(EditError):
+    """An edit that needs the robot's joint map (mirroring, joint angles) on a project whose
+    robot has no model: name one (``--robot``)."""
 
 
 class SimulationError(Rcb4Error):
