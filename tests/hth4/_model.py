@@ -55,4 +55,6 @@ def kxr_like(*, offsets: dict[int, int] | None = None, limit: float = LIMIT) -> 
                 )
             )
             servos.append(ServoJoint(ics, jname, sign, offsets.get(ics, 0)))
-    return RobotModel("kxr-test", "KXR-like test model", "body", tuple(links), tuple(joints), tuple(servos))
+    return RobotModel(
+        "kxr-test", "KXR-like test model", "body", tuple(links), tuple(joints), tuple(servos)
+    )

@@ -24,6 +24,7 @@ from rcb4hv.rom.layout import LAYOUTS
 __all__ = [
     "BRANCH_FRAME_SIZE",
     "AddressMap",
+    "branch_target",
     "retarget_frame",
     "retarget_motion",
     "retarget_project",
