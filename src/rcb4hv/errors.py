@@ -18,8 +18,13 @@
     ├── AsmError                   assembler source that does not assemble; also a ValueError
     ├── EditError                  a motion edit that is refused (range, joint limit, slot in
     │   │                          use, a block that is not a pose); also a ValueError
-    │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one
-    └── SimulationError            the emulated board refused a host frame in a simulation
+    │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one;
+    │                              also a RobotModelError
+    ├── SimulationError            the emulated board refused a host frame in a simulation
+    └── RobotModelError            a robot model, URDF or joint map that cannot be used (an
+                                   unknown robot name, a link without inertia, a joint map
+                                   naming an unknown joint or a servo the project lacks);
+                                   also a ValueError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -41,6 +46,7 @@ __all__ = [
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "RobotModelError",
     "SimulationError",
     "TransportError",
     "VerifyError",
@@ -123,15 +129,21 @@ class AsmError(Rcb4Error, ValueError):
         super().__init__(f"line {line}, column {column}: {message}")
 
 
+class SimulationError(Rcb4Error):
+    """The emulated board did not accept a host frame during a simulation."""
+
+
+class RobotModelError(Rcb4Error, ValueError):
+    """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
+    malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
+    indices the project does not have."""
+
+
 class EditError(Rcb4Error, ValueError):
     """A project edit that is refused: a value outside the documented range or the joint's
     limits (without the override), a slot in use, a block that is not a pose."""
 
 
-class NoRobotModelError(EditError):
+class NoRobotModelError(EditError, RobotModelError):
     """An edit that needs the robot's joint map (mirroring, joint angles) on a project whose
     robot has no model: name one (``--robot``)."""
-
-
-class SimulationError(Rcb4Error):
-    """The emulated board did not accept a host frame during a simulation."""

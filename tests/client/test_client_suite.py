@@ -44,9 +44,11 @@ def test_ack_and_version(rig: Rig) -> None:
     rig.client.acknowledge_check(long_form=True)
     v = rig.client.get_version_info()
     assert v.text == "CB-4 V1.0      090715"
-    assert v.version == rig.board.config.version_string if hasattr(
-        rig.board.config, "version_string"
-    ) else True
+    assert (
+        v.version == rig.board.config.version_string
+        if hasattr(rig.board.config, "version_string")
+        else True
+    )
 
 
 def test_ram_round_trip_any_size(rig: Rig) -> None:

@@ -123,3 +123,20 @@ def test_counts_formula_is_the_models_angle_round_trip(
     exact = mirror_values(model, mapped)
     assert exact == via_model
     assert all(math.isfinite(a) for a in angles.values())
+
+
+def test_builtin_kxr_model_mirrors_the_fixture(project: hth4.Project) -> None:
+    """The built-in KXR-L2 (gripper) joint map: turn left -> turn right, twice -> original."""
+    from rcb4hv.robot.builtin import load_builtin
+
+    model = load_builtin("kxr-l2-gripper")
+    p = mirror_motion(project, TURN_LEFT, model, to=73, name="r", date=DATE)
+    assert motion_poses(p.motion(73)) == motion_poses(project.motion(TURN_RIGHT))
+    slots = [m.slot for m in project.used_motions]
+    once = project
+    for s in slots:
+        once = mirror_motion(once, s, model, checks=Checks(force=True))
+    twice = once
+    for s in slots:
+        twice = mirror_motion(twice, s, model, checks=Checks(force=True))
+    assert hth4.dump_project(twice) == hth4.dump_project(project)

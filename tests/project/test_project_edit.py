@@ -4,13 +4,13 @@ saved file reloads, round-trips, builds, simulates and checks as well as the ori
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
 from rcb4hv import hth4
-from rcb4hv.cli import edit_cmd
 from rcb4hv.cli.main import cli
 from rcb4hv.hth4.edit import set_pose
 from rcb4hv.hth4.poses import motion_poses
@@ -18,14 +18,8 @@ from rcb4hv.hth4.session import EditSession
 from rcb4hv.project.check import check_project
 from rcb4hv.project.image import build_project_image
 from rcb4hv.project.simulate import Simulator
-from tests.hth4._model import kxr_like
 
 WALK, TURN_LEFT, TURN_RIGHT, FREE = 66, 69, 70, 73
-
-
-@pytest.fixture
-def model(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(edit_cmd, "project_model", lambda project, name=None: kxr_like())
 
 
 def _edit(src: Path, out: Path) -> Path:
@@ -50,11 +44,15 @@ def _edit(src: Path, out: Path) -> Path:
         ],
     )
     assert r.exit_code == 0, r.output
-    assert f"motion {TURN_LEFT} mirrored slot {FREE}" in r.output
+    # the robot is detected from the servo table: the fixture is a KXR-L2 with grippers
+    assert (
+        f"motion {TURN_LEFT} mirrored slot {FREE} as 'TURN_RIGHT_MIRROR' (kxr-l2-gripper)"
+        in r.output
+    )
     return out
 
 
-def test_edit_diff_build_simulate(kxr_project_path: Path, tmp_path: Path, model: None) -> None:
+def test_edit_diff_build_simulate(kxr_project_path: Path, tmp_path: Path) -> None:
     out = _edit(kxr_project_path, tmp_path / "edited.h4p")
     r = CliRunner().invoke(cli, ["project", "diff", str(kxr_project_path), str(out), "--json"])
     assert r.exit_code == 1, r.output
@@ -86,15 +84,12 @@ def test_edit_diff_build_simulate(kxr_project_path: Path, tmp_path: Path, model:
     assert len(errors) <= len([f for f in check_project(original) if f.severity == "error"])
 
 
-def test_mirror_cli_refuses_without_model(
-    kxr_project_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    from rcb4hv.errors import NoRobotModelError
-
-    def none(project: hth4.Project, name: str | None = None) -> None:
-        raise NoRobotModelError("no built-in robot model matches this project's servos")
-
-    monkeypatch.setattr(edit_cmd, "project_model", none)
+def test_mirror_cli_refuses_without_model(kxr_project_path: Path, tmp_path: Path) -> None:
+    # a project whose servo table matches no built-in model (one servo less)
+    p = hth4.load_project(kxr_project_path)
+    odd = tmp_path / "odd.h4p"
+    hth4.save_project(replace(p, servos=tuple(s for s in p.servos if s.device_number != 19)), odd)
+    kxr_project_path = odd
     out = tmp_path / "x.h4p"
     r = CliRunner().invoke(
         cli,
@@ -112,3 +107,20 @@ def test_mirror_cli_refuses_without_model(
     )
     assert r.exit_code == 1 and "no built-in robot model" in r.output
     assert not out.exists()
+
+
+def test_mirror_cli_with_a_named_robot_and_in_place(kxr_project_path: Path, tmp_path: Path) -> None:
+    once, twice = tmp_path / "once.h4p", tmp_path / "twice.h4p"
+    for src, dst in ((kxr_project_path, once), (once, twice)):
+        r = CliRunner().invoke(
+            cli,
+            ["project", "mirror", str(src), "--motion", "42", "--robot", "kxr-l2-gripper",
+             "--force", "-o", str(dst)],
+        )  # fmt: skip
+        assert r.exit_code == 0, r.output
+    assert once.read_bytes() != kxr_project_path.read_bytes()
+    assert twice.read_bytes() == kxr_project_path.read_bytes()
+    r = CliRunner().invoke(
+        cli, ["project", "mirror", str(once), "--motion", "42", "--robot", "nao", "-o", str(twice)]
+    )
+    assert r.exit_code == 1 and "unknown robot 'nao'" in r.output

@@ -164,7 +164,6 @@ def test_update_flags_read_as_one_integer_bit_n_is_ics_n() -> None:
     assert m.read_update_flags(span, m.ADDR.UPDATE_FLAGS - 4) == 1 << 10
 
 
-
 @given(st.integers(0, 0x7FFF), st.booleans())
 def test_timer_round_trip(count: int, running: bool) -> None:
     t = m.TimerState(count, running)

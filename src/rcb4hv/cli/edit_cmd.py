@@ -4,7 +4,6 @@ two projects (the API is :mod:`rcb4hv.hth4.edit`, :mod:`rcb4hv.hth4.diff`)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, cast
 
 import click
 
@@ -20,29 +19,25 @@ ROBOT_OPTION = click.option(
     "robot_name",
     default=None,
     metavar="NAME",
-    help="Robot model (khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper); default: detected from "
-    "the project's servo names.",
+    help="Robot model (khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, or a URDF file with its "
+    "joint map); default: detected from the project's servos.",
 )
 
 
 def project_model(project: Project, name: str | None = None) -> RobotModel:
     """The robot model named ``name``, or the built-in one the project's servos match;
     :class:`~rcb4hv.errors.NoRobotModelError` when there is none."""
-    import importlib
+    from rcb4hv.robot.builtin import detect_robot, load_robot
 
-    try:  # the built-in models live in rcb4hv.robot.builtin (robot-model branch)
-        builtin: Any = importlib.import_module("rcb4hv.robot.builtin")
-    except ImportError:  # pragma: no cover - before the built-in models exist
-        raise NoRobotModelError("this rcb4hv has no built-in robot models") from None
     if name is not None:
-        return cast(RobotModel, builtin.load_builtin(name))
-    used = [s for s in project.servos if s.in_use]
-    found = builtin.detect_robot([s.name or "" for s in used], [s.device_number for s in used])
+        return load_robot(name)
+    used = {s.device_number: s.name or "" for s in project.servos if s.in_use}
+    found = detect_robot(used)
     if found is None:
         raise NoRobotModelError(
             "no built-in robot model matches this project's servos: name one with --robot"
         )
-    return cast(RobotModel, found if isinstance(found, RobotModel) else builtin.load_builtin(found))
+    return load_robot(found)
 
 
 def register(project: click.Group) -> None:

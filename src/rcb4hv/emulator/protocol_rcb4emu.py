@@ -263,4 +263,3 @@ class Serial(SerialBase):
 
     def reset_output_buffer(self) -> None:
         pass
-
