@@ -13,6 +13,7 @@ from nicegui import ui
 from nicegui.element import Element
 
 from rcb4hv.hth4 import Project
+from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
 
 __all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
@@ -56,11 +57,16 @@ async def attempt(future: Future[object], what: str) -> bool:
 
 @dataclass
 class UiContext:
-    """State shared by all pages and browser tabs (one user, one board)."""
+    """State shared by all pages and browser tabs (one user, one board).
+
+    ``robot`` is the model the 3D view draws and the servo table names joints from;
+    ``robot_source`` says where it came from (``--robot``, a project, the default)."""
 
     session: BoardSession
     project: Project | None = None
     project_name: str = ""
+    robot: RobotModel | None = None
+    robot_source: str = ""
     max_upload: int = MAX_UPLOAD
     _listeners: list[Callable[[], None]] = field(default_factory=list)
 

@@ -1,0 +1,91 @@
+// The robot of rcb4hv's 3D view (rcb4hv.ui.scene3d.RobotBody): one three.js group per link
+// holding its geoms, plus the centre-of-mass marker and the support polygon on the ground.
+// set_pose() only rewrites matrices and two small buffers: nothing is re-created per update.
+import { THREE } from "nicegui-scene";
+
+const GROUND_LIFT = 0.0005; // draw ground marks 0.5 mm above the ground plane (no z-fighting)
+
+function matrix(m) {
+  // a 3x4 row-major transform -> THREE.Matrix4
+  return new THREE.Matrix4().set(
+    m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11], 0, 0, 0, 1,
+  );
+}
+
+function setPoints(geometry, points) {
+  // a fresh buffer each time: the number of points changes from pose to pose
+  geometry.setAttribute("position", new THREE.Float32BufferAttribute(points.flat(), 3));
+  geometry.computeBoundingSphere();
+}
+
+function geometry(shape, size) {
+  if (shape === "box") return new THREE.BoxGeometry(size[0], size[1], size[2]);
+  if (shape === "cylinder") {
+    // three.js cylinders run along y; the model's along z
+    const g = new THREE.CylinderGeometry(size[0], size[0], size[1], 16);
+    g.rotateX(Math.PI / 2);
+    return g;
+  }
+  return new THREE.SphereGeometry(size[0], 16, 12);
+}
+
+export default class RobotBody {
+  create_mesh(links, pose) {
+    this.root = new THREE.Group();
+    this.links = links.map((geoms) => {
+      const group = new THREE.Group();
+      group.matrixAutoUpdate = false;
+      for (const [shape, size, local, rgba] of geoms) {
+        const material = new THREE.MeshPhongMaterial({
+          color: new THREE.Color(rgba[0], rgba[1], rgba[2]),
+          transparent: rgba[3] < 1,
+          opacity: rgba[3],
+        });
+        const mesh = new THREE.Mesh(geometry(shape, size), material);
+        mesh.matrixAutoUpdate = false;
+        mesh.matrix.copy(matrix(local));
+        group.add(mesh);
+      }
+      this.root.add(group);
+      return group;
+    });
+    this.com = new THREE.Mesh(
+      new THREE.CylinderGeometry(0.008, 0.008, 0.002, 24).rotateX(Math.PI / 2),
+      new THREE.MeshBasicMaterial({ color: 0x16a34a }),
+    );
+    this.plumb = new THREE.Line(
+      new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ color: 0x16a34a }),
+    );
+    this.outline = new THREE.LineLoop(
+      new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ color: 0x2563eb }),
+    );
+    this.area = new THREE.Mesh(
+      new THREE.BufferGeometry(),
+      new THREE.MeshBasicMaterial({ color: 0x60a5fa, transparent: true, opacity: 0.35, side: THREE.DoubleSide }),
+    );
+    this.root.add(this.com, this.plumb, this.outline, this.area);
+    this.set_pose(pose);
+    return this.root;
+  }
+
+  set_pose(pose) {
+    const [frames, com, support, inside, fallen] = pose;
+    frames.forEach((m, i) => {
+      const group = this.links[i];
+      group.matrix.copy(matrix(m));
+      group.matrixWorldNeedsUpdate = true;
+    });
+    const colour = fallen ? 0xdc2626 : inside ? 0x16a34a : 0xea580c;
+    this.com.material.color.setHex(colour);
+    this.plumb.material.color.setHex(colour);
+    this.com.position.set(com[0], com[1], GROUND_LIFT);
+    setPoints(this.plumb.geometry, [com, [com[0], com[1], GROUND_LIFT]]);
+    const ring = support.map((p) => [p[0], p[1], GROUND_LIFT]);
+    setPoints(this.outline.geometry, ring);
+    const fan = [];
+    for (let i = 1; i + 1 < ring.length; i++) fan.push(ring[0], ring[i], ring[i + 1]);
+    setPoints(this.area.geometry, fan);
+  }
+}

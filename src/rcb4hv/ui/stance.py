@@ -1,0 +1,159 @@
+"""Where a robot stands: link transforms, centre of mass, support polygon (pure geometry).
+
+The 3D view draws a pose from here; nothing in this module knows about the browser.
+
+* Feet: the model's leaf links whose lowest geom point, in the zero pose (every joint at 0),
+  lies within :data:`CONTACT_TOLERANCE_M` of the robot's lowest point (a humanoid's soles).
+* Without a measured base pose (the plain simulator, the live board) the base is placed so
+  that the lowest foot point is on the ground (z = 0); x, y and yaw stay at 0.
+* The support polygon is the convex hull, on the ground plane, of the geom corners within
+  :data:`CONTACT_TOLERANCE_M` of the ground; the centre of mass is over it or not.
+
+Corners: a box's 8 corners; a cylinder's two rims as inscribed octagons (each point is on the
+rim; a straight side lies at most r(1 - cos 22.5°) = 7.6 % of the radius inside it); a sphere's
+lowest point and its 4 horizontal extremes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+
+from rcb4hv.robot import Geom, RobotModel, Transform, Vec3, center_of_mass, forward
+from rcb4hv.robot.kinematics import apply, compose, from_xyz_rpy
+
+__all__ = [
+    "CONTACT_TOLERANCE_M",
+    "Stance",
+    "convex_hull",
+    "feet",
+    "geom_points",
+    "inside",
+    "stance",
+]
+
+CONTACT_TOLERANCE_M = 0.001
+"""A point within 1 mm of the ground touches it. The models' dimensions are published to
+0.1-1 mm (docs/robots.md), so a flat sole computed from them is level to well under 1 mm;
+anything higher is lifted."""
+
+RIM_POINTS = 8
+"""Points on each cylinder rim (an inscribed octagon)."""
+
+Point2 = tuple[float, float]
+
+
+def _translation(x: float, y: float, z: float) -> Transform:
+    return from_xyz_rpy((x, y, z), (0.0, 0.0, 0.0))
+
+
+def geom_points(geom: Geom, link: Transform) -> list[Vec3]:
+    """The corner points of ``geom`` in the world, its link at ``link``."""
+    sx, sy, sz = geom.size
+    if geom.shape == "sphere":  # the same in every frame: its points are in the world's axes
+        cx, cy, cz = apply(link, geom.pos)
+        ring = [(cx + sx, cy, cz), (cx - sx, cy, cz), (cx, cy + sx, cz), (cx, cy - sx, cz)]
+        return [(cx, cy, cz - sx), *ring]
+    local: list[Vec3]
+    if geom.shape == "box":
+        local = [
+            (a * sx / 2, b * sy / 2, c * sz / 2) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)
+        ]
+    else:  # cylinder: radius sx, length sy along its local z
+        local = []
+        for k in range(RIM_POINTS):
+            phi = 2 * math.pi * k / RIM_POINTS
+            local += [(sx * math.cos(phi), sx * math.sin(phi), h) for h in (-sy / 2, sy / 2)]
+    t = compose(link, from_xyz_rpy(geom.pos, geom.rpy))
+    return [apply(t, p) for p in local]
+
+
+def _world_points(
+    model: RobotModel, frames: Mapping[str, Transform], links: Iterable[str]
+) -> list[Vec3]:
+    return [
+        p for name in links for g in model.link(name).geoms for p in geom_points(g, frames[name])
+    ]
+
+
+def feet(model: RobotModel) -> tuple[str, ...]:
+    """The links the robot stands on (see the module docstring); every geom-carrying leaf link
+    if the model has no single lowest group."""
+    parents = {j.parent for j in model.joints}
+    leaves = [link.name for link in model.links if link.name not in parents and link.geoms]
+    frames = forward(model, {})
+    low = {name: min(p[2] for p in _world_points(model, frames, [name])) for name in leaves}
+    if not low:
+        return ()
+    bottom = min(low.values())
+    return tuple(n for n, z in low.items() if z <= bottom + CONTACT_TOLERANCE_M)
+
+
+def convex_hull(points: Iterable[Point2]) -> list[Point2]:
+    """Counter-clockwise convex hull (Andrew's monotone chain); collinear points dropped."""
+    pts = sorted(set(points))
+    if len(pts) <= 2:
+        return pts
+
+    def cross(o: Point2, a: Point2, b: Point2) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower: list[Point2] = []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    upper: list[Point2] = []
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def inside(polygon: Sequence[Point2], p: Point2) -> bool:
+    """True if ``p`` lies in the counter-clockwise convex ``polygon`` (edges included)."""
+    if len(polygon) < 3:
+        return False
+    n = len(polygon)
+    for i in range(n):
+        (ax, ay), (bx, by) = polygon[i], polygon[(i + 1) % n]
+        if (bx - ax) * (p[1] - ay) - (by - ay) * (p[0] - ax) < -1e-12:
+            return False
+    return True
+
+
+@dataclass(frozen=True)
+class Stance:
+    """One pose, placed in the world: link transforms, centre of mass, support polygon."""
+
+    frames: dict[str, Transform]
+    com: Vec3
+    support: list[Point2]
+
+    @property
+    def com_inside(self) -> bool:
+        """The centre of mass is over the support polygon (statically stable)."""
+        return inside(self.support, (self.com[0], self.com[1]))
+
+
+def stance(
+    model: RobotModel,
+    angles: Mapping[str, float],
+    base: Transform | None = None,
+    foot_links: Sequence[str] | None = None,
+) -> Stance:
+    """Place ``angles`` in the world: at ``base`` if given (a simulated base pose), else on
+    the ground with the lowest point of ``foot_links`` (default :func:`feet`) at z = 0."""
+    if base is None:
+        frames = forward(model, angles)
+        soles = foot_links if foot_links is not None else feet(model)
+        pts = _world_points(model, frames, soles or [link.name for link in model.links])
+        lift = _translation(0.0, 0.0, -min((p[2] for p in pts), default=0.0))
+        frames = {name: compose(lift, t) for name, t in frames.items()}
+    else:
+        frames = forward(model, angles, base)
+    pts = _world_points(model, frames, [link.name for link in model.links])
+    touching = [(p[0], p[1]) for p in pts if p[2] <= CONTACT_TOLERANCE_M]
+    return Stance(frames, center_of_mass(model, frames), convex_hull(touching))
