@@ -8,11 +8,10 @@ from pathlib import Path
 import click
 
 from rcb4hv.cli._util import handle_errors, print_json
-from rcb4hv.errors import NoRobotModelError
-from rcb4hv.hth4 import Project, load_project
-from rcb4hv.robot.model import RobotModel
+from rcb4hv.hth4 import load_project
+from rcb4hv.hth4.mirror import project_model
 
-__all__ = ["project_model", "register"]
+__all__ = ["register"]
 
 ROBOT_OPTION = click.option(
     "--robot",
@@ -22,22 +21,6 @@ ROBOT_OPTION = click.option(
     help="Robot model (khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, or a URDF file with its "
     "joint map); default: detected from the project's servos.",
 )
-
-
-def project_model(project: Project, name: str | None = None) -> RobotModel:
-    """The robot model named ``name``, or the built-in one the project's servos match;
-    :class:`~rcb4hv.errors.NoRobotModelError` when there is none."""
-    from rcb4hv.robot.builtin import detect_robot, load_robot
-
-    if name is not None:
-        return load_robot(name)
-    used = {s.device_number: s.name or "" for s in project.servos if s.in_use}
-    found = detect_robot(used)
-    if found is None:
-        raise NoRobotModelError(
-            "no built-in robot model matches this project's servos: name one with --robot"
-        )
-    return load_robot(found)
 
 
 def register(project: click.Group) -> None:

@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from rcb4hv.errors import EditError, NoRobotModelError, ProtocolError
-from rcb4hv.hth4.model import Motion
+from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.motioncode import split_frames
 from rcb4hv.hth4.poses import (
     DEFAULT_CHECKS,
@@ -35,10 +35,27 @@ from rcb4hv.protocol import SetSpeed, SetStretch, decode_command
 from rcb4hv.protocol.memory import CENTER
 from rcb4hv.robot.model import RobotModel
 
-__all__ = ["MirrorMap", "mirror_map", "mirror_motion_entries", "mirror_values"]
+__all__ = ["MirrorMap", "mirror_map", "mirror_motion_entries", "mirror_values", "project_model"]
 
 MirrorMap = Mapping[int, tuple[int, int]]
 """ICS number -> (mirror ICS number, counts factor ±1)."""
+
+
+def project_model(project: Project, name: str | None = None) -> RobotModel:
+    """The robot model named ``name`` (a built-in name or a URDF file), or the built-in one
+    whose joint map matches the project's servos in use
+    (:func:`~rcb4hv.robot.builtin.detect_robot`); NoRobotModelError when none does."""
+    from rcb4hv.robot.builtin import detect_robot, load_robot
+
+    if name is not None:
+        return load_robot(name)
+    used = {s.device_number: s.name or "" for s in project.servos if s.in_use}
+    found = detect_robot(used)
+    if found is None:
+        raise NoRobotModelError(
+            "no built-in robot model matches this project's servos: name one (--robot)"
+        )
+    return load_robot(found)
 
 
 def mirror_map(model: RobotModel | None) -> dict[int, tuple[int, int]]:
