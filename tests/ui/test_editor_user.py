@@ -60,7 +60,7 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         await until(lambda: "4 edits" in one(user, "editor-status").text)
         one(user, "editor-path").set_value(str(out))
         user.find(marker="editor-save").click()
-        await until(lambda: out.exists() and "saved" in one(user, "editor-status").text)
+        await until(lambda: out.exists() and one(user, "editor-status").text.endswith(" - saved"))
         await user.should_see(marker="editor-download-h4p")
 
     run(scenario)
@@ -94,7 +94,7 @@ def test_trim_panel_stores_a_trim(kxr_project_path: Path, tmp_path: Path) -> Non
         base = int.from_bytes(bytes(board.ram[blk + 2 : blk + 4]), "little", signed=True)
         assert base == new_trim(-250, 7560) == -190
         user.find(marker="editor-save").click()
-        await until(lambda: "saved" in one(user, "editor-status").text)
+        await until(lambda: one(user, "editor-status").text.endswith(" - saved"))
 
     run(scenario)
     assert hth4.load_project(src).servo(10).trim == -190

@@ -103,7 +103,9 @@ def build(ctx: UiContext) -> None:
             frames_in.on_value_change(lambda e: set_frames(e.value))
             joints = ui.column().classes("w-full gap-0")
     with ui.row().classes("items-center"):
-        to_sel = tid(ui.select({}, label="Mirror motion into"), "editor-mirror-to").classes("w-48")
+        to_sel = tid(
+            ui.select({}, label="Mirror motion into", with_input=True), "editor-mirror-to"
+        ).classes("w-48")
         name_in = tid(ui.input("Name of the mirror"), "editor-mirror-name")
         tid(ui.button("Mirror motion", icon="flip"), "editor-mirror-motion").on_click(
             lambda: mirror_all()
