@@ -58,6 +58,11 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         one(user, "editor-mirror-name").set_value("TURN_RIGHT_MIRROR")
         user.find(marker="editor-mirror-motion").click()
         await until(lambda: "4 edits" in one(user, "editor-status").text)
+        # preview the mirror: simulated in virtual time, played in the 3D view
+        one(user, "editor-motion").set_value(FREE)
+        user.find(marker="editor-preview").click()
+        await until(lambda: one(user, "editor-preview-status").text.startswith("t = "), 30)
+        assert one(user, "editor-scrubber").props["max"] > 0.5  # the turn lasts ~0.6 s
         one(user, "editor-path").set_value(str(out))
         user.find(marker="editor-save").click()
         await until(lambda: out.exists() and one(user, "editor-status").text.endswith(" - saved"))

@@ -18,7 +18,7 @@ are addressed by their 1-based slot, poses by their 0-based index.
 from __future__ import annotations
 
 import bisect
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 
 from rcb4hv.errors import EditError
@@ -204,14 +204,19 @@ def _free_target(project: Project, to: int) -> Motion:
     return target
 
 
-def _shift(source: Motion, target: Motion) -> Motion:
-    """``source``'s content in ``target``'s slot, its internal branches moved along."""
-    size = len(source.rom_bytes())
-    lo, hi = source.address, source.address + size
+def _slot_shift(source: Motion, target: Motion) -> Callable[[int], int]:
+    """Addresses inside ``source``'s slot (its whole reserved space) moved to ``target``'s."""
+    lo, hi = source.address, source.address + slot_size(source)
 
     def where(address: int) -> int:
         return target.address + address - lo if lo <= address < hi else address
 
+    return where
+
+
+def _shift(source: Motion, target: Motion) -> Motion:
+    """``source``'s content in ``target``'s slot, its internal branches moved along."""
+    where = _slot_shift(source, target)
     moved = replace(
         source, key=target.key, number=target.number, address=target.address, frames=source.frames
     )
@@ -272,11 +277,7 @@ def move_motion(project: Project, slot: int, to: int) -> Project:
     moved = replace(source, key=target.key, number=target.number, address=target.address)
     vacated = replace(target, key=source.key, number=source.number, address=source.address)
     vacated = replace(vacated, name=source.key)
-    lo, hi = source.address, source.address + size
-
-    def where(address: int) -> int:
-        return target.address + address - lo if lo <= address < hi else address
-
+    where = _slot_shift(source, target)
     swapped = _put(_put(project, moved), vacated)
     return retarget_project(swapped, where)
 

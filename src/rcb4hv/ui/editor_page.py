@@ -12,6 +12,7 @@ leaving while there are unsaved changes. The trim panel is :mod:`rcb4hv.ui.trim_
 
 from __future__ import annotations
 
+import asyncio
 import logging
 import math
 from collections.abc import Callable
@@ -34,6 +35,8 @@ from rcb4hv.ui import trim_panel
 from rcb4hv.ui.context import UiContext, attempt, tid
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
+from rcb4hv.ui.preview import FRAME_PERIOD_S, Player, make_playback
+from rcb4hv.ui.scene3d import RobotScene
 
 __all__ = ["build"]
 
@@ -98,6 +101,15 @@ def build(ctx: UiContext) -> None:
         with ui.column().classes("items-center"):
             caption = tid(ui.label(""), "editor-3d-caption").classes("text-sm text-slate-600")
             holder = ui.column()
+            with ui.row().classes("items-center"):
+                tid(
+                    ui.button("Preview", icon="view_in_ar").props("dense"), "editor-preview"
+                ).on_click(lambda: preview())
+                play = tid(ui.button("Play", icon="play_arrow").props("dense"), "editor-play")
+                play.on_click(lambda: toggle())
+            scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "editor-scrubber")
+            scrubber.classes("w-96")
+            preview_status = tid(ui.label(""), "editor-preview-status").classes("text-xs")
         with ui.column().classes("grow"):
             frames_in = tid(ui.number("Frames (output periods)", min=1, max=255), "editor-frames")
             frames_in.on_value_change(lambda e: set_frames(e.value))
@@ -115,7 +127,9 @@ def build(ctx: UiContext) -> None:
         downloads = ui.row()
     trims_refresh = trim_panel.build(ctx, ed, on_change=lambda: redraw())
 
-    view: list[object] = [None]  # the RobotScene, built when a model is known
+    view: list[RobotScene | None] = [None]  # the RobotScene, built when a model is known
+    player: list[Player] = []
+    ui.timer(FRAME_PERIOD_S, lambda: player[0].tick() if player else None)
 
     # ------------------------------------------------------------------ actions
     def open_path() -> None:
@@ -247,20 +261,39 @@ def build(ctx: UiContext) -> None:
         ui.notify(f"saved {saved}")
         redraw()
 
+    def toggle() -> None:
+        if player and player[0].playback is not None:
+            player[0].toggle()
+            play.text = "Pause" if player[0].playing else "Play"
+
+    async def preview() -> None:
+        """Simulate the edited motion in virtual time and play it in the 3D view."""
+        if ed.session is None or ed.slot is None or ed.model is None or not player:
+            ui.notify("open a project with a robot model and pick a motion", type="warning")
+            return
+        preview_status.text = f"simulating motion {ed.slot}..."
+        try:
+            pb = await asyncio.to_thread(make_playback, ed.project, ed.slot, ed.model)
+        except (Rcb4Error, ValueError) as exc:
+            preview_status.text = f"cannot simulate motion {ed.slot}: {exc}"
+            return
+        player[0].load(pb)
+        toggle()
+
     # ------------------------------------------------------------------ drawing
     def rebuild_view() -> None:
         holder.clear()
+        player.clear()
         view[0] = None
         if ed.model is None:
             caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
             return
-        from rcb4hv.ui.scene3d import RobotScene
-
         caption.text = ed.model.title
         with holder:
             scene = RobotScene(ed.model, width=420, height=420)
             tid(scene.scene, "editor-3d")
         view[0] = scene
+        player.append(Player(scene, preview_status, scrubber))
 
     def draw_joints() -> None:
         joints.clear()
@@ -308,8 +341,11 @@ def build(ctx: UiContext) -> None:
             draw_joints()
             trims_refresh()
             scene = view[0]
+            if player:
+                player[0].playing = False
+                play.text = "Play"
             if scene is not None:
-                scene.update(ed.pose_angles())  # type: ignore[attr-defined]
+                scene.update(ed.pose_angles())
             if ed.dirty != guard[0]:
                 guard[0] = ed.dirty
                 client.run_javascript(LEAVE_GUARD.format(on="true" if ed.dirty else "false"))
