@@ -44,7 +44,7 @@ def gl_browser(chromium_path: str) -> Iterator[Any]:
 def gl_page(gl_browser: Any, app_url: str) -> Iterator[Any]:
     context = gl_browser.new_context(viewport={"width": 1500, "height": 1000})
     pg = context.new_page()
-    pg.set_default_timeout(20_000)
+    pg.set_default_timeout(40_000)
     pg.goto(app_url)
     pg.get_by_test_id("stop").wait_for()
     yield pg
@@ -63,7 +63,7 @@ def _choose(page: Any, name: str, text: str) -> None:
     page.get_by_role("option", name=text).first.click()
 
 
-def _wait_text(page: Any, name: str, text: str, timeout: float = 20.0) -> None:
+def _wait_text(page: Any, name: str, text: str, timeout: float = 40.0) -> None:
     deadline = time.monotonic() + timeout
     while text not in page.get_by_test_id(name).inner_text():
         assert time.monotonic() < deadline, f"{name}: no {text!r} in time"
@@ -83,7 +83,7 @@ def test_editor_in_the_browser(gl_page: Any, kxr_project_path: Path, tmp_path: P
     _choose(page, "editor-motion", f"M{WALK:03d} HAC_KXR_WALK_FORWARD")
     page.locator("[data-testid=editor-flowchart] g[data-pose='1']").click()
     raw = _input(page, "editor-raw-10")
-    deadline = time.monotonic() + 20
+    deadline = time.monotonic() + 40
     while raw.input_value() != "7900":
         assert time.monotonic() < deadline, "pose 2 not selected"
         time.sleep(0.1)
