@@ -21,8 +21,9 @@ from pathlib import Path
 from nicegui import ui
 
 from rcb4hv.errors import Rcb4Error
-from rcb4hv.hth4 import dump_project
+from rcb4hv.hth4 import BUTTON_SYMBOLS, dump_project
 from rcb4hv.hth4.edit import (
+    bind_button,
     delete_pose,
     duplicate_pose,
     insert_pose,
@@ -122,6 +123,14 @@ def build(ctx: UiContext) -> None:
         tid(ui.button("Mirror motion", icon="flip"), "editor-mirror-motion").on_click(
             lambda: mirror_all()
         )
+        buttons_sel = tid(
+            ui.select({bit: sym for bit, sym in BUTTON_SYMBOLS}, label="Remote buttons",
+                      multiple=True),
+            "editor-buttons",
+        ).classes("w-56")  # fmt: skip
+        tid(ui.button("Bind", icon="gamepad").props("dense"), "editor-bind").on_click(
+            lambda: bind()
+        )
         tid(ui.button("Send pose", icon="send"), "editor-send").on_click(lambda: send())
         tid(ui.button("Save", icon="save", color="green"), "editor-save").on_click(lambda: save())
         downloads = ui.row()
@@ -202,6 +211,12 @@ def build(ctx: UiContext) -> None:
         to = None if to_sel.value in (None, 0) else int(to_sel.value)
         name = name_in.value or None
         edit(mirror_motion, ed.slot, ed.model, to=to, name=name, checks=ed.checks)
+
+    def bind() -> None:
+        """Bind the motion to the chosen buttons (none: unbind)."""
+        if ed.slot is not None:
+            word = sum(int(b) for b in buttons_sel.value or [])
+            edit(bind_button, ed.slot, word, force=ed.force)
 
     def set_value(ics: int, value: object) -> None:
         if loading[0] or value is None or ed.slot is None or ed.pose_index is None:
@@ -329,6 +344,9 @@ def build(ctx: UiContext) -> None:
             free = {0: "(in place)"} | {s: f"M{s:03d} (free)" for s in ed.free_slots()}
             to_sel.options = free
             to_sel.update()
+            if ed.slot is not None:
+                word = ed.project.motion(ed.slot).button_data
+                buttons_sel.value = [bit for bit, _ in BUTTON_SYMBOLS if word & bit]
             pose = ed.pose
             frames_in.value = pose.speed if pose is not None else None
             blocks = ed.blocks()
