@@ -140,3 +140,23 @@ def test_builtin_kxr_model_mirrors_the_fixture(project: hth4.Project) -> None:
     for s in slots:
         twice = mirror_motion(twice, s, model, checks=Checks(force=True))
     assert hth4.dump_project(twice) == hth4.dump_project(project)
+
+
+# Left/right pairs of the fixture that Kondo and the HAC project wrote as exact mirror images:
+# fast walk left/right, fast turn left/right, jump turn, HAC walk left/right, HAC turn
+# left/right, throw left/right. (The other pairs differ in a few hand-tuned values.)
+EXACT_PAIRS = ((11, 12), (13, 14), (64, 65), (67, 68), (69, 70), (48, 56))
+
+
+@pytest.mark.parametrize(("left", "right"), EXACT_PAIRS)
+def test_builtin_model_reproduces_the_fixtures_mirror_pairs(
+    project: hth4.Project, left: int, right: int
+) -> None:
+    from rcb4hv.hth4.mirror import project_model
+
+    model = project_model(project)
+    assert model.name == "kxr-l2-gripper"
+    p = mirror_motion(project, left, model, to=73, date=DATE)
+    assert motion_poses(p.motion(73)) == motion_poses(project.motion(right))
+    q = mirror_motion(project, right, model, to=73, date=DATE)
+    assert motion_poses(q.motion(73)) == motion_poses(project.motion(left))
