@@ -10,8 +10,10 @@ from nicegui.testing.user import User
 from rcb4hv import hth4
 from rcb4hv.emulator import Board
 from rcb4hv.hth4.diff import diff_projects
+from rcb4hv.hth4.edit import set_pose
 from rcb4hv.hth4.poses import motion_poses
 from rcb4hv.ui.context import UiContext
+from rcb4hv.ui.project_actions import project_image
 from rcb4hv.ui.trim_panel import new_trim
 from tests.ui.test_user import one, output, run, until
 
@@ -113,3 +115,24 @@ def test_trim_panel_stores_a_trim(kxr_project_path: Path, tmp_path: Path) -> Non
 
     run(scenario)
     assert hth4.load_project(src).servo(10).trim == -190
+
+
+def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_path: Path) -> None:
+    src = tmp_path / "kxr.h4p"
+    src.write_bytes(kxr_project_path.read_bytes())
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        one(user, "editor-path").set_value(str(src))
+        user.find(marker="editor-open").click()
+        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        one(user, "editor-motion").set_value(39)  # the home position: one pose
+        one(user, "editor-raw-10").set_value(7700)
+        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        user.find(marker="editor-play-board").click()
+        await user.should_see(marker="editor-play-confirm")
+        user.find(marker="editor-play-confirm").click()
+        await until(lambda: output(board, 10) == 7700, 120)
+        edited = set_pose(hth4.load_project(src), 39, 0, {10: 7700})
+        assert bytes(board.rom) == project_image(edited)  # the edit is in the board's ROM
+
+    run(scenario)

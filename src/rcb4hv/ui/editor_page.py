@@ -34,6 +34,7 @@ from rcb4hv.hth4.edit import (
 )
 from rcb4hv.ui import trim_panel
 from rcb4hv.ui.context import UiContext, attempt, tid
+from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
 from rcb4hv.ui.preview import FRAME_PERIOD_S, Player, make_playback
@@ -132,6 +133,9 @@ def build(ctx: UiContext) -> None:
             lambda: bind()
         )
         tid(ui.button("Send pose", icon="send"), "editor-send").on_click(lambda: send())
+        tid(ui.button("Play motion", icon="smart_display"), "editor-play-board").on_click(
+            lambda: play_board()
+        )
         tid(ui.button("Save", icon="save", color="green"), "editor-save").on_click(lambda: save())
         downloads = ui.row()
     trims_refresh = trim_panel.build(ctx, ed, on_change=lambda: redraw())
@@ -249,6 +253,10 @@ def build(ctx: UiContext) -> None:
 
         if await attempt(ctx.session.submit(do, label="send pose"), "Send pose"):
             ui.notify(f"pose {pose.index + 1} sent ({speed} frames)")
+
+    async def play_board() -> None:
+        if ed.session is not None and ed.slot is not None:
+            await play_on_board(ctx, ed.project, ed.slot)
 
     def save() -> None:
         target = Path(path_in.value).expanduser() if path_in.value else None
