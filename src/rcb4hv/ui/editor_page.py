@@ -4,8 +4,10 @@ Open a project file (a path on this computer, or the project opened on the Proje
 pick a motion: its flowchart shows every block, the poses selectable (other blocks are
 read-only). The selected pose is drawn in 3D and gets one slider per joint (degrees, with
 the raw value beside it) and its frame count. Insert / duplicate / delete / move poses,
-mirror the pose or the motion (in place or into a free slot), undo and redo. "Send pose"
-moves the board (or emulator) there. "Save" writes the ``.h4p`` atomically and offers it and
+mirror the pose or the motion (in place or into a free slot), bind remote buttons, undo and
+redo. "Send pose" moves the board (or emulator) there; "Play motion" writes the edited project
+to the board and plays the motion (:mod:`rcb4hv.ui.editor_play`); "Preview" plays it in 3D
+in virtual time. "Save" writes the ``.h4p`` atomically and offers it and
 each changed plain-chain motion's flowchart ``.xml`` for download. The browser asks before
 leaving while there are unsaved changes. The trim panel is :mod:`rcb4hv.ui.trim_panel`.
 """
