@@ -216,7 +216,6 @@ def test_random_edits_round_trip_and_undo(
         except EditError:
             continue  # a refused edit leaves the session as it was
         applied += 1
-        _roundtrips(session.project)
         for m in session.project.used_motions:
             for e in m.frames:  # every entry still cuts into valid frames
                 frames, tail = split_frames(e)
@@ -226,10 +225,14 @@ def test_random_edits_round_trip_and_undo(
                     assert t is None or t == 0xFFFFFF or t >= 0x0B80
     assert len(session.history) <= applied
     final = session.project
+    _roundtrips(final)
+    # the lint finds nothing new: every branch still lands on an instruction
+    from rcb4hv.project.check import check_project
+
+    assert [f for f in check_project(final) if f.severity == "error"] == []
     while session.can_undo:
         session.undo()
-    assert session.project == project
-    assert hth4.dump_project(session.project) == hth4.dump_project(project)
+    assert session.project == project  # the same model: the same bytes when saved
     while session.can_redo:
         session.redo()
     assert session.project == final
