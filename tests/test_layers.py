@@ -24,7 +24,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("transport",),
     ("rom", "robot"),  # robot: models as data, kinematics, URDF/MJCF
     ("emulator", "hth4"),
-    ("client", "asm"),
+    ("client", "asm", "physics"),  # physics: MuJoCo as a servo backend of the emulator
     ("project",),
     ("aio", "session", "hardware"),
     ("ui",),

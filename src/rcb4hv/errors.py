@@ -21,10 +21,13 @@
     │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one;
     │                              also a RobotModelError
     ├── SimulationError            the emulated board refused a host frame in a simulation
-    └── RobotModelError            a robot model, URDF or joint map that cannot be used (an
-                                   unknown robot name, a link without inertia, a joint map
-                                   naming an unknown joint or a servo the project lacks);
-                                   also a ValueError
+    ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
+    │                              unknown robot name, a link without inertia, a joint map
+    │                              naming an unknown joint or a servo the project lacks);
+    │                              also a ValueError
+    └── PhysicsError               the physics simulation cannot run
+        └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
+                                   ImportError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -43,6 +46,8 @@ __all__ = [
     "LayoutError",
     "NakError",
     "NoRobotModelError",
+    "PhysicsError",
+    "PhysicsUnavailableError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
@@ -147,3 +152,11 @@ class EditError(Rcb4Error, ValueError):
 class NoRobotModelError(EditError, RobotModelError):
     """An edit that needs the robot's joint map (mirroring, joint angles) on a project whose
     robot has no model: name one (``--robot``)."""
+
+
+class PhysicsError(Rcb4Error):
+    """The physics simulation cannot run: a robot model MuJoCo refuses, or no robot model."""
+
+
+class PhysicsUnavailableError(PhysicsError, ImportError):
+    """MuJoCo is not installed: ``pip install 'rcb4hv[sim]'``."""

@@ -25,6 +25,10 @@ LAUNCH_ARGS = [
     "--no-sandbox",
     "--disable-background-networking",
     "--disable-gpu",
+    # WebGL (the 3D view) rendered in software by SwiftShader through ANGLE, with no GPU
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+    "--ignore-gpu-blocklist",
     "--disable-component-update",
     "--disable-sync",
     "--no-first-run",

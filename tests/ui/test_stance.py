@@ -10,10 +10,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from rcb4hv.robot import forward
+from rcb4hv.robot import RobotModel, forward
 from rcb4hv.robot.kinematics import from_xyz_rpy
 from rcb4hv.ui.playback import Frame, Playback, simulated_playback
-from rcb4hv.ui.stance import convex_hull, feet, geom_points, inside, stance
+from rcb4hv.ui.stance import Stance, convex_hull, feet, geom_points, inside, stance
 from tests.ui.toy_robot import LEG, SOLE, SOLE_DROP, toy_model
 
 MODEL = toy_model()
@@ -128,3 +128,51 @@ def test_the_plain_simulator_gives_every_output_period_of_a_motion(kxr_project_p
 
     assert pb.frames[-1].angles == MODEL.angles(sim.board.servo_outputs(), board_trims(sim.board))
     assert len({tuple(sorted(f.angles.items())) for f in pb.frames}) > 10  # it moves
+
+
+def test_a_bow_leans_the_body_over_flat_feet() -> None:
+    s = stance(MODEL, {"l_hip_pitch": 0.5, "r_hip_pitch": 0.5})
+    for foot in ("l_foot", "r_foot"):  # all four sole corners on the ground
+        corners = geom_points(MODEL.link(foot).geoms[0], s.frames[foot])
+        assert sorted(p[2] for p in corners)[:4] == pytest.approx([0.0] * 4, abs=1e-12)
+    torso_up = [s.frames["torso"][k][2] for k in range(3)]
+    assert math.acos(torso_up[2]) == pytest.approx(0.5)  # the body leans by the hip angle
+    assert len(s.support) == 4
+
+
+def test_the_physics_playback_is_the_physics_run(kxr_project_path: Path) -> None:
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.project.physics_sim import PhysicsSimulator
+    from rcb4hv.project.relocate import project_layout
+    from rcb4hv.robot.builtin import load_builtin
+    from rcb4hv.ui.playback import physics_playback
+    from rcb4hv.ui.project_actions import project_image
+
+    project = load_project(kxr_project_path)
+    robot = load_builtin("kxr-l2-gripper")
+    slot = 1  # a few small steps forward
+    pb = physics_playback(project, slot, robot)
+    sim = PhysicsSimulator(project_image(project), robot, motion_layout=project_layout(project))
+    sim.boot()
+    result = sim.play(project.motion(slot).address, slot=slot)
+    outcome = sim.outcomes[-1]
+    assert pb.source == "physics" and pb.status == result.status
+    assert pb.fell_at == outcome.fell_at_s
+    assert pb.duration > result.duration  # it goes on while the robot settles
+    start, end = pb.frames[0].base, pb.frames[-1].base
+    assert start is not None and end is not None
+    yaw0 = math.atan2(start[1][0], start[0][0])  # the robot's heading at the start
+    ex, ey = end[0][3] - start[0][3], end[1][3] - start[1][3]
+    dx = math.cos(yaw0) * ex + math.sin(yaw0) * ey
+    assert dx == pytest.approx(outcome.dx_m, abs=1e-9)
+    assert pb.frames[-1].angles == sim.world.joint_angles()
+    # standing on the floor in physics: the soles are on the ground as in the plain view
+    first = stance(robot, pb.frames[0].angles, start)
+    assert min(p[2] for p in _world_pts(robot, first)) == pytest.approx(0.0, abs=0.003)
+
+
+def _world_pts(model: RobotModel, s: Stance) -> list[tuple[float, float, float]]:
+    """Every sole corner of ``model`` placed by ``s``."""
+    return [
+        p for n in feet(model) for g in model.link(n).geoms for p in geom_points(g, s.frames[n])
+    ]

@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+import pytest
 from nicegui.testing.user import User
 
 from rcb4hv.emulator import Board
@@ -98,3 +99,67 @@ def test_the_preview_plays_pauses_and_scrubs_a_project_motion(kxr_project_path: 
         assert "FELL" not in one(user, "preview-status").text  # the plain simulator has no falls
 
     run(scenario, robot=MODEL)
+
+
+def test_opening_a_project_redraws_the_views_with_its_robot(kxr_project_path: Path) -> None:
+    from rcb4hv.hth4 import load_project
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        ctx.auto_robot = True
+        ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+        for name in ("servos", "remote"):
+            await until(lambda n=name: "KXR-L2 with grippers" in one(user, f"{n}-3d-caption").text)
+        kxr = ctx.robot
+        assert kxr is not None and kxr.name == "kxr-l2-gripper"
+        assert len(body(user, "servos-3d").args[0]) == len(kxr.links)
+        table = one(user, "servo-table")
+        await until(lambda: {r["ics"]: r["joint"] for r in table.rows}[2] == kxr.servo(2).joint)
+        ctx.set_project(None)  # no project: the board's servo table decides
+        await until(lambda: "22-axis" in one(user, "servos-3d-caption").text)
+        assert "matches the board's servos" in one(user, "remote-3d-caption").text
+
+    run(scenario, robot=MODEL)
+
+
+def test_a_physics_preview_marks_the_fall(
+    kxr_project_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.robot.builtin import load_builtin
+    from rcb4hv.ui import preview
+    from rcb4hv.ui.playback import Frame, Playback
+
+    robot = load_builtin("kxr-l2-gripper")
+    upright = Frame(0.0, {}, None)
+    lying = Frame(1.0, {}, ((0, 0, 1, 0), (0, 1, 0, 0), (-1, 0, 0, 0.05), (0, 0, 0, 1)))
+    falls = Playback(
+        1, "falls", (upright, Frame(0.5, {}, None), lying), "completed", "physics", 0.5
+    )
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+        assert one(user, "preview-physics").value  # MuJoCo is installed: physics by default
+        table = one(user, "project-motions")
+        await until(lambda: len(table.rows) == 65)
+        table.selected = [r for r in table.rows if r["slot"] == 1]
+        user.find(marker="preview-run").click()
+        await until(lambda: "(physics)" in one(user, "preview-info").text, 60)
+        assert "motion 1" in one(user, "preview-info").text
+        # a playback that falls (a stand-in for the physics result) is marked on the
+        # scrubber, in the status line and by the centre-of-mass mark turning red
+        monkeypatch.setattr(preview, "physics_playback", lambda *a: falls)
+        user.find(marker="preview-run").click()
+        await until(lambda: "falls" in one(user, "preview-info").text, 30)
+        scrub = one(user, "preview-scrubber")
+        assert scrub.props["marker-labels"] == {0.5: "fall"}
+        b = body(user, "preview-3d")
+        scrub.set_value(0.25)
+        assert b.args[1][4] is False and "FELL at 0.50 s" in one(user, "preview-status").text
+        scrub.set_value(0.75)
+        assert b.args[1][4] is True
+        scrub.set_value(1.0)
+        assert b.args[1][1][2] < 0.2  # lying: the centre of mass is low
+        root = [link.name for link in robot.links].index(robot.root)
+        assert b.args[1][0][root][11] == 0.05  # the root link where physics put it
+
+    run(scenario, robot=robot)

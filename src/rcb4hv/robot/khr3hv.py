@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
-from rcb4hv.robot.model import Geom, Link, RobotModel
+from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, Vec3
 from rcb4hv.robot.servos import KRS_2552RHV
 from rcb4hv.robot.shapes import solid_many
 
@@ -33,21 +33,53 @@ SERVO_RANGE_DEG = 135.0  # ±135°: 3500..11500 counts around 7500 (FACTS.md)
 
 # servo index -> sign (kxreus "khr" and "khr20"; FACTS.md)
 KHR_SIGNS: dict[int, int] = {
-    0: -1, 1: -1, 2: -1, 3: 1, 4: 1, 5: 1, 8: 1, 9: -1, 10: 1, 11: 1,
-    12: 1, 13: 1, 14: -1, 15: 1, 16: 1, 17: -1, 18: 1, 19: -1, 20: -1, 21: -1,
+    0: -1,
+    1: -1,
+    2: -1,
+    3: 1,
+    4: 1,
+    5: 1,
+    8: 1,
+    9: -1,
+    10: 1,
+    11: 1,
+    12: 1,
+    13: 1,
+    14: -1,
+    15: 1,
+    16: 1,
+    17: -1,
+    18: 1,
+    19: -1,
+    20: -1,
+    21: -1,
     # upper-arm yaw (6, 7) is in no public sign table; chosen +1 on both sides like the
     # other yaw pairs (hip yaw 10, 11), so the mirror rule holds (docs/robots.md)
-    6: 1, 7: 1,
-}  # fmt: skip
+    6: 1,
+    7: 1,
+}
 
 # servo index -> (lower, upper) servo degrees (robotlearn docs/limits.png; FACTS.md);
 # indices it omits (1, 6, 7, 10, 11) get the servo's ±135°
 KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {
-    0: (-135, 135), 2: (-90, 105), 3: (-105, 90), 4: (-30, 180), 5: (-180, 30),
-    8: (-130, 30), 9: (-30, 130), 12: (0, 30), 13: (-30, 0), 14: (-90, 90), 15: (-90, 90),
-    16: (-60, 135), 17: (-135, 60), 18: (-100, 120), 19: (-120, 100), 20: (-25, 90),
+    0: (-135, 135),
+    2: (-90, 105),
+    3: (-105, 90),
+    4: (-30, 180),
+    5: (-180, 30),
+    8: (-130, 30),
+    9: (-30, 130),
+    12: (0, 30),
+    13: (-30, 0),
+    14: (-90, 90),
+    15: (-90, 90),
+    16: (-60, 135),
+    17: (-135, 60),
+    18: (-100, 120),
+    19: (-120, 100),
+    20: (-25, 90),
     21: (-90, 25),
-}  # fmt: skip
+}
 
 # joint name -> left/right (or centre) servo index (FACTS.md table)
 _JOINTS: dict[str, tuple[int, int | None]] = {
@@ -64,8 +96,17 @@ _JOINTS: dict[str, tuple[int, int | None]] = {
     "ankle_pitch": (18, 19),
     "ankle_roll": (20, 21),
 }
-_STANDARD = ("head_yaw", "shoulder_pitch", "shoulder_roll", "elbow_pitch", "hip_roll",
-             "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")  # fmt: skip
+_STANDARD = (
+    "head_yaw",
+    "shoulder_pitch",
+    "shoulder_roll",
+    "elbow_pitch",
+    "hip_roll",
+    "hip_pitch",
+    "knee_pitch",
+    "ankle_pitch",
+    "ankle_roll",
+)
 
 # distances, metres (sources in the module docstring)
 SHOULDER_Y = 97.8 / 2 * MM
@@ -91,6 +132,9 @@ SOLE_X = 5.0 * MM
 _Y, _X, _Z = (0.0, 1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
 _DARK, _LIGHT = (0.25, 0.25, 0.28, 1.0), (0.85, 0.85, 0.88, 1.0)
 
+# (joint, link, parent, origin, axis, kind, shapes, servo cases the child link carries)
+_Row = tuple[str, str, str, Vec3, Vec3, JointKind, tuple[Geom, ...], int]
+
 
 def _box(
     size_mm: tuple[float, float, float],
@@ -99,8 +143,12 @@ def _box(
     y_mm: float = 0.0,
     rgba: tuple[float, float, float, float] = _DARK,
 ) -> Geom:
-    return Geom("box", (size_mm[0] * MM, size_mm[1] * MM, size_mm[2] * MM),
-                (x_mm * MM, y_mm * MM, z_mm * MM), rgba=rgba)  # fmt: skip
+    return Geom(
+        "box",
+        (size_mm[0] * MM, size_mm[1] * MM, size_mm[2] * MM),
+        (x_mm * MM, y_mm * MM, z_mm * MM),
+        rgba=rgba,
+    )
 
 
 def _limits(index: int) -> tuple[float, float]:
@@ -117,48 +165,128 @@ def _build(axes: int) -> RobotModel:
     pelvis_geom = _box((50.5, 76.0, 36.0), 18.0)
     chest_geom = _box((80.5, 89.0, 60.5), 66.4, rgba=_LIGHT)
     sole = Geom("box", SOLE, (SOLE_X, 0.0, -SOLE_BELOW_ANKLE_ROLL + SOLE[2] / 2), rgba=_LIGHT)
-    # (joint, link, parent, xyz, axis, kind, shapes, servo cases on the child link)
-    rows: list[tuple[str, str, str, tuple[float, float, float], tuple[float, float, float],
-                     str, tuple[Geom, ...], int]] = [
-        ("head_yaw", "head", chest, (0.0, 0.0, SHOULDER_Z + HEAD_ABOVE_SHOULDER), _Z, "yaw",
-         (_box((49.5, 32.0, 38.0), 24.75, rgba=_LIGHT),), 0),
-        ("shoulder_pitch", "shoulder", chest, (0.0, SHOULDER_Y, SHOULDER_Z), _Y, "pitch",
-         (_box((46.5, 36.0, 20.0), 0.0, y_mm=17.5),), 1),
-        ("shoulder_roll", "upper_arm", "shoulder", (0.0, SHOULDER_PITCH_TO_ROLL, 0.0), _X,
-         "roll", (_box((35.5, 25.0, 73.65), -36.8),), 1),
-    ]  # fmt: skip
+    rows: list[_Row] = [
+        (
+            "head_yaw",
+            "head",
+            chest,
+            (0.0, 0.0, SHOULDER_Z + HEAD_ABOVE_SHOULDER),
+            _Z,
+            "yaw",
+            (_box((49.5, 32.0, 38.0), 24.75, rgba=_LIGHT),),
+            0,
+        ),
+        (
+            "shoulder_pitch",
+            "shoulder",
+            chest,
+            (0.0, SHOULDER_Y, SHOULDER_Z),
+            _Y,
+            "pitch",
+            (_box((46.5, 36.0, 20.0), 0.0, y_mm=17.5),),
+            1,
+        ),
+        (
+            "shoulder_roll",
+            "upper_arm",
+            "shoulder",
+            (0.0, SHOULDER_PITCH_TO_ROLL, 0.0),
+            _X,
+            "roll",
+            (_box((35.5, 25.0, 73.65), -36.8),),
+            1,
+        ),
+    ]
     if full:
-        rows.append(("upper_arm_yaw", "elbow", "upper_arm", (0.0, 0.0, -ROLL_TO_ARM_YAW), _Z,
-                     "yaw", (_box((42.2, 32.0, 11.7), -5.85),), 1))  # fmt: skip
+        rows.append(
+            (
+                "upper_arm_yaw",
+                "elbow",
+                "upper_arm",
+                (0.0, 0.0, -ROLL_TO_ARM_YAW),
+                _Z,
+                "yaw",
+                (_box((42.2, 32.0, 11.7), -5.85),),
+                1,
+            )
+        )
     rows.append(
-        ("elbow_pitch", "forearm", "elbow" if full else "upper_arm",
-         (0.0, 0.0, -(ARM_YAW_TO_ELBOW if full else ROLL_TO_ARM_YAW + ARM_YAW_TO_ELBOW)),
-         _Y, "pitch", (_box((29.0, 32.0, FOREARM / MM), -FOREARM / MM / 2, rgba=_LIGHT),), 0)
-    )  # fmt: skip
+        (
+            "elbow_pitch",
+            "forearm",
+            "elbow" if full else "upper_arm",
+            (0.0, 0.0, -(ARM_YAW_TO_ELBOW if full else ROLL_TO_ARM_YAW + ARM_YAW_TO_ELBOW)),
+            _Y,
+            "pitch",
+            (_box((29.0, 32.0, FOREARM / MM), -FOREARM / MM / 2, rgba=_LIGHT),),
+            0,
+        )
+    )
     if full:
-        rows.append(("hip_yaw", "hip_bracket", "pelvis", (0.0, HIP_Y, 0.0), _Z, "yaw",
-                     (_box((47.0, 24.0, 22.35), -11.2),), 1))  # fmt: skip
+        rows.append(
+            (
+                "hip_yaw",
+                "hip_bracket",
+                "pelvis",
+                (0.0, HIP_Y, 0.0),
+                _Z,
+                "yaw",
+                (_box((47.0, 24.0, 22.35), -11.2),),
+                1,
+            )
+        )
     rows += [
-        ("hip_roll", "hip", "hip_bracket" if full else "torso",
-         (0.0, 0.0 if full else HIP_Y, -HIP_YAW_TO_ROLL), _X, "roll",
-         (_box((32.0, 42.5, 38.7), -19.35),), 1),
-        ("hip_pitch", "thigh", "hip", (0.0, 0.0, -HIP_ROLL_TO_PITCH), _Y, "pitch",
-         (_box((32.0, 42.0, THIGH / MM), -THIGH / MM / 2, rgba=_LIGHT),), 1),
-        ("knee_pitch", "shin", "thigh", (0.0, 0.0, -THIGH), _Y, "pitch",
-         (_box((32.0, 42.0, SHIN / MM), -SHIN / MM / 2, rgba=_LIGHT),), 1),
-        ("ankle_pitch", "ankle", "shin", (0.0, 0.0, -SHIN), _Y, "pitch",
-         (_box((32.0, 42.5, ANKLE_PITCH_TO_ROLL / MM), -ANKLE_PITCH_TO_ROLL / MM / 2),), 1),
-        ("ankle_roll", "foot", "ankle", (0.0, 0.0, -ANKLE_PITCH_TO_ROLL), _X, "roll",
-         (sole,), 0),
-    ]  # fmt: skip
+        (
+            "hip_roll",
+            "hip",
+            "hip_bracket" if full else "torso",
+            (0.0, 0.0 if full else HIP_Y, -HIP_YAW_TO_ROLL),
+            _X,
+            "roll",
+            (_box((32.0, 42.5, 38.7), -19.35),),
+            1,
+        ),
+        (
+            "hip_pitch",
+            "thigh",
+            "hip",
+            (0.0, 0.0, -HIP_ROLL_TO_PITCH),
+            _Y,
+            "pitch",
+            (_box((32.0, 42.0, THIGH / MM), -THIGH / MM / 2, rgba=_LIGHT),),
+            1,
+        ),
+        (
+            "knee_pitch",
+            "shin",
+            "thigh",
+            (0.0, 0.0, -THIGH),
+            _Y,
+            "pitch",
+            (_box((32.0, 42.0, SHIN / MM), -SHIN / MM / 2, rgba=_LIGHT),),
+            1,
+        ),
+        (
+            "ankle_pitch",
+            "ankle",
+            "shin",
+            (0.0, 0.0, -SHIN),
+            _Y,
+            "pitch",
+            (_box((32.0, 42.5, ANKLE_PITCH_TO_ROLL / MM), -ANKLE_PITCH_TO_ROLL / MM / 2),),
+            1,
+        ),
+        ("ankle_roll", "foot", "ankle", (0.0, 0.0, -ANKLE_PITCH_TO_ROLL), _X, "roll", (sole,), 0),
+    ]
     root_name = "pelvis" if full else "torso"
     root_geoms = (pelvis_geom,) if full else (pelvis_geom, chest_geom)
     # servo cases carried by each link (proximal side of the joint they drive)
     root_servos = 3 if full else 5  # 22: waist + 2 hip yaw; 17: head + 2 shoulder + 2 hip roll
     parts: dict[str, tuple[int, int, tuple[Geom, ...]]] = {root_name: (1, root_servos, root_geoms)}
     if full:
-        rows.insert(0, ("waist_yaw", "chest", "pelvis", (0.0, 0.0, 0.0), _Z, "yaw",
-                        (chest_geom,), 3))  # fmt: skip
+        rows.insert(
+            0, ("waist_yaw", "chest", "pelvis", (0.0, 0.0, 0.0), _Z, "yaw", (chest_geom,), 3)
+        )
     for name, link, _p, _xyz, _a, _k, geoms, servos in rows:
         parts[link] = (1 if name in ("head_yaw", "waist_yaw") else 2, servos, geoms)
     total = MASS_17 + (axes - 17) * KRS_2552RHV.mass
@@ -171,8 +299,21 @@ def _build(axes: int) -> RobotModel:
         left, right = _JOINTS[name]
         centre = right is None
         lower, upper = _limits(left)
-        specs.append(LimbJoint(name, link, parent, xyz, axis, kind, lower, upper,  # type: ignore[arg-type]
-                               geoms, masses[link], centre=centre))  # fmt: skip
+        specs.append(
+            LimbJoint(
+                name,
+                link,
+                parent,
+                xyz,
+                axis,
+                kind,
+                lower,
+                upper,
+                geoms,
+                masses[link],
+                centre=centre,
+            )
+        )
         if centre:
             servo_map[name] = (left, KHR_SIGNS[left])
         else:

@@ -57,9 +57,25 @@ for _id, _r, _l in _MAP.values():
 
 # Kondo's standard trim for the KXR-L2G (counts by servo index; KXR-L2G標準トリム.h4t)
 KXR_STANDARD_TRIM: dict[int, int] = {
-    2: 1350, 3: -1350, 4: -2700, 5: -2700, 6: 0, 7: 0, 8: 0, 9: 0, 10: -250, 11: -250,
-    12: -1980, 13: -2000, 14: 550, 15: 550, 16: 0, 17: 0, 18: -100, 19: 0,
-}  # fmt: skip
+    2: 1350,
+    3: -1350,
+    4: -2700,
+    5: -2700,
+    6: 0,
+    7: 0,
+    8: 0,
+    9: 0,
+    10: -250,
+    11: -250,
+    12: -1980,
+    13: -2000,
+    14: 550,
+    15: 550,
+    16: 0,
+    17: 0,
+    18: -100,
+    19: 0,
+}
 
 # kxreus kxrl2g.l frame limits of the LEFT joints, degrees
 _FRAME_LIMITS: dict[str, tuple[float, float]] = {
@@ -135,11 +151,28 @@ _KINDS: dict[str, JointKind] = {
 
 
 def _build(gripper: bool) -> RobotModel:
-    def joint(name: str, link: str, parent: str, xyz: Vec3, axis: Vec3,
-              geoms: tuple[Geom, ...], mass_g: float) -> LimbJoint:  # fmt: skip
+    def joint(
+        name: str,
+        link: str,
+        parent: str,
+        xyz: Vec3,
+        axis: Vec3,
+        geoms: tuple[Geom, ...],
+        mass_g: float,
+    ) -> LimbJoint:
         lo, hi = _limits(name)
-        return LimbJoint(name, link, parent, (xyz[0] * MM, xyz[1] * MM, xyz[2] * MM), axis,
-                         _KINDS[name], lo, hi, geoms, mass_g * G)  # fmt: skip
+        return LimbJoint(
+            name,
+            link,
+            parent,
+            (xyz[0] * MM, xyz[1] * MM, xyz[2] * MM),
+            axis,
+            _KINDS[name],
+            lo,
+            hi,
+            geoms,
+            mass_g * G,
+        )
 
     forearm = [_box((30.0, 26.0, 60.0), (0.0, 0.0, -30.0), _LIGHT)]
     forearm_mass = M_FOREARM
@@ -149,31 +182,94 @@ def _build(gripper: bool) -> RobotModel:
     else:  # the basic kit has no gripper servo (KRS-3304R2) and no fingers
         forearm_mass -= KRS_3304R2.mass / G
     specs = [
-        joint("shoulder_pitch", "shoulder", "torso", SHOULDER, _Y,
-              (_box((26.0, 20.0, 32.0), (0.0, 14.5, 0.0)),), M_SHOULDER),
-        joint("shoulder_roll", "upper_arm", "shoulder", (0.0, SHOULDER_PITCH_TO_ROLL, 0.0), _X,
-              (_box((30.0, 26.0, UPPER_ARM + 12.0), (0.0, 0.0, -UPPER_ARM / 2)),), M_UPPER_ARM),
-        joint("elbow_pitch", "forearm", "upper_arm", (0.0, 0.0, -UPPER_ARM), _Y,
-              tuple(forearm), forearm_mass),
-    ]  # fmt: skip
+        joint(
+            "shoulder_pitch",
+            "shoulder",
+            "torso",
+            SHOULDER,
+            _Y,
+            (_box((26.0, 20.0, 32.0), (0.0, 14.5, 0.0)),),
+            M_SHOULDER,
+        ),
+        joint(
+            "shoulder_roll",
+            "upper_arm",
+            "shoulder",
+            (0.0, SHOULDER_PITCH_TO_ROLL, 0.0),
+            _X,
+            (_box((30.0, 26.0, UPPER_ARM + 12.0), (0.0, 0.0, -UPPER_ARM / 2)),),
+            M_UPPER_ARM,
+        ),
+        joint(
+            "elbow_pitch",
+            "forearm",
+            "upper_arm",
+            (0.0, 0.0, -UPPER_ARM),
+            _Y,
+            tuple(forearm),
+            forearm_mass,
+        ),
+    ]
     if gripper:
         specs.append(
-            joint("gripper", "finger", "forearm", (0.0, 0.0, -ELBOW_TO_GRIPPER), (-1.0, 0.0, 0.0),
-                  (_box((14.0, 6.0, 35.0), (0.0, -10.0, -17.5), _LIGHT),), M_FINGER)
-        )  # fmt: skip
+            joint(
+                "gripper",
+                "finger",
+                "forearm",
+                (0.0, 0.0, -ELBOW_TO_GRIPPER),
+                (-1.0, 0.0, 0.0),
+                (_box((14.0, 6.0, 35.0), (0.0, -10.0, -17.5), _LIGHT),),
+                M_FINGER,
+            )
+        )
     sole = _box(SOLE, (0.0, 0.0, -SOLE_BELOW_ANKLE + SOLE[2] / 2), _LIGHT)
     specs += [
-        joint("hip_roll", "hip", "torso", HIP, _X,
-              (_box((40.0, 27.0, 40.0), (-5.0, 0.0, -8.0)),), M_HIP),
-        joint("hip_pitch", "thigh", "hip", (0.0, 0.0, 0.0), _Y,
-              (_box((30.0, 27.0, THIGH), (0.0, 0.0, -THIGH / 2), _LIGHT),), M_THIGH),
-        joint("knee_pitch", "shin", "thigh", (0.0, 0.0, -THIGH), _Y,
-              (_box((30.0, 27.0, SHIN), (0.0, 0.0, -SHIN / 2), _LIGHT),), M_SHIN),
-        joint("ankle_pitch", "ankle", "shin", (0.0, 0.0, -SHIN), _Y,
-              (_box((40.0, 27.0, 40.0), (-5.0, 0.0, 8.0)),), M_ANKLE),
-        joint("ankle_roll", "foot", "ankle", (0.0, 0.0, 0.0), _X,
-              (sole, _box((40.0, 27.0, 24.0), (-5.0, 0.0, -16.0))), M_FOOT),
-    ]  # fmt: skip
+        joint(
+            "hip_roll",
+            "hip",
+            "torso",
+            HIP,
+            _X,
+            (_box((40.0, 27.0, 40.0), (-5.0, 0.0, -8.0)),),
+            M_HIP,
+        ),
+        joint(
+            "hip_pitch",
+            "thigh",
+            "hip",
+            (0.0, 0.0, 0.0),
+            _Y,
+            (_box((30.0, 27.0, THIGH), (0.0, 0.0, -THIGH / 2), _LIGHT),),
+            M_THIGH,
+        ),
+        joint(
+            "knee_pitch",
+            "shin",
+            "thigh",
+            (0.0, 0.0, -THIGH),
+            _Y,
+            (_box((30.0, 27.0, SHIN), (0.0, 0.0, -SHIN / 2), _LIGHT),),
+            M_SHIN,
+        ),
+        joint(
+            "ankle_pitch",
+            "ankle",
+            "shin",
+            (0.0, 0.0, -SHIN),
+            _Y,
+            (_box((40.0, 27.0, 40.0), (-5.0, 0.0, 8.0)),),
+            M_ANKLE,
+        ),
+        joint(
+            "ankle_roll",
+            "foot",
+            "ankle",
+            (0.0, 0.0, 0.0),
+            _X,
+            (sole, _box((40.0, 27.0, 24.0), (-5.0, 0.0, -16.0))),
+            M_FOOT,
+        ),
+    ]
     torso_geoms = (
         _box((50.0, 69.0, 95.0), (-7.25, 0.0, 37.5), _LIGHT),
         _box((40.0, 40.0, HEAD_TOP - 95.0), (-2.0, 0.0, (95.0 + HEAD_TOP) / 2), _LIGHT),
@@ -186,9 +282,12 @@ def _build(gripper: bool) -> RobotModel:
         servo_map["r_" + name] = (2 * ics, right)
         servo_map["l_" + name] = (2 * ics + 1, left)
     home_deg = {  # the fixture's home pose (XL2G_291): counts from 7500, by joint
-        "shoulder_pitch": (400, -400), "elbow_pitch": (-1200, -1200),
-        "hip_pitch": (150, 150), "knee_pitch": (300, 300), "ankle_pitch": (150, 150),
-    }  # fmt: skip
+        "shoulder_pitch": (400, -400),
+        "elbow_pitch": (-1200, -1200),
+        "hip_pitch": (150, 150),
+        "knee_pitch": (300, 300),
+        "ankle_pitch": (150, 150),
+    }
     home: dict[str, float] = {}
     for name, (r_counts, l_counts) in home_deg.items():
         _ics, r_sign, l_sign = _MAP[name]

@@ -14,6 +14,7 @@ from rcb4hv.robot.model import Geom, Inertial, Vec3
 
 __all__ = [
     "box_inertia",
+    "combine",
     "cylinder_inertia",
     "geom_inertia",
     "solid",
@@ -79,19 +80,15 @@ def volume(geom: Geom) -> float:
     return 4.0 / 3.0 * math.pi * geom.size[0] ** 3
 
 
-def solid_many(mass: float, geoms: Sequence[Geom]) -> Inertial:
-    """An :class:`Inertial` for ``mass`` spread over several shapes at one density (each
-    shape gets mass in proportion to its volume): the combined centre of mass, and the
-    inertia about it by the parallel-axis theorem."""
-    if not geoms:
-        raise RobotModelError("a link with mass needs at least one shape")
-    total = sum(volume(g) for g in geoms)
-    parts = [(mass * volume(g) / total, g) for g in geoms]
-    com = tuple(sum(m * g.pos[k] for m, g in parts) / mass for k in range(3))
+def combine(parts: Sequence[Inertial]) -> Inertial:
+    """The mass properties of rigidly joined ``parts`` (all in one frame): total mass, the
+    common centre of mass, and the inertia about it by the parallel-axis theorem."""
+    mass = sum(p.mass for p in parts)
+    com = tuple(sum(p.mass * p.com[k] for p in parts) / mass for k in range(3))
     acc = [0.0] * 6
-    for m, g in parts:
-        own = geom_inertia(m, g)
-        dx, dy, dz = (g.pos[0] - com[0], g.pos[1] - com[1], g.pos[2] - com[2])
+    for p in parts:
+        m = p.mass
+        dx, dy, dz = (p.com[0] - com[0], p.com[1] - com[1], p.com[2] - com[2])
         shift = (
             m * (dy * dy + dz * dz),
             m * (dx * dx + dz * dz),
@@ -101,9 +98,18 @@ def solid_many(mass: float, geoms: Sequence[Geom]) -> Inertial:
             -m * dy * dz,
         )
         for k in range(6):
-            acc[k] += own[k] + shift[k]
+            acc[k] += p.inertia[k] + shift[k]
     return Inertial(
         mass=mass,
         com=(com[0], com[1], com[2]),
         inertia=(acc[0], acc[1], acc[2], acc[3], acc[4], acc[5]),
     )
+
+
+def solid_many(mass: float, geoms: Sequence[Geom]) -> Inertial:
+    """An :class:`Inertial` for ``mass`` spread over several shapes at one density (each
+    shape gets mass in proportion to its volume)."""
+    if not geoms:
+        raise RobotModelError("a link with mass needs at least one shape")
+    total = sum(volume(g) for g in geoms)
+    return combine([solid(mass * volume(g) / total, g) for g in geoms])

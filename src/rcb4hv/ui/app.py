@@ -115,9 +115,11 @@ def serve(
     token: str | None = None,
     open_browser: bool = False,
     poll_hz: float = 10.0,
+    robot: str | None = None,
     announce: Callable[[str], None] = print,
 ) -> None:
-    """Run the dashboard until interrupted (SIGINT/SIGTERM); ``baudrate`` None detects it."""
+    """Run the dashboard until interrupted (SIGINT/SIGTERM); ``baudrate`` None detects it;
+    ``robot`` (a built-in name or a URDF file) fixes the robot model, else it is detected."""
     import uvicorn
 
     host, port = parse_bind(bind)
@@ -132,12 +134,15 @@ def serve(
             session.wait_connected(timeout=8.0)
         except TimeoutError as exc:  # the pages show the link error and the session retries
             log.warning("%s", exc)
-        app = create_app(UiContext(session), policy)
+        ctx = UiContext(session, auto_robot=robot is None)
+        ctx.choose_robot(robot)
+        app = create_app(ctx, policy)
         shown = f"[{host}]" if family == socket.AF_INET6 else host
         address = f"http://{shown}:{policy.port}/"
         if token is not None:
             address += f"?token={token}"
-        announce(f"rcb4hv ui: {address} (board {url})")
+        model = ctx.robot.name if ctx.robot is not None else "-"
+        announce(f"rcb4hv ui: {address} (board {url}, robot {model}: {ctx.robot_source})")
         if open_browser:
             webbrowser.open(address)
         config = uvicorn.Config(app, log_level="warning", lifespan="on", ws="auto")

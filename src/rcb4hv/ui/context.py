@@ -60,18 +60,30 @@ class UiContext:
     """State shared by all pages and browser tabs (one user, one board).
 
     ``robot`` is the model the 3D view draws and the servo table names joints from;
-    ``robot_source`` says where it came from (``--robot``, a project, the default)."""
+    ``robot_source`` says where it came from (``--robot``, a project, the default). With
+    ``auto_robot`` the model is chosen again (:func:`rcb4hv.ui.robots.choose_robot`) whenever
+    a project opens; otherwise it stays as given."""
 
     session: BoardSession
     project: Project | None = None
     project_name: str = ""
     robot: RobotModel | None = None
     robot_source: str = ""
+    auto_robot: bool = False
     max_upload: int = MAX_UPLOAD
     _listeners: list[Callable[[], None]] = field(default_factory=list)
 
+    def choose_robot(self, spec: str | None = None) -> None:
+        """Choose the model from ``spec`` (``--robot``), the open project or the board."""
+        from rcb4hv.ui.robots import choose_robot
+
+        indices = [s.ics for s in self.session.state.servos]
+        self.robot, self.robot_source = choose_robot(spec, self.project, indices)
+
     def set_project(self, project: Project | None, name: str = "") -> None:
         self.project, self.project_name = project, name
+        if self.auto_robot:
+            self.choose_robot()
         for fn in list(self._listeners):
             try:
                 fn()
@@ -81,3 +93,8 @@ class UiContext:
 
     def on_project(self, fn: Callable[[], None]) -> None:
         self._listeners.append(fn)
+
+    def off_project(self, fn: Callable[[], None]) -> None:
+        """Stop calling ``fn`` (a view of a closed browser tab)."""
+        if fn in self._listeners:
+            self._listeners.remove(fn)

@@ -34,11 +34,13 @@ from rcb4hv.hth4.edit import (
     move_pose,
     set_pose,
 )
+from rcb4hv.robot import RobotModel
 from rcb4hv.ui import trim_panel
 from rcb4hv.ui.context import UiContext, attempt, tid
 from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
+from rcb4hv.ui.playback import physics_available
 from rcb4hv.ui.preview import FRAME_PERIOD_S, Player, make_playback
 from rcb4hv.ui.scene3d import RobotScene
 
@@ -111,6 +113,9 @@ def build(ctx: UiContext) -> None:
                 ).on_click(lambda: preview())
                 play = tid(ui.button("Play", icon="play_arrow").props("dense"), "editor-play")
                 play.on_click(lambda: toggle())
+                can_physics = physics_available()
+                physics = tid(ui.checkbox("with physics", value=can_physics), "editor-physics")
+                physics.set_enabled(can_physics)
             scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "editor-scrubber")
             scrubber.classes("w-96")
             preview_status = tid(ui.label(""), "editor-preview-status").classes("text-xs")
@@ -147,6 +152,11 @@ def build(ctx: UiContext) -> None:
     ui.timer(FRAME_PERIOD_S, lambda: player[0].tick() if player else None)
 
     # ------------------------------------------------------------------ actions
+    def named_robot() -> RobotModel | None:
+        """The model given with ``rcb4hv ui --robot``; otherwise None: the editor detects
+        the robot from the project it edits (a default model must not drive a mirror)."""
+        return ctx.robot if ctx.robot_source.startswith("--robot") else None
+
     def open_path() -> None:
         path = Path(path_in.value or "").expanduser()
         if path.suffix.lower() != ".h4p":
@@ -156,7 +166,7 @@ def build(ctx: UiContext) -> None:
             data = path.read_bytes()
             if len(data) > ctx.max_upload:
                 raise ValueError(f"{path}: {len(data):,} bytes; the limit is {ctx.max_upload:,}")
-            ed.open(data, path, ctx.robot)
+            ed.open(data, path, named_robot())
         except (OSError, Rcb4Error, ValueError) as exc:
             fail(exc)
             return
@@ -168,7 +178,7 @@ def build(ctx: UiContext) -> None:
         if ctx.project is None:
             fail(ValueError("no project is open on the Project page"))
             return
-        ed.open(dump_project(ctx.project), None, ctx.robot)
+        ed.open(dump_project(ctx.project), None, named_robot())
         rebuild_view()
         redraw()
 
@@ -298,7 +308,9 @@ def build(ctx: UiContext) -> None:
             return
         preview_status.text = f"simulating motion {ed.slot}..."
         try:
-            pb = await asyncio.to_thread(make_playback, ed.project, ed.slot, ed.model)
+            pb = await asyncio.to_thread(
+                make_playback, ed.project, ed.slot, ed.model, physics=bool(physics.value)
+            )
         except (Rcb4Error, ValueError) as exc:
             preview_status.text = f"cannot simulate motion {ed.slot}: {exc}"
             return

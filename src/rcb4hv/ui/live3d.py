@@ -1,6 +1,6 @@
 """The live 3D view of the Servos and Remote pages: the robot follows the board.
 
-At the session's poll rate it takes the last polled servo positions (measured values and
+Twice per poll period it takes the last polled servo positions (measured values and
 trims), turns them into joint angles through the model's joint map
 (:meth:`~rcb4hv.robot.RobotModel.angles`) and updates the :class:`~rcb4hv.ui.scene3d.RobotScene`
 (nothing is sent when the pose did not change). A servo that reports no position keeps its last
@@ -46,7 +46,8 @@ class LiveView:
             self.caption = tid(ui.label(""), f"{name}-3d-caption").classes("text-sm text-slate-600")
             self.holder = ui.column()
         self._build()
-        period = 1.0 / ctx.session.poll_hz if ctx.session.poll_hz > 0 else 0.1
+        # twice per poll period: a new poll is shown within half a period of its arrival
+        period = 0.5 / ctx.session.poll_hz if ctx.session.poll_hz > 0 else 0.1
         self.timer = ui.timer(period, self.follow)
         ctx.on_project(self._model_changed)
 
@@ -65,7 +66,9 @@ class LiveView:
         self.caption.text = f"{self._model.title} ({self.ctx.robot_source})"
 
     def _model_changed(self) -> None:
-        if self.ctx.robot is not self._model:
+        if self.holder.is_deleted:  # its browser tab is gone
+            self.ctx.off_project(self._model_changed)
+        elif self.ctx.robot is not self._model:
             self._build()
 
     def follow(self) -> None:

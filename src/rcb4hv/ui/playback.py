@@ -16,19 +16,24 @@ import bisect
 import importlib.util
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 from rcb4hv.emulator import Board
 from rcb4hv.hth4 import Project
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
 from rcb4hv.protocol.memory import NO_BLOCK, SERVO
 from rcb4hv.robot import RobotModel, Transform
-from rcb4hv.ui.project_actions import run_motion
+from rcb4hv.ui.project_actions import project_image, run_motion
+
+if TYPE_CHECKING:
+    from rcb4hv.physics import PhysicsBackend, PhysicsWorld
 
 __all__ = [
     "Frame",
     "Playback",
     "board_trims",
     "physics_available",
+    "physics_playback",
     "simulated_playback",
 ]
 
@@ -107,6 +112,45 @@ def simulated_playback(
         start = samples[0][1] if samples else sim.board.servo_outputs()
         frames.insert(0, _frame(model, 0.0, start, trims))
     return Playback(slot, result.name, tuple(frames), result.status)
+
+
+def physics_playback(project: Project, slot: int, model: RobotModel) -> Playback:
+    """Play motion ``slot`` of ``project`` with physics (:mod:`rcb4hv.project.physics_sim`):
+    the robot stands and settles in the pose the board holds after boot, then plays; frames
+    are the simulated joint angles and root pose of every output period, from the motion's
+    start until the robot has settled after it. Raises
+    :class:`~rcb4hv.errors.PhysicsUnavailableError` without MuJoCo."""
+    from rcb4hv.project.physics_sim import PhysicsSimulator
+    from rcb4hv.project.relocate import project_layout
+
+    sim = PhysicsSimulator(project_image(project), model, motion_layout=project_layout(project))
+    sim.boot()
+    assert sim.backend is not None  # boot() attaches it
+    frames: list[Frame] = []
+    t0 = sim.backend.board_time
+    world = sim.world
+
+    def observe(backend: PhysicsBackend) -> None:
+        frames.append(Frame(round(backend.board_time - t0, 6), world.joint_angles(), _root(world)))
+
+    frames.append(Frame(0.0, world.joint_angles(), _root(world)))
+    sim.backend.observers.append(observe)
+    m = project.motion(slot)
+    result = sim.play(m.address, slot=slot, name=m.name or "")
+    outcome = sim.outcomes[-1]
+    return Playback(slot, result.name, tuple(frames), result.status, "physics", outcome.fell_at_s)
+
+
+def _root(world: PhysicsWorld) -> Transform:
+    """The root link's world transform (MuJoCo's free joint: position, then the unit
+    quaternion w, x, y, z)."""
+    x, y, z, w, qx, qy, qz = (float(v) for v in world.d.qpos[0:7])
+    return (
+        (1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - w * qz), 2 * (qx * qz + w * qy), x),
+        (2 * (qx * qy + w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - w * qx), y),
+        (2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy), z),
+        (0.0, 0.0, 0.0, 1.0),
+    )
 
 
 def physics_available() -> bool:

@@ -16,7 +16,12 @@ from rcb4hv.errors import Rcb4Error
 from rcb4hv.hth4 import Project
 from rcb4hv.robot import RobotModel
 from rcb4hv.ui.context import UiContext, tid
-from rcb4hv.ui.playback import Playback, simulated_playback
+from rcb4hv.ui.playback import (
+    Playback,
+    physics_available,
+    physics_playback,
+    simulated_playback,
+)
 from rcb4hv.ui.scene3d import RobotScene
 
 __all__ = ["FRAME_PERIOD_S", "Player", "build", "make_playback"]
@@ -26,8 +31,10 @@ FRAME_PERIOD_S = 1 / 30
 motion of a robot whose servo frames come every 10-20 ms."""
 
 
-def make_playback(project: Project, slot: int, model: RobotModel) -> Playback:
-    """Simulate motion ``slot`` of ``project`` for ``model``."""
+def make_playback(project: Project, slot: int, model: RobotModel, *, physics: bool) -> Playback:
+    """Simulate motion ``slot`` of ``project`` for ``model``, with ``physics`` or without."""
+    if physics:
+        return physics_playback(project, slot, model)
     return simulated_playback(project, slot, model)
 
 
@@ -49,6 +56,8 @@ class Player:
         self.playback = playback
         self.playing = False
         self.scrubber.props["max"] = round(max(playback.duration, 0.001), 3)
+        fell = playback.fell_at
+        self.scrubber.props["marker-labels"] = {} if fell is None else {round(fell, 3): "fall"}
         self.seek(0.0)
 
     def seek(self, t: float) -> None:
@@ -95,6 +104,11 @@ class Player:
 def build(ctx: UiContext, motions: ui.table) -> None:
     with ui.row().classes("items-center"):
         run = tid(ui.button("Preview selected motion", icon="view_in_ar"), "preview-run")
+        can = physics_available()
+        physics = tid(ui.checkbox("with physics", value=can), "preview-physics")
+        if not can:
+            physics.disable()
+            physics.tooltip("needs MuJoCo: pip install 'rcb4hv[sim]'")
         play = tid(ui.button("Play", icon="play_arrow"), "preview-play")
         info = tid(ui.label("select a motion, then Preview"), "preview-info")
     scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "preview-scrubber")
@@ -118,19 +132,33 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         player.append(Player(view, status, scrubber))
 
     def model_changed() -> None:
-        if ctx.robot is not shown[0]:
+        if holder.is_deleted:  # its browser tab is gone
+            ctx.off_project(model_changed)
+        elif ctx.robot is not shown[0]:
             make_view()
 
     make_view()
     ctx.on_project(model_changed)
-    ui.timer(FRAME_PERIOD_S, lambda: player[0].tick() if player else None)
+
+    def show_state() -> None:
+        playing = bool(player) and player[0].playing
+        clock.active = playing  # the clock only runs while a motion plays
+        text = "Pause" if playing else "Play"
+        if play.text != text:
+            play.text = text
+            play.props(f"icon={'pause' if playing else 'play_arrow'}")
+
+    def tick() -> None:
+        if player:
+            player[0].tick()
+            show_state()
+
+    clock = ui.timer(FRAME_PERIOD_S, tick, active=False)
 
     def toggle() -> None:
         if player:
             player[0].toggle()
-            playing = player[0].playing
-            play.text = "Pause" if playing else "Play"
-            play.props(f"icon={'pause' if playing else 'play_arrow'}")
+            show_state()
 
     play.on_click(toggle)
 
@@ -147,7 +175,9 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             return
         info.text = f"simulating motion {slot}..."
         try:
-            pb = await asyncio.to_thread(make_playback, project, slot, model)
+            pb = await asyncio.to_thread(
+                make_playback, project, slot, model, physics=bool(physics.value)
+            )
         except (Rcb4Error, ValueError) as exc:
             info.text = f"cannot simulate motion {slot}: {exc}"
             return

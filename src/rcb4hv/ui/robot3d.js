@@ -3,7 +3,7 @@
 // set_pose() only rewrites matrices and two small buffers: nothing is re-created per update.
 import { THREE } from "nicegui-scene";
 
-const GROUND_LIFT = 0.0005; // draw ground marks 0.5 mm above the ground plane (no z-fighting)
+const GROUND_LIFT = 0.0005; // ground marks 0.5 mm above the grid, the plane 0.5 mm below it (no z-fighting)
 
 function matrix(m) {
   // a 3x4 row-major transform -> THREE.Matrix4
@@ -18,6 +18,24 @@ function setPoints(geometry, points) {
   geometry.computeBoundingSphere();
 }
 
+function groundGrid(size, divisions) {
+  // one segment per cell edge, not one line across the ground: a line with an end behind the
+  // camera can vanish in software renderers (SwiftShader clips it away whole)
+  const cell = size / divisions;
+  const half = size / 2;
+  const points = [];
+  for (let i = 0; i <= divisions; i++) {
+    const a = -half + i * cell;
+    for (let j = 0; j < divisions; j++) {
+      const b = -half + j * cell;
+      points.push(a, b, 0, a, b + cell, 0, b, a, 0, b + cell, a, 0);
+    }
+  }
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.Float32BufferAttribute(points, 3));
+  return new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: 0xa3afbf }));
+}
+
 function geometry(shape, size) {
   if (shape === "box") return new THREE.BoxGeometry(size[0], size[1], size[2]);
   if (shape === "cylinder") {
@@ -30,8 +48,19 @@ function geometry(shape, size) {
 }
 
 export default class RobotBody {
-  create_mesh(links, pose) {
+  create_mesh(links, pose, ground) {
     this.root = new THREE.Group();
+    if (ground) {
+      // the ground: a plane and a grid of [size, divisions] in x-y
+      const [size, divisions] = ground;
+      const plane = new THREE.Mesh(
+        new THREE.PlaneGeometry(size, size),
+        new THREE.MeshPhongMaterial({ color: 0xe2e8f0 }),
+      );
+      plane.position.z = -GROUND_LIFT;
+      const grid = groundGrid(size, divisions);
+      this.root.add(plane, grid);
+    }
     this.links = links.map((geoms) => {
       const group = new THREE.Group();
       group.matrixAutoUpdate = false;
@@ -50,7 +79,7 @@ export default class RobotBody {
       return group;
     });
     this.com = new THREE.Mesh(
-      new THREE.CylinderGeometry(0.008, 0.008, 0.002, 24).rotateX(Math.PI / 2),
+      new THREE.CylinderGeometry(0.008, 0.008, 0.001, 24).rotateX(Math.PI / 2),
       new THREE.MeshBasicMaterial({ color: 0x16a34a }),
     );
     this.plumb = new THREE.Line(
@@ -66,11 +95,19 @@ export default class RobotBody {
       new THREE.MeshBasicMaterial({ color: 0x60a5fa, transparent: true, opacity: 0.35, side: THREE.DoubleSide }),
     );
     this.root.add(this.com, this.plumb, this.outline, this.area);
-    this.set_pose(pose);
+    this.apply_pose(pose);
     return this.root;
   }
 
   set_pose(pose) {
+    const started = performance.now();
+    this.apply_pose(pose);
+    // counters for the browser tests and `make bench` (poses applied, milliseconds spent)
+    window.rcb4hvPoses = (window.rcb4hvPoses || 0) + 1;
+    window.rcb4hvPoseMs = (window.rcb4hvPoseMs || 0) + (performance.now() - started);
+  }
+
+  apply_pose(pose) {
     const [frames, com, support, inside, fallen] = pose;
     frames.forEach((m, i) => {
       const group = this.links[i];
@@ -80,7 +117,7 @@ export default class RobotBody {
     const colour = fallen ? 0xdc2626 : inside ? 0x16a34a : 0xea580c;
     this.com.material.color.setHex(colour);
     this.plumb.material.color.setHex(colour);
-    this.com.position.set(com[0], com[1], GROUND_LIFT);
+    this.com.position.set(com[0], com[1], 2 * GROUND_LIFT);
     setPoints(this.plumb.geometry, [com, [com[0], com[1], GROUND_LIFT]]);
     const ring = support.map((p) => [p[0], p[1], GROUND_LIFT]);
     setPoints(this.outline.geometry, ring);

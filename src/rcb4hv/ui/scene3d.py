@@ -31,7 +31,7 @@ __all__ = ["GRID_CELL_M", "RobotBody", "RobotScene"]
 
 GRID_CELL_M = 0.05
 """Ground grid cell: 5 cm, so a step (a few centimetres on a 40 cm humanoid) can be read off."""
-GRID_SIZE_M = 4
+GRID_SIZE_M = 4.0
 """Ground extent: 4 m square, ten times the height of the largest built-in robot."""
 FIELD_OF_VIEW_DEG = 45.0
 """Vertical field of view of the camera (a moderate lens: little perspective distortion)."""
@@ -49,11 +49,14 @@ class RobotBody(Object3D, component=_JS):
     """The three.js object of one robot: link groups, centre-of-mass mark, support polygon.
 
     ``links``: per link a list of ``[shape, size, local transform rows, rgba]``; ``pose``: see
-    :meth:`set_pose`. Both are kept in ``args`` so a re-initialised scene redraws the last pose.
+    :meth:`set_pose`; ``ground``: (size in metres, grid divisions) or None. All are kept in
+    ``args`` so a re-initialised scene redraws the last pose.
     """
 
-    def __init__(self, links: list[list[list[Any]]], pose: list[Any]) -> None:
-        super().__init__(links, pose)
+    def __init__(
+        self, links: list[list[list[Any]]], pose: list[Any], ground: tuple[float, int] | None
+    ) -> None:
+        super().__init__(links, pose, list(ground) if ground else None)
 
     def set_pose(self, pose: list[Any]) -> None:
         """``[link transforms, com xyz, support polygon [[x, y], ...], com inside, fallen]``."""
@@ -84,8 +87,8 @@ class RobotScene:
         self.scene = ui.scene(
             width,
             height,
-            grid=(GRID_SIZE_M, round(GRID_SIZE_M / GRID_CELL_M)),
-            camera=ui.scene.perspective_camera(fov=FIELD_OF_VIEW_DEG, near=h / 100, far=h * 100),
+            grid=False,
+            camera=ui.scene.perspective_camera(fov=FIELD_OF_VIEW_DEG, near=h / 10, far=h * 100),
             background_color="#f1f5f9",
         )
         # in front of the robot (+x), to its left (+y), a little above: the whole robot in view
@@ -93,7 +96,8 @@ class RobotScene:
         self.scene.move_camera(x=1.5 * h, y=0.9 * h, z=0.8 * h, look_at_z=0.45 * h, duration=0.0)
         self._sent = self._payload(self.stance)
         with self.scene:
-            self.body = RobotBody(self._links(), self._sent)
+            ground = (GRID_SIZE_M, round(GRID_SIZE_M / GRID_CELL_M))
+            self.body = RobotBody(self._links(), self._sent, ground)
 
     def _links(self) -> list[list[list[Any]]]:
         return [

@@ -126,7 +126,7 @@ def _servo_controls(
             ui.notify(str(exc), type="negative")
 
     with ui.row().classes("w-full items-center no-wrap"):
-        with ui.column().classes("w-28 gap-0"):
+        with ui.column().classes("w-32 shrink-0 gap-0"):
             ui.label(f"ICS {ics}")
             tid(ui.label(joint_name(ctx.robot, ics)), f"joint-{ics}").classes("text-xs")
         slider = (

@@ -4,8 +4,11 @@ The 3D view draws a pose from here; nothing in this module knows about the brows
 
 * Feet: the model's leaf links whose lowest geom point, in the zero pose (every joint at 0),
   lies within :data:`CONTACT_TOLERANCE_M` of the robot's lowest point (a humanoid's soles).
-* Without a measured base pose (the plain simulator, the live board) the base is placed so
-  that the lowest foot point is on the ground (z = 0); x, y and yaw stay at 0.
+* Without a measured base pose (the plain simulator, the live board) the robot stands on its
+  feet: the body is tilted (about a horizontal axis) so that the feet's mean sole normal is
+  vertical, as a robot standing on flat ground has its soles flat, and lowered so that the
+  lowest foot point is on the ground (z = 0); x, y and yaw stay at 0. A bow then leans the
+  body forward over flat feet instead of tipping the feet onto their heels.
 * The support polygon is the convex hull, on the ground plane, of the geom corners within
   :data:`CONTACT_TOLERANCE_M` of the ground; the centre of mass is over it or not.
 
@@ -21,7 +24,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 from rcb4hv.robot import Geom, RobotModel, Transform, Vec3, center_of_mass, forward
-from rcb4hv.robot.kinematics import apply, compose, from_xyz_rpy
+from rcb4hv.robot.kinematics import IDENTITY, apply, compose, from_xyz_rpy, rotation_about
 
 __all__ = [
     "CONTACT_TOLERANCE_M",
@@ -124,6 +127,30 @@ def inside(polygon: Sequence[Point2], p: Point2) -> bool:
     return True
 
 
+def _levelling(
+    model: RobotModel, frames: Mapping[str, Transform], soles: Sequence[str]
+) -> Transform:
+    """The rotation (about a horizontal axis) that makes the feet's mean sole normal vertical.
+
+    A sole's normal is the world z axis of its foot link in the zero pose (the models stand
+    with level soles there), carried into the foot link's frame."""
+    if not soles:
+        return IDENTITY
+    zero = forward(model, {})
+    n = [0.0, 0.0, 0.0]
+    for name in soles:
+        r0, r = zero[name], frames[name]
+        local = (r0[2][0], r0[2][1], r0[2][2])  # R0^T z: the zero pose's up in the foot frame
+        for k in range(3):
+            n[k] += r[k][0] * local[0] + r[k][1] * local[1] + r[k][2] * local[2]
+    norm = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+    if norm == 0.0:
+        return IDENTITY
+    nx, ny, nz = n[0] / norm, n[1] / norm, n[2] / norm
+    # n x z = (ny, -nx, 0); the angle between n and z
+    return rotation_about((ny, -nx, 0.0), math.atan2(math.hypot(nx, ny), nz))
+
+
 @dataclass(frozen=True)
 class Stance:
     """One pose, placed in the world: link transforms, centre of mass, support polygon."""
@@ -145,10 +172,13 @@ def stance(
     foot_links: Sequence[str] | None = None,
 ) -> Stance:
     """Place ``angles`` in the world: at ``base`` if given (a simulated base pose), else on
-    the ground with the lowest point of ``foot_links`` (default :func:`feet`) at z = 0."""
+    the ground: the body tilted so the soles of ``foot_links`` (default :func:`feet`) are
+    level on average, and lowered so their lowest point is at z = 0."""
     if base is None:
+        soles = tuple(foot_links if foot_links is not None else feet(model))
         frames = forward(model, angles)
-        soles = foot_links if foot_links is not None else feet(model)
+        tilt = _levelling(model, frames, soles)
+        frames = {name: compose(tilt, t) for name, t in frames.items()}
         pts = _world_points(model, frames, soles or [link.name for link in model.links])
         lift = _translation(0.0, 0.0, -min((p[2] for p in pts), default=0.0))
         frames = {name: compose(lift, t) for name, t in frames.items()}
