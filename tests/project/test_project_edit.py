@@ -124,3 +124,33 @@ def test_mirror_cli_with_a_named_robot_and_in_place(kxr_project_path: Path, tmp_
         cli, ["project", "mirror", str(once), "--motion", "42", "--robot", "nao", "-o", str(twice)]
     )
     assert r.exit_code == 1 and "unknown robot 'nao'" in r.output
+
+
+def test_mirrored_motions_move_the_other_way_in_physics(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    """The judged behaviour: a mirrored side step steps to the other side and a mirrored
+    turn turns the other way, on the MuJoCo KXR-L2 (rcb4hv[sim])."""
+    step, turn = tmp_path / "step.h4p", tmp_path / "turn.h4p"
+    for src, slot, to, out in ((kxr_project_path, 67, 74, step), (step, TURN_LEFT, FREE, turn)):
+        r = CliRunner().invoke(
+            cli, ["project", "mirror", str(src), "--motion", str(slot), "--to", str(to),
+                  "-o", str(out)],
+        )  # fmt: skip
+        assert r.exit_code == 0, r.output
+    args = ["project", "simulate", str(turn), "--physics", "--json"]
+    for slot in (67, 74, TURN_LEFT, FREE):
+        args += ["--motion", str(slot)]
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 0, r.output
+    ph = {m["slot"]: m["physics"] for m in json.loads(r.output)["motions"]}
+    walk_left, walk_mirror = ph[67], ph[74]
+    assert walk_left["dy_m"] > 0.05  # HAC_KXR_WALK_LEFT moves to the left (+y)...
+    assert walk_mirror["dy_m"] == pytest.approx(
+        -walk_left["dy_m"], abs=0.002
+    )  # ...its mirror right
+    assert walk_mirror["dx_m"] == pytest.approx(walk_left["dx_m"], abs=0.002)
+    left, right = ph[TURN_LEFT], ph[FREE]
+    assert not left["fell"] and not right["fell"]
+    assert left["dyaw_deg"] > 5  # counter-clockwise...
+    assert right["dyaw_deg"] == pytest.approx(-left["dyaw_deg"], abs=0.5)  # ...and clockwise
