@@ -58,9 +58,24 @@ def _input(page: Any, name: str) -> Any:
 def _choose(page: Any, name: str, text: str) -> None:
     """Pick an option of a select with input: type its start (the list is virtual), click it."""
     field = _input(page, name)
-    field.click()
-    field.fill(text[:4])
-    page.get_by_role("option", name=text).first.click()
+    option = page.get_by_role("option", name=text).first
+    deadline = time.monotonic() + 40
+    while True:  # the options may reach the browser after the first filtering: type again
+        field.click()
+        field.fill(text[:4])
+        try:
+            option.wait_for(state="visible", timeout=5_000)
+            break
+        except Exception:  # playwright's TimeoutError
+            assert time.monotonic() < deadline, f"{name}: no option {text!r}"
+            page.keyboard.press("Escape")
+    option.click()
+
+
+def _chart_of(page: Any, address: int) -> None:
+    """Wait until the flowchart drawn is the motion at ROM ``address``."""
+    chart = page.get_by_test_id("editor-flowchart")
+    chart.get_by_text(f"{address:05X} ").first.wait_for()
 
 
 def _wait_text(page: Any, name: str, text: str, timeout: float = 40.0) -> None:
@@ -81,6 +96,7 @@ def test_editor_in_the_browser(gl_page: Any, kxr_project_path: Path, tmp_path: P
     _wait_text(page, "editor-status", "no edits")
     # change one pose: WALK, pose 2 (clicked in the flowchart), ICS 10 -> 7700
     _choose(page, "editor-motion", f"M{WALK:03d} HAC_KXR_WALK_FORWARD")
+    _chart_of(page, 0x21380)  # slot 66 starts at 0B80h + 65 * 800h
     page.locator("[data-testid=editor-flowchart] g[data-pose='1']").click()
     raw = _input(page, "editor-raw-10")
     deadline = time.monotonic() + 40
@@ -101,6 +117,7 @@ def test_editor_in_the_browser(gl_page: Any, kxr_project_path: Path, tmp_path: P
     page.get_by_test_id("editor-mirror-motion").click()
     _wait_text(page, "editor-status", "2 edits")
     _choose(page, "editor-motion", f"M{FREE:03d} TURN_RIGHT_MIRROR")
+    _chart_of(page, 0x24B80)  # slot 73
     page.locator("[data-testid=editor-flowchart] g[data-pose='0']").click()
     page.get_by_test_id("editor-3d").wait_for()
     time.sleep(1.0)  # let three.js draw the pose
