@@ -16,6 +16,10 @@
     │                              also a ValueError
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
+    ├── EditError                  a motion edit that is refused (range, joint limit, slot in
+    │   │                          use, a block that is not a pose); also a ValueError
+    │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one;
+    │                              also a RobotModelError
     ├── SimulationError            the emulated board refused a host frame in a simulation
     ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
     │                              unknown robot name, a link without inertia, a joint map
@@ -36,10 +40,12 @@ __all__ = [
     "AsmError",
     "ChecksumError",
     "CommandNotAllowedError",
+    "EditError",
     "FrameError",
     "Hth4FormatError",
     "LayoutError",
     "NakError",
+    "NoRobotModelError",
     "PhysicsError",
     "PhysicsUnavailableError",
     "ProtocolError",
@@ -136,6 +142,16 @@ class RobotModelError(Rcb4Error, ValueError):
     """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
     malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
     indices the project does not have."""
+
+
+class EditError(Rcb4Error, ValueError):
+    """A project edit that is refused: a value outside the documented range or the joint's
+    limits (without the override), a slot in use, a block that is not a pose."""
+
+
+class NoRobotModelError(EditError, RobotModelError):
+    """An edit that needs the robot's joint map (mirroring, joint angles) on a project whose
+    robot has no model: name one (``--robot``)."""
 
 
 class PhysicsError(Rcb4Error):

@@ -29,6 +29,7 @@ import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,
@@ -248,7 +249,7 @@ def write_activity(x: Builder, a: FlowchartActivity) -> None:
 
 def save_motion_xml(chart: Flowchart, path: str | os.PathLike[str]) -> None:
     """Write ``chart`` to ``path``."""
-    Path(path).write_bytes(dump_motion_xml(chart))
+    write_atomic(path, dump_motion_xml(chart))
 
 
 def _pt(b: Builder, p: Point) -> None:

@@ -13,6 +13,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     Hth4FormatError,
@@ -78,4 +79,4 @@ def dump_link(doc: XmlDocument) -> bytes:
 
 def save_link(doc: XmlDocument, path: str | os.PathLike[str]) -> None:
     """Write ``doc`` to ``path``."""
-    Path(path).write_bytes(dump_link(doc))
+    write_atomic(path, dump_link(doc))

@@ -13,6 +13,7 @@ from nicegui import ui
 from rcb4hv.session import BoardSession
 from rcb4hv.ui import (
     board_page,
+    editor_page,
     motions_page,
     project_page,
     remote_page,
@@ -33,6 +34,7 @@ PAGES: tuple[tuple[str, Callable[[UiContext], None]], ...] = (
     ("Motions", motions_page.build),
     ("Project", project_page.build),
     ("Teach", teach_page.build),
+    ("Editor", editor_page.build),
 )
 
 
