@@ -8,15 +8,17 @@ from collections.abc import Iterator
 
 import pytest
 
+from rcb4hv import emulator as emu
 from rcb4hv.client import Rcb4Client
 from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.transport import Fault, FaultConfig, FaultyTransport, open_transport
 from tests.client.conftest import SYNC_TRANSPORTS, Rig, make_board, make_rig
 
 TIMEOUT = 0.15
-SLACK = 0.35
+SLACK = 1.0
 """How far past its deadline a call may end: scheduling on a loaded 2-core machine (0.41 s
-was seen once at load 3). A hang would take far longer."""
+was seen once at load 3; a second holds at load 4, what CI runners see). A hang would take
+far longer: the calls run with no limit of their own but the timeout."""
 
 EXPECTED: dict[Fault, type[BaseException] | None] = {
     Fault.DROP_REQUEST: Rcb4TimeoutError,
@@ -70,11 +72,12 @@ def test_scripted_fault(rig: Rig, fault: Fault) -> None:
 def test_corrupt_reply_fails_fast(rig: Rig) -> None:
     ft, client = _faulty(rig)
     ft.inject(Fault.CORRUPT_REPLY)
-    client.timeout = 2.0
+    client.timeout = 10.0
     t0 = time.monotonic()
     with pytest.raises(ChecksumError):
         client.read_ram(0x0090, 100)
-    assert time.monotonic() - t0 < 0.5  # not the whole timeout: the grace period
+    # the 20 ms grace period plus the scheduling slack, not the whole 10 s timeout
+    assert time.monotonic() - t0 < client.corrupt_grace + SLACK
 
 
 def test_random_faults_are_seeded_and_bounded(rig: Rig) -> None:
@@ -91,8 +94,7 @@ def test_random_faults_are_seeded_and_bounded(rig: Rig) -> None:
                 outcomes.append("ok")
             except (Rcb4TimeoutError, ChecksumError, NakError, TransportError) as exc:
                 outcomes.append(type(exc).__name__)
-            # no call hangs: it ends near its deadline; the slack absorbs scheduling on a
-            # loaded 2-core machine (0.41 s was seen once at load 3)
+            # no call hangs: it ends near its deadline; the slack absorbs scheduling
             assert time.monotonic() - t0 < TIMEOUT + SLACK
         histories.append([f for _, f in ft.history])
     assert histories[0] == histories[1]  # same seed, same faults
@@ -117,7 +119,6 @@ def test_fault_url_and_config_parsing(rig: Rig) -> None:
 
 @pytest.mark.parametrize("kind", ["tcp", "pty"])
 def test_real_disconnect_raises_transport_error_in_time(kind: str) -> None:
-    emu = pytest.importorskip("rcb4hv.emulator")
     board = make_board()
     try:
         if kind == "tcp":
@@ -136,7 +137,7 @@ def test_real_disconnect_raises_transport_error_in_time(kind: str) -> None:
             with pytest.raises((TransportError, Rcb4TimeoutError)):
                 for _ in range(3):
                     client.acknowledge_check()
-            assert time.monotonic() - t0 < 1.0
+            assert time.monotonic() - t0 < 0.3 + SLACK  # one timeout at most, never a hang
         finally:
             client.close()
     finally:
