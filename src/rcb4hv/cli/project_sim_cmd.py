@@ -52,9 +52,9 @@ from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
 @click.option(
     "--limit",
     type=click.FloatRange(min=0.001),
-    default=60.0,
-    show_default=True,
-    help="Virtual seconds per motion before it counts as a timeout.",
+    default=None,
+    help="Virtual seconds per motion before it counts as a timeout (default: as long as it "
+    "makes progress - servos, loop counters or variables change within 60 s - up to 1 h).",
 )
 @build_options
 @LAYOUT_OPTION
@@ -66,18 +66,20 @@ def simulate(
     plot: Path | None,
     hold_button: str | None,
     hold_for: float,
-    limit: float,
+    limit: float | None,
     layout_name: str | None,
 ) -> None:
     """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
 
     Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
     completed (returned to the main loop), waiting (loops reading an input, e.g. a button
-    or AD sensor, as its program defines), stalled (repeats itself without reading any
-    input), timeout (--limit reached) or error (ROMERR, command error, call-stack
-    overflow/underflow; with the PC and the instruction). A boot that fails is reported with
-    its cause and the motions are still played from the host. Exit status 0 when the boot
-    and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
+    or AD sensor, as its program defines), holding (loops without reading an input while
+    servos are mixed from an AD sensor, e.g. a gyro balancing the robot), stalled (repeats
+    itself without reading any input), timeout (no progress for 60 s, 1 h in all, or
+    --limit reached) or error (ROMERR, command error, call-stack overflow/underflow; with the
+    PC and the instruction). A boot that fails is reported with its cause and the motions are
+    still played from the host. Exit status 0 when the boot and every motion completed, wait
+    or hold, 1 if any error, 2 if any timeout or stall.
     """
     from rcb4hv.project.simulate import Simulator
 
