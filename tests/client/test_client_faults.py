@@ -15,10 +15,18 @@ from rcb4hv.transport import Fault, FaultConfig, FaultyTransport, open_transport
 from tests.client.conftest import SYNC_TRANSPORTS, Rig, make_board, make_rig
 
 TIMEOUT = 0.15
+"""The faulted call's timeout when the fault makes it time out (nothing, or too little, comes)."""
 SLACK = 1.0
 """How far past its deadline a call may end: scheduling on a loaded 2-core machine (0.41 s
 was seen once at load 3; a second holds at load 4, what CI runners see). A hang would take
 far longer: the calls run with no limit of their own but the timeout."""
+
+CALM_TIMEOUT = 2.0
+"""Every call that should succeed or fail otherwise: on a loaded machine a good reply can take
+a good part of a second to be read, which a 0.15 s timeout would call a timeout."""
+DELAY = TIMEOUT + SLACK
+"""How late a delayed reply comes: past the faulted call's timeout even when the client looks
+late, so the call times out on a loaded machine too."""
 
 EXPECTED: dict[Fault, type[BaseException] | None] = {
     Fault.DROP_REQUEST: Rcb4TimeoutError,
@@ -40,16 +48,24 @@ def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
     yield from make_rig(request.param)
 
 
-def _faulty(rig: Rig, **config: object) -> tuple[FaultyTransport, Rcb4Client]:
+def _faulty(
+    rig: Rig, timeout: float = TIMEOUT, **config: object
+) -> tuple[FaultyTransport, Rcb4Client]:
     ft = FaultyTransport(rig.client.transport, FaultConfig(**config))  # type: ignore[arg-type]
-    return ft, Rcb4Client(ft, timeout=TIMEOUT)
+    return ft, Rcb4Client(ft, timeout=timeout)
+
+
+def fault_timeout(fault: Fault) -> float:
+    """The faulted call's timeout: short where the fault must make it time out."""
+    return TIMEOUT if EXPECTED[fault] is Rcb4TimeoutError else CALM_TIMEOUT
 
 
 @pytest.mark.parametrize("fault", list(Fault), ids=[f.value for f in Fault])
 def test_scripted_fault(rig: Rig, fault: Fault) -> None:
-    ft, client = _faulty(rig, delay_s=0.2)
+    ft, client = _faulty(rig, CALM_TIMEOUT, delay_s=DELAY)
     client.write_ram(0x0462, b"\x11\x22\x33\x44")
     ft.inject(fault)
+    client.timeout = fault_timeout(fault)
     t0 = time.monotonic()
     expected = EXPECTED[fault]
     if expected is None:
@@ -57,14 +73,15 @@ def test_scripted_fault(rig: Rig, fault: Fault) -> None:
     else:
         with pytest.raises(expected):
             client.read_ram(0x0462, 4)
-    assert time.monotonic() - t0 < TIMEOUT + SLACK
+    assert time.monotonic() - t0 < client.timeout + SLACK
+    client.timeout = CALM_TIMEOUT
     assert ft.history[-1][1] is fault
     # the next calls work (a late reply of the same shape may stand in for one read's reply:
     # the protocol has no sequence numbers, so compare the data, which is the same)
     client.acknowledge_check()
     assert client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
     assert client.get_version_info().text.startswith("CB-4")
-    time.sleep(0.2)  # let a delayed reply land, then check it is discarded
+    time.sleep(DELAY)  # let a delayed reply land, then check it is discarded
     client.acknowledge_check()
     assert client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
 
@@ -83,10 +100,14 @@ def test_corrupt_reply_fails_fast(rig: Rig) -> None:
 def test_random_faults_are_seeded_and_bounded(rig: Rig) -> None:
     rates = {f: 0.06 for f in Fault}
     histories = []
+    # The fault stream draws from its seeded generator when a reply arrives too (which byte to
+    # drop or flip), so two runs draw alike only if every reply arrives before its call's
+    # deadline: half a second holds on a loaded machine, where 0.15 s did not.
+    timeout = 0.5
     for _ in range(2):
-        ft, client = _faulty(rig, rates=rates, seed=42, delay_s=0.2)
+        ft, client = _faulty(rig, timeout, rates=rates, seed=42, delay_s=0.2)
         outcomes = []
-        for i in range(30):
+        for i in range(20):
             value = bytes((i, 255 - i))
             t0 = time.monotonic()
             try:
@@ -95,7 +116,7 @@ def test_random_faults_are_seeded_and_bounded(rig: Rig) -> None:
             except (Rcb4TimeoutError, ChecksumError, NakError, TransportError) as exc:
                 outcomes.append(type(exc).__name__)
             # no call hangs: it ends near its deadline; the slack absorbs scheduling
-            assert time.monotonic() - t0 < TIMEOUT + SLACK
+            assert time.monotonic() - t0 < timeout + SLACK
         histories.append([f for _, f in ft.history])
     assert histories[0] == histories[1]  # same seed, same faults
     assert len(histories[0]) > 5

@@ -1,5 +1,5 @@
 """Fault injection on a real TCP link to the emulator: drop, corrupt, delay, duplicate, split,
-disconnect. Every call ends within its timeout (+ SLACK) with the right typed error, is never
+disconnect. Every call ends within its timeout (+ LOADED_SLACK) with the right typed error, is never
 retried, and the next calls on the healed link succeed."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from rcb4hv.transport import Fault
 from tests.reliability.linkfaults import LinkFault
 from tests.reliability.scenarios import (
     FAULT_SCENARIOS,
-    SLACK,
+    LOADED_SLACK,
     FaultScenario,
     TcpRig,
     run_fault_scenario,
@@ -34,7 +34,7 @@ def rig() -> Iterator[TcpRig]:
 def test_fault_scenario(rig: TcpRig, scenario: FaultScenario) -> None:
     value = bytes((len(scenario.name), 0x5A, 0xA5, 0x3C))
     rig.client.write_ram(0x0462, value)
-    outcome = run_fault_scenario(rig, scenario, value)
+    outcome = run_fault_scenario(rig, scenario, value, LOADED_SLACK)
     assert outcome.ok, outcome.why
     if scenario.expected is not None:
         assert outcome.got in {e.__name__ for e in scenario.expected}
@@ -59,6 +59,6 @@ def test_scenario_checker_flags_a_wrong_outcome(rig: TcpRig) -> None:
     wrong = FaultScenario("duplicate as timeout", LinkFault.DUPLICATE_REPLY, (Rcb4TimeoutError,))
     value = b"\x01\x02\x03\x04"
     rig.client.write_ram(0x0462, value)
-    outcome = run_fault_scenario(rig, wrong, value)
+    outcome = run_fault_scenario(rig, wrong, value, LOADED_SLACK)
     assert not outcome.ok and "expected Rcb4TimeoutError" in outcome.why
-    assert outcome.elapsed < rig.client.timeout + SLACK
+    assert outcome.elapsed < rig.client.timeout + LOADED_SLACK
