@@ -20,6 +20,8 @@ from rcb4hv import emulator as emu
 from rcb4hv.client import Rcb4Client, Robot
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock, emulator_url
 from rcb4hv.emulator.boot import booted
+from rcb4hv.rom.default import default_image
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
 from tests.client.aio_bridge import BlockingBridge
 
 TRANSPORTS = ("inproc", "pty", "tcp", "aio-inproc", "aio-pty", "aio-tcp")
@@ -46,10 +48,12 @@ class Rig:
 class SteppedBoard(Board):
     """A board on a :class:`VirtualClock` that each answered request frame moves by ``step``."""
 
-    def __init__(self, config: EmulatorConfig, step: float = STEP) -> None:
+    def __init__(
+        self, config: EmulatorConfig, step: float = STEP, rom_image: bytes | None = None
+    ) -> None:
         self.virtual = VirtualClock()
         self.step = step
-        super().__init__(config, clock=self.virtual)
+        super().__init__(config, clock=self.virtual, rom_image=rom_image)
 
     def feed(self, data: bytes | bytearray) -> bytes:
         before = self.frames_handled
@@ -58,10 +62,12 @@ class SteppedBoard(Board):
         return reply
 
 
-def make_board(**config: Any) -> SteppedBoard:
-    """A board that has finished its start-up (run in virtual time), on request-driven time."""
-    board = SteppedBoard(EmulatorConfig(**config))
-    while not booted(board.ram):
+def make_board(layout: MotionLayout = HTH4_22, **config: Any) -> SteppedBoard:
+    """The default board in ``layout``, its start-up finished (run in virtual time), on
+    request-driven time."""
+    image = None if layout is HTH4_22 else default_image(layout)
+    board = SteppedBoard(EmulatorConfig(**config), rom_image=image)
+    while not booted(board.ram, layout):
         assert board.now < BOOT_LIMIT_S, "the start-up program never reached the main loop"
         board.run_for(STEP)
     return board

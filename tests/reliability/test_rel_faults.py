@@ -25,7 +25,11 @@ from tests.reliability.scenarios import (
 
 @pytest.fixture(scope="module")
 def rig() -> Iterator[TcpRig]:
-    with tcp_rig(timeout=0.25) as r:
+    # real time is the thing under test here; on a loaded runner (load 4 on two cores) a reply
+    # or the board's frame-timeout NAK can be late by a good part of a second, so the client
+    # waits 1 s and the board's frame timeout is 0.2 s (a split request's short gap is a tenth
+    # of it, the long gap three times it: both still far from the other side)
+    with tcp_rig(timeout=1.0, frame_timeout=0.2) as r:
         r.client.acknowledge_check(timeout=2.0)
         yield r
 
