@@ -32,9 +32,9 @@ def test_open_waits_for_the_start_up_program() -> None:
 def test_boot_live_opens_at_power_on() -> None:
     # the start-up program allocates the servos 8 ms of board time after power-on: at a
     # thousandth of real time the first command comes before that even on a loaded machine
-    with Rcb4Client.open("rcb4emu://?boot=live&speed=0.001") as rcb:
-        with pytest.raises(NakError):  # nothing allocated yet
-            rcb.move(Com(), Ics(4, 2), 2)
+    slow = "rcb4emu://?boot=live&speed=0.001"
+    with Rcb4Client.open(slow) as rcb, pytest.raises(NakError):  # nothing allocated yet
+        rcb.move(Com(), Ics(4, 2), 2)
     with Rcb4Client.open("rcb4emu://?boot=live") as rcb:
         robot = Robot(rcb)
         robot.wait_ready(timeout=10.0)
