@@ -27,6 +27,7 @@ Sources (tables in docs/robots.md):
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid
@@ -108,6 +109,14 @@ HEAD_TOP = 146.0  # head link (120) + its end coordinates (26)
 # sole plate: no public figure found; a documented estimate (docs/robots.md)
 SOLE = (80.0, 50.0, 3.0)
 
+# link centres of mass (mm, left side, link frame at the joint): kxreus kxrl2g.l's inertial
+# parameters of LLEG_LINK0..4 and torso-link-l2l5 (computed by kxreus from the Kondo parts
+# the link is built of: the servo cases sit behind the hip and ankle axes, the knee's in
+# front; the foot's plate reaches outward of the ankle)
+COM_TORSO = (-6.216, 0.0, 41.94)
+COM_HIP, COM_THIGH, COM_SHIN = (-13.148, 0.0, -8.556), (0.0, 0.0, -33.737), (10.966, 0.0, -12.284)
+COM_ANKLE, COM_FOOT = (-13.148, 0.0, 8.556), (0.0, 7.514, -25.416)
+
 _Y, _X = (0.0, 1.0, 0.0), (1.0, 0.0, 0.0)
 _DARK, _LIGHT = (0.2, 0.2, 0.22, 1.0), (0.9, 0.9, 0.92, 1.0)
 
@@ -159,6 +168,7 @@ def _build(gripper: bool) -> RobotModel:
         axis: Vec3,
         geoms: tuple[Geom, ...],
         mass_g: float,
+        com: Vec3 | None = None,
     ) -> LimbJoint:
         lo, hi = _limits(name)
         return LimbJoint(
@@ -172,6 +182,7 @@ def _build(gripper: bool) -> RobotModel:
             hi,
             geoms,
             mass_g * G,
+            com=None if com is None else (com[0] * MM, com[1] * MM, com[2] * MM),
         )
 
     forearm = [_box((30.0, 26.0, 60.0), (0.0, 0.0, -30.0), _LIGHT)]
@@ -232,6 +243,7 @@ def _build(gripper: bool) -> RobotModel:
             _X,
             (_box((40.0, 27.0, 40.0), (-5.0, 0.0, -8.0)),),
             M_HIP,
+            COM_HIP,
         ),
         joint(
             "hip_pitch",
@@ -241,6 +253,7 @@ def _build(gripper: bool) -> RobotModel:
             _Y,
             (_box((30.0, 27.0, THIGH), (0.0, 0.0, -THIGH / 2), _LIGHT),),
             M_THIGH,
+            COM_THIGH,
         ),
         joint(
             "knee_pitch",
@@ -250,6 +263,7 @@ def _build(gripper: bool) -> RobotModel:
             _Y,
             (_box((30.0, 27.0, SHIN), (0.0, 0.0, -SHIN / 2), _LIGHT),),
             M_SHIN,
+            COM_SHIN,
         ),
         joint(
             "ankle_pitch",
@@ -259,6 +273,7 @@ def _build(gripper: bool) -> RobotModel:
             _Y,
             (_box((40.0, 27.0, 40.0), (-5.0, 0.0, 8.0)),),
             M_ANKLE,
+            COM_ANKLE,
         ),
         joint(
             "ankle_roll",
@@ -268,13 +283,21 @@ def _build(gripper: bool) -> RobotModel:
             _X,
             (sole, _box((40.0, 27.0, 24.0), (-5.0, 0.0, -16.0))),
             M_FOOT,
+            COM_FOOT,
         ),
     ]
     torso_geoms = (
         _box((50.0, 69.0, 95.0), (-7.25, 0.0, 37.5), _LIGHT),
         _box((40.0, 40.0, HEAD_TOP - 95.0), (-2.0, 0.0, (95.0 + HEAD_TOP) / 2), _LIGHT),
     )
-    root = Link("torso", solid_many((M_TORSO + M_HEAD) * G, torso_geoms), torso_geoms)
+    # the torso's own centre of mass is kxreus's; the head's is its box's centre
+    head = solid_many(M_HEAD * G, torso_geoms[1:])
+    com = tuple(
+        (M_TORSO * G * COM_TORSO[k] * MM + head.mass * head.com[k]) / ((M_TORSO + M_HEAD) * G)
+        for k in range(3)
+    )
+    body = solid_many((M_TORSO + M_HEAD) * G, torso_geoms)
+    root = Link("torso", replace(body, com=(com[0], com[1], com[2])), torso_geoms)
     servo_map: dict[str, tuple[int, int]] = {}
     for name, (ics, right, left) in _MAP.items():
         if name == "gripper" and not gripper:
