@@ -29,6 +29,7 @@ from tests.physics.robots import biped
 KXR = load_builtin("kxr-l2-gripper")
 IMAGE, LAYOUT, NAMES = load_image(Path(PROJECT))
 WALK_FORWARD, TURN_LEFT, TURN_RIGHT = 9, 13, 14  # XL2G_109, XL2G_113, XL2G_114
+GREETING = 21  # XL2G_201_挨拶: a bow
 
 
 def play(*slots: int, sequence: bool = False) -> list[PhysicsOutcome]:
@@ -50,6 +51,14 @@ def test_turns_turn_the_right_way(slot: int, sign: int) -> None:
     assert not out.fell and out.end_pose == "upright"
     assert sign * out.dyaw_deg > 10.0
     assert math.hypot(out.dx_m, out.dy_m) < 0.05
+
+
+def test_the_fixture_greeting_bows_upright_and_in_place() -> None:
+    # with kxreus's link centres of mass (kxrl2g.l); with box centroids it fell on its front
+    (out,) = play(GREETING)
+    assert not out.fell and out.end_pose == "upright"
+    assert math.hypot(out.dx_m, out.dy_m) < 0.02
+    assert abs(out.dyaw_deg) < 3.0
 
 
 def test_a_sequence_plays_on_without_a_reset() -> None:
