@@ -99,15 +99,19 @@ M_SHOULDER, M_UPPER_ARM, M_FOREARM, M_FINGER = 11.355, 42.494, 74.384, 25.94
 # joint origins (kxreus kxrl2g.l world positions at the zero pose, mm, left side)
 HIP = (0.0, 23.5, -28.0)
 THIGH, SHIN = 58.0, 57.976
-SOLE_BELOW_ANKLE = 31.0  # kxrl2g.l leg end coordinates
+SOLE_BELOW_ANKLE = 31.0  # kxrl2g.l leg end coordinates (the sole's underside)
 SHOULDER = (-7.25, 46.5, 69.0)
 SHOULDER_PITCH_TO_ROLL = 29.0
 UPPER_ARM = 53.0
 ELBOW_TO_GRIPPER = 65.5
 HAND = 100.5  # elbow to the hand's end coordinates
 HEAD_TOP = 146.0  # head link (120) + its end coordinates (26)
-# sole plate: no public figure found; a documented estimate (docs/robots.md)
-SOLE = (80.0, 50.0, 3.0)
+# sole (left foot, mm): kxreus kxrl2g.l's foot link geometry (RLEG_LINK4, mirrored): a 10 mm
+# plate from 21 to 31 below the ankle-roll axis, 105 mm long centred fore-aft, reaching 21 mm
+# inward and 46.2 mm outward of the axis; its outer side is rounded, so it is drawn and
+# collided as three boxes inside that outline (x half-length, inner y, outer y):
+SOLE_TOP, SOLE_BOTTOM = 21.0, SOLE_BELOW_ANKLE
+SOLE_STEPS = ((52.5, -21.0, 18.9), (42.0, 18.9, 33.6), (21.0, 33.6, 44.1))
 
 # link centres of mass (mm, left side, link frame at the joint): kxreus kxrl2g.l's inertial
 # parameters of LLEG_LINK0..4 and torso-link-l2l5 (computed by kxreus from the Kondo parts
@@ -233,7 +237,11 @@ def _build(gripper: bool) -> RobotModel:
                 M_FINGER,
             )
         )
-    sole = _box(SOLE, (0.0, 0.0, -SOLE_BELOW_ANKLE + SOLE[2] / 2), _LIGHT)
+    thick = SOLE_BOTTOM - SOLE_TOP
+    sole = tuple(
+        _box((2 * x, y1 - y0, thick), (0.0, (y0 + y1) / 2, -SOLE_TOP - thick / 2), _LIGHT)
+        for x, y0, y1 in SOLE_STEPS
+    )
     specs += [
         joint(
             "hip_roll",
@@ -281,7 +289,7 @@ def _build(gripper: bool) -> RobotModel:
             "ankle",
             (0.0, 0.0, 0.0),
             _X,
-            (sole, _box((40.0, 27.0, 24.0), (-5.0, 0.0, -16.0))),
+            (*sole, _box((38.0, 27.0, SOLE_TOP), (0.0, 0.0, -SOLE_TOP / 2))),
             M_FOOT,
             COM_FOOT,
         ),
