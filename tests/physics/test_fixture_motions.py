@@ -30,7 +30,7 @@ KXR = load_builtin("kxr-l2-gripper")
 IMAGE, LAYOUT, NAMES = load_image(Path(PROJECT))
 WALK_FORWARD, TURN_LEFT, TURN_RIGHT = 9, 13, 14  # XL2G_109, XL2G_113, XL2G_114
 GREETING = 21  # XL2G_201_挨拶: a bow
-SLOW_FORWARD, SLOW_BACK = 5, 6  # XL2G_105/106: five slow steps forward / back
+SLOW_FORWARD, SLOW_BACK, SLOW_RIGHT = 5, 6, 8  # XL2G_105/106/108: five slow steps
 SIDE_LEFT, SIDE_RIGHT = 11, 12  # XL2G_111/112: a fast side step left / right
 
 
@@ -61,6 +61,14 @@ def test_five_steps_back_walk_back_without_falling() -> None:
     assert not out.fell and out.end_pose == "upright"
     assert out.dx_m < -0.2
     assert abs(out.dy_m) < 0.1
+
+
+def test_five_steps_right_walk_right_without_falling() -> None:
+    # (five steps left, XL2G_107, go left but fall at 6.6 s: a margin case, docs/physics.md)
+    (out,) = play(SLOW_RIGHT)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dy_m < -0.15
+    assert abs(out.dx_m) < abs(out.dy_m) / 2
 
 
 @pytest.mark.parametrize(("slot", "sign"), [(SIDE_LEFT, 1), (SIDE_RIGHT, -1)])
