@@ -16,7 +16,10 @@
     │                              also a ValueError
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
-    └── SimulationError            the emulated board refused a host frame in a simulation
+    ├── SimulationError            the emulated board refused a host frame in a simulation
+    └── IcsError                   an ICS servo answered wrongly, or a write did not verify
+        └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
+                                   also a builtin TimeoutError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -31,6 +34,8 @@ __all__ = [
     "CommandNotAllowedError",
     "FrameError",
     "Hth4FormatError",
+    "IcsError",
+    "IcsNoReply",
     "LayoutError",
     "NakError",
     "ProtocolError",
@@ -120,3 +125,13 @@ class AsmError(Rcb4Error, ValueError):
 
 class SimulationError(Rcb4Error):
     """The emulated board did not accept a host frame during a simulation."""
+
+
+class IcsError(Rcb4Error):
+    """An ICS servo (or the bus in between) answered something else than the protocol says, or
+    a value read back after a write differs from the value written."""
+
+
+class IcsNoReply(IcsError, TimeoutError):
+    """No ICS servo answered in time: no servo with that ID, a different baud rate, a servo
+    still writing its EEPROM, or (through a board's 0Eh) the board's NAK for "no answer"."""

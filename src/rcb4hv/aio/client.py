@@ -242,9 +242,7 @@ class AsyncRcb4Client:
         """04h NOT; returns the result bytes."""
         return await self._data(Not(dst, size, no_write))
 
-    async def shift(
-        self, dst: Destination, size: int, count: int, no_write: bool = False
-    ) -> bytes:
+    async def shift(self, dst: Destination, size: int, count: int, no_write: bool = False) -> bytes:
         """05h SHIFT (count 1-127 right, 128-255 left by 256 - count); returns the result."""
         return await self._data(Shift(dst, size, no_write, count))
 
@@ -359,9 +357,7 @@ class AsyncRcb4Client:
         """Write ``data`` to RAM (any size; 121 bytes per frame)."""
         await self._run(plans.write_ram(address, data))
 
-    async def read_rom(
-        self, address: int, size: int, progress: Progress | None = None
-    ) -> bytes:
+    async def read_rom(self, address: int, size: int, progress: Progress | None = None) -> bytes:
         """Read ``size`` bytes of ROM, 128 bytes per frame; ``progress(done, total)``."""
         return await self._run(plans.read_memory("ROM", address, size, progress))
 

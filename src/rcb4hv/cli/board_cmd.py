@@ -40,8 +40,17 @@ def servo_rows(servos: list[ServoInfo], robot: Robot) -> list[list[object]]:
         b = s.block
         deg = robot.to_degrees(s.ics, b.measured)
         rows.append(
-            [s.ics, s.servo_id, s.port, f"{s.block_address:04X}", b.base, b.measured,
-             f"{deg:+.1f}", f"{b.output:04X}" if b.output >= POSITION_HOLD else b.output, s.state]
+            [
+                s.ics,
+                s.servo_id,
+                s.port,
+                f"{s.block_address:04X}",
+                b.base,
+                b.measured,
+                f"{deg:+.1f}",
+                f"{b.output:04X}" if b.output >= POSITION_HOLD else b.output,
+                s.state,
+            ]
         )
     return rows
 
@@ -189,17 +198,13 @@ def register(cli: click.Group) -> None:
         data = image.read_bytes()
         if not data:
             raise ValueError(f"{image} is empty")
-        with conn.open() as robot, _output.progress(
-            len(data), "rom write", progress
-        ) as bar:
+        with conn.open() as robot, _output.progress(len(data), "rom write", progress) as bar:
             robot.write_rom(address, data, verify=verify, progress=bar)
         checked = " and verified" if verify else ""
         click.echo(f"wrote{checked} {len(data)} bytes at {address:06X}")
 
     @rom.command("dump")
-    @click.option(
-        "-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True
-    )
+    @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
     @click.option("--start", type=ADDRESS, default=0, show_default=True)
     @click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
     @pass_connection
@@ -207,9 +212,7 @@ def register(cli: click.Group) -> None:
     @handle_errors
     def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool) -> None:
         """Save ROM (default: all 256 KB) to an image file."""
-        with conn.open() as robot, _output.progress(
-            size, "rom dump", progress
-        ) as bar:
+        with conn.open() as robot, _output.progress(size, "rom dump", progress) as bar:
             data = robot.read_rom(start, size, progress=bar)
         output.write_bytes(data)
         click.echo(f"wrote {len(data)} bytes ({start:06X}-{start + size - 1:06X}) to {output}")
@@ -245,8 +248,7 @@ def register(cli: click.Group) -> None:
     @handle_errors
     def servo_move(
         conn: Connection,
-        targets: tuple[str,
-        ...],
+        targets: tuple[str, ...],
         deg: bool,
         duration: float,
         wait: bool,
@@ -372,8 +374,13 @@ def register(cli: click.Group) -> None:
             st = robot.motion_status()
         if as_json:
             print_json(
-                {"motion": st.motion, "pc": f"{st.pc:06X}", "call_depth": st.call_depth,
-                 "update_flags": st.update_flags.hex(), "running": st.running}
+                {
+                    "motion": st.motion,
+                    "pc": f"{st.pc:06X}",
+                    "call_depth": st.call_depth,
+                    "update_flags": st.update_flags.hex(),
+                    "running": st.running,
+                }
             )
         else:
             what = f"motion {st.motion}" if st.motion is not None else "no motion"

@@ -29,10 +29,16 @@ from rcb4hv.client import PositionRecorder, Robot
     metavar="URL",
     help="Run on this board instead of the in-process emulator (careful: it moves!).",
 )
-@click.option("--speed", type=click.FloatRange(min=0.1), default=1.0, show_default=True,
-              help="Emulator clock speed factor.")
-@click.option("--motion", "motion_number", type=click.IntRange(1, 120), default=1,
-              show_default=True)
+@click.option(
+    "--speed",
+    type=click.FloatRange(min=0.1),
+    default=1.0,
+    show_default=True,
+    help="Emulator clock speed factor.",
+)
+@click.option(
+    "--motion", "motion_number", type=click.IntRange(1, 120), default=1, show_default=True
+)
 @handle_errors
 def demo(output: Path, port: str | None, speed: float, motion_number: int) -> None:
     """Drive a virtual robot end to end and plot its servo angles."""
@@ -71,7 +77,8 @@ def run_demo(output: Path, port: str | None, speed: float, motion_number: int) -
             angles = (30.0, -20.0, 45.0, -40.0)
             targets = {k: angles[i % 4] for i, k in enumerate(joints)}
             click.echo(
-                "\nmoving " + ", ".join(f"ICS {k} to {a:+.0f} deg" for k, a in targets.items())
+                "\nmoving "
+                + ", ".join(f"ICS {k} to {a:+.0f} deg" for k, a in targets.items())
                 + " in 0.8 s"
             )
             t0 = time.monotonic()
@@ -105,9 +112,11 @@ def _plot(recorder: PositionRecorder, robot: Robot, output: Path, joints: list[i
         raise ValueError("no position samples were recorded")
     ids = sorted(samples[-1].angles)
     moved = [
-        k for k in ids
+        k
+        for k in ids
         if max(_finite(s.angles.get(k)) for s in samples)
-        - min(_finite(s.angles.get(k)) for s in samples) > 1.0
+        - min(_finite(s.angles.get(k)) for s in samples)
+        > 1.0
     ]
     with plot_to(output, (11, 6), dpi=110) as ax:
         for k in moved or ids:
@@ -115,8 +124,13 @@ def _plot(recorder: PositionRecorder, robot: Robot, output: Path, joints: list[i
             ys = [s.angles.get(k, math.nan) for s in samples]
             style = "-" if k in joints else "--"
             sid, grp = divmod(k, 2)
-            ax.plot(ts, ys, style, lw=1.6 if k in joints else 1.0,
-                    label=f"ICS {k} (ID {sid}, {'SIO1-4' if grp == 0 else 'SIO5-8'})")
+            ax.plot(
+                ts,
+                ys,
+                style,
+                lw=1.6 if k in joints else 1.0,
+                label=f"ICS {k} (ID {sid}, {'SIO1-4' if grp == 0 else 'SIO5-8'})",
+            )
         marks = recorder.marks
         colours = {"hold": "#eeeeee", "move": "#e3f0ff", "motion": "#fff1dd"}
         for i, (t, label) in enumerate(marks):
@@ -129,7 +143,8 @@ def _plot(recorder: PositionRecorder, robot: Robot, output: Path, joints: list[i
         ax.set_title(
             f"rcb4hv demo: servo angles read through the client ({len(samples)} bulk reads, "
             f"output period {robot.output_period() * 1000:.0f} ms)",
-            fontsize=11, pad=18,
+            fontsize=11,
+            pad=18,
         )
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))

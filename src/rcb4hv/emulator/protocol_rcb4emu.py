@@ -45,7 +45,7 @@ from rcb4hv.rom.layout import LAYOUTS
 if TYPE_CHECKING:
     from typing_extensions import Buffer
 
-__all__ = ["BoardLike", "Serial", "emulator_url"]
+__all__ = ["BoardLike", "Serial", "emulator_url", "registered_device"]
 
 SCHEME = "rcb4emu"
 
@@ -77,6 +77,11 @@ def emulator_url(board: BoardLike) -> str:
         n = next(_ids)
     _boards[n] = board
     return f"{SCHEME}://?board={n}"
+
+
+def registered_device(n: int) -> Any:
+    """The device registered as ``n`` by :func:`emulator_url` (None if gone)."""
+    return _boards.get(n)
 
 
 class Serial(SerialBase):
@@ -263,4 +268,3 @@ class Serial(SerialBase):
 
     def reset_output_buffer(self) -> None:
         pass
-

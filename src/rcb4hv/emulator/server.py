@@ -19,6 +19,9 @@ is. The server therefore re-arms a sentinel speed (B50) on its slave fd whenever
 has been active (before answering it) and at least every :data:`PTY_REARM` seconds, so the next
 open always changes the speed and succeeds. Speed means nothing on a pty.
 The TCP server serves one connection at a time; a new connection replaces the old one.
+
+Both serve any :class:`Served` device, not only a :class:`~rcb4hv.emulator.Board`: the ICS bus
+emulator (:class:`~rcb4hv.ics.EmulatedBus`, ``rcb4hv emulate-ics``) is served the same way.
 """
 
 from __future__ import annotations
@@ -36,12 +39,12 @@ import threading
 import time
 import tty
 from collections import deque
-from typing import Final
+from typing import Final, Protocol
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.protocol.memory import SystemRegister, read_system
 
-__all__ = ["PtyServer", "TcpServer"]
+__all__ = ["PtyServer", "Served", "TcpServer"]
 
 log = logging.getLogger(__name__)
 
@@ -70,13 +73,47 @@ def _fine_timer_slack() -> None:
         log.debug("no fine timer slack: %s", exc)
 
 
+class ServeConfig(Protocol):
+    """The serving fields of a device's configuration."""
+
+    @property
+    def min_reply_latency_s(self) -> float: ...
+
+    @property
+    def pace_replies(self) -> bool: ...
+
+
+class Served(Protocol):
+    """What the servers drive: bytes in, bytes out, on the device's own clock."""
+
+    @property
+    def config(self) -> ServeConfig: ...
+
+    def feed(self, data: bytes) -> bytes: ...
+
+    def tick(self) -> None: ...
+
+    def take_output(self) -> bytes: ...
+
+    def poll_timeout(self) -> float | None: ...
+
+    def reset_input(self) -> None: ...
+
+
+def _wire_baud(device: Served) -> int:
+    """The baud rate replies are paced at: the board's COM rate, or the device's own."""
+    if isinstance(device, Board):
+        return SystemRegister.from_word(read_system(device.ram)).baud_rate
+    return int(getattr(device, "wire_baud", 115200))
+
+
 class _Server:
-    """Common loop: the board, the reply queue and the stop pipe."""
+    """Common loop: the device, the reply queue and the stop pipe."""
 
     name = "rcb4hv-emulator"
     _max_wait = MAX_WAIT
 
-    def __init__(self, board: Board) -> None:
+    def __init__(self, board: Served) -> None:
         self.board = board
         self._queue: deque[tuple[float, bytes]] = deque()
         self._unsent = bytearray()
@@ -144,7 +181,7 @@ class _Server:
         cfg = self.board.config
         at = received + cfg.min_reply_latency_s
         if cfg.pace_replies:
-            baud = SystemRegister.from_word(read_system(self.board.ram)).baud_rate
+            baud = _wire_baud(self.board)
             at += (self._rx_unanswered + len(data)) * 11 / baud
         self._rx_unanswered = 0
         self._queue.append((at, data))
@@ -236,7 +273,7 @@ class PtyServer(_Server):
     name = "rcb4hv-emulator-pty"
     _max_wait = PTY_REARM
 
-    def __init__(self, board: Board) -> None:
+    def __init__(self, board: Served) -> None:
         super().__init__(board)
         self._master, self._slave = pty.openpty()
         tty.setraw(self._slave)
@@ -300,7 +337,7 @@ class TcpServer(_Server):
 
     name = "rcb4hv-emulator-tcp"
 
-    def __init__(self, board: Board, host: str = "127.0.0.1", port: int = 0) -> None:
+    def __init__(self, board: Served, host: str = "127.0.0.1", port: int = 0) -> None:
         super().__init__(board)
         self._listener = socket.create_server((host, port))
         self._listener.setblocking(False)

@@ -59,9 +59,7 @@ def simulate_motion(project: Project, slot: int, *, limit: float = 60.0) -> Simu
         for k, v in values.items():
             if v in (POSITION_HOLD, POSITION_FREE):
                 continue
-            series.setdefault(k, []).append(
-                (round(t - t0[0], 3), round(position_to_degrees(v), 2))
-            )
+            series.setdefault(k, []).append((round(t - t0[0], 3), round(position_to_degrees(v), 2)))
 
     sim = Simulator(image, listener=listen)
     sim.boot()
