@@ -17,6 +17,11 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
+# emulate-ics on a pty holds a reply until the client has reconfigured the port (rcb4's ics.py
+# does, ~2 ms after writing: tx time + 2 ms) or for this long (see emulator.ptywatch); a client
+# that never reconfigures waits it once per command, well inside the 0.1 s ICS reply timeout.
+ICS_REPLY_GATE_S = 0.04
+
 
 def _parse_hostport(value: str) -> tuple[str, int]:
     host, sep, port = value.rpartition(":")
@@ -110,8 +115,11 @@ def emulate(
     _serve(board, use_pty, tcp, f"speed {speed:g}")
 
 
-def _serve(device: Served, use_pty: bool, tcp: str | None, what: str) -> None:
+def _serve(
+    device: Served, use_pty: bool, tcp: str | None, what: str, reply_gate_s: float = 0.0
+) -> None:
     """Serve ``device`` on a pty or TCP until SIGINT/SIGTERM; print ``PTY``/``TCP`` first."""
+    from rcb4hv.emulator.ptywatch import WatchingPtyServer
     from rcb4hv.emulator.server import PtyServer, TcpServer
 
     stop = threading.Event()
@@ -123,7 +131,11 @@ def _serve(device: Served, use_pty: bool, tcp: str | None, what: str) -> None:
     signal.signal(signal.SIGTERM, handler)
     server: PtyServer | TcpServer
     if use_pty:
-        server = PtyServer(device)
+        server = (
+            WatchingPtyServer(device, reply_gate_s=reply_gate_s)
+            if reply_gate_s > 0
+            else PtyServer(device)
+        )
         line = f"PTY {server.path}"
     else:
         assert tcp is not None
@@ -196,7 +208,7 @@ def emulate_ics(
     settings = IcsSettings(version="3.5" if ics_version == "3.5" else "3.6")
     bus = EmulatedBus.with_ids(id_list, clock=RealClock(speed), settings=settings, baud=int(baud))
     bus.config = ServeOptions(pace_replies=pace)
-    _serve(bus, use_pty, tcp, f"ICS IDs {list(id_list)} at {baud} baud")
+    _serve(bus, use_pty, tcp, f"ICS IDs {list(id_list)} at {baud} baud", ICS_REPLY_GATE_S)
 
 
 def register(cli: click.Group) -> None:

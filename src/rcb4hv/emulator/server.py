@@ -18,6 +18,8 @@ it can apply with EINVAL - which is what a reopen with the same settings plus ev
 is. The server therefore re-arms a sentinel speed (B50) on its slave fd whenever the client
 has been active (before answering it) and at least every :data:`PTY_REARM` seconds, so the next
 open always changes the speed and succeeds. Speed means nothing on a pty.
+Clients that reconfigure the port around every read need more: see
+:mod:`rcb4hv.emulator.ptywatch`.
 The TCP server serves one connection at a time; a new connection replaces the old one.
 
 Both serve any :class:`Served` device, not only a :class:`~rcb4hv.emulator.Board`: the ICS bus
@@ -56,7 +58,7 @@ SENTINEL_SPEED: Final = termios.B50
 PR_SET_TIMERSLACK: Final = 29
 
 
-def _fine_timer_slack() -> None:
+def fine_timer_slack() -> None:
     """Ask Linux to fire this thread's timers on time (``PR_SET_TIMERSLACK`` 1 ns instead of
     the default 50 µs): a paced reply is due a few hundred µs after its request, so the
     default slack alone would add a fifth to it. Anywhere else (or if it fails) nothing
@@ -210,6 +212,9 @@ class _Server:
     def _on_write_error(self) -> None:
         pass
 
+    def _prepare_thread(self) -> None:
+        pass
+
     def _housekeeping(self) -> None:
         pass
 
@@ -224,7 +229,8 @@ class _Server:
 
     def _main(self) -> None:
         if self.board.config.pace_replies:
-            _fine_timer_slack()
+            fine_timer_slack()
+        self._prepare_thread()
         try:
             self._loop()
         except BaseException as exc:  # pragma: no cover - logged, the thread ends
@@ -282,6 +288,14 @@ class PtyServer(_Server):
         self._last_rearm = 0.0
         self._rearm()
 
+    def _armed(self) -> bool:
+        """Whether the slave carries the sentinel speed (no client open or reconfigure since)."""
+        try:
+            attrs = termios.tcgetattr(self._slave)
+        except (termios.error, OSError):
+            return False
+        return bool(attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED)
+
     def _rearm(self) -> None:
         """Put the sentinel speed on the slave so the next client open changes something."""
         self._last_rearm = time.monotonic()
@@ -311,16 +325,19 @@ class PtyServer(_Server):
     def _out_fd(self) -> int | None:
         return self._master
 
-    def _on_readable(self, fd: int) -> bool:
+    def _read_master(self) -> bytes:
         try:
-            data = os.read(self._master, 4096)
+            return os.read(self._master, 4096)
         except BlockingIOError:
-            return False
+            return b""
         except OSError as exc:
             if exc.errno == errno.EIO:  # no one has the slave open (cannot happen: we hold it)
                 time.sleep(MIN_WAIT)
-                return False
+                return b""
             raise
+
+    def _on_readable(self, fd: int) -> bool:
+        data = self._read_master()
         if not data:
             return False
         self._rearm()
