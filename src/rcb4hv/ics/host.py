@@ -55,11 +55,12 @@ DEFAULT_BAUD: Final = 115200  # what Kondo's servos ship with (EEPROM baud code 
 class IcsServo:
     """One servo on an :class:`IcsBus`."""
 
-    def __init__(self, link: IcsLink, servo_id: int) -> None:
+    def __init__(self, link: IcsLink, servo_id: int, baud: int | None = None) -> None:
         if not 0 <= servo_id <= MAX_ID:
             raise ValueError(f"ICS ID {servo_id} is not 0..{MAX_ID}")
         self.link = link
         self.servo_id = servo_id
+        self.baud = baud  # the host's rate, when known: an EEPROM baud change is followed
 
     def __repr__(self) -> str:
         return f"<IcsServo {self.servo_id}>"
@@ -128,6 +129,10 @@ class IcsServo:
         reply = self._ask(encode_eeprom_write(self.servo_id, new.data))
         assert isinstance(reply, WriteReply)
         self.servo_id = new.servo_id
+        if self.baud is not None and new.baud is not None and new.baud != self.baud:
+            log.warning("servo %d now talks at %d baud: the host follows", new.servo_id, new.baud)
+            self.link.follow_baud(new.baud)
+            self.baud = new.baud
         back = self.eeprom()
         if back.data != new.data:
             diff = new.differences(back)
@@ -166,15 +171,10 @@ class IcsServo:
         new = old.replace(**values)
         if new.data == old.data:
             return {}
+        if self.baud is None and old.baud is not None:
+            self.baud = old.baud  # it answered at the host's rate
         back = self.write_eeprom(new)
-        diff = old.differences(back)
-        if "baud" in diff:
-            log.warning(
-                "servo %d now talks at %s baud: the host must follow",
-                self.servo_id,
-                diff["baud"][1],
-            )
-        return diff
+        return old.differences(back)
 
 
 class IcsBus:

@@ -71,6 +71,8 @@ class IcsLink(Protocol):
 
     def exchange(self, command: bytes) -> bytes: ...
 
+    def follow_baud(self, baud: int) -> None: ...
+
     def close(self) -> None: ...
 
 
@@ -93,6 +95,13 @@ class SerialIcsLink:
         if len(rest) < want - len(command):
             raise IcsNoReply(f"no reply to {command.hex(' ')} (got {rest.hex(' ') or 'nothing'})")
         return rest
+
+    def follow_baud(self, baud: int) -> None:
+        """Switch the host to ``baud`` (after a servo's baud change)."""
+        set_baudrate = getattr(self.transport, "set_baudrate", None)
+        if set_baudrate is None:
+            raise IcsError(f"{self.transport!r} cannot change its baud rate")
+        set_baudrate(baud)
 
     def close(self) -> None:
         self.transport.close()
@@ -144,6 +153,10 @@ class BoardIcsLink:
         if not isinstance(reply, DataReply):
             raise IcsError("the board did not return the answer's RAM")
         return bytes(reply.data)
+
+    def follow_baud(self, baud: int) -> None:
+        """The board's SIO rate is the board's business: nothing here can follow a servo."""
+        raise IcsError(f"the servo now talks at {baud} baud; a board's SIO line cannot follow")
 
     def close(self) -> None:
         self.transport.close()
