@@ -16,7 +16,8 @@ Rules:
   by the clock); an absent ID, a busy servo, or a servo at another baud rate than the host's
   (when the host's rate is known: ``host_baud``) stays silent;
 * ID commands go to every servo on the bus: an ID write renumbers them all, an ID read with
-  several servos gives the collision of :attr:`IcsSettings.id_collision`.
+  several servos gives the collision of :attr:`IcsSettings.id_collision` (as does any
+  command that two servos with one ID answer).
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final, Protocol
 
-from rcb4hv.ics.codec import BAUD_RATES, Kind, command_length
+from rcb4hv.ics.codec import BAUD_RATES, command_length
 from rcb4hv.ics.eeprom import Eeprom
 from rcb4hv.ics.servo import Answer, EmulatedServo
 from rcb4hv.ics.settings import IcsSettings
@@ -204,13 +205,13 @@ class EmulatedBus:
         answers = self._answers(command, now)
         if not answers:
             return
-        if command[0] & 0xE0 == Kind.ID and len(answers) > 1:
+        if len(answers) > 1:  # an ID command, or two servos with one ID: they collide
             data = self._combine([a.data for a in answers])
             if data is not None:
                 heapq.heappush(self._due, (now + answers[0].delay, next(self._seq), data))
             return
-        for a in answers:
-            heapq.heappush(self._due, (now + a.delay, next(self._seq), a.data))
+        a = answers[0]
+        heapq.heappush(self._due, (now + a.delay, next(self._seq), a.data))
 
     def _collect(self, now: float) -> None:
         while self._due and self._due[0][0] <= now:

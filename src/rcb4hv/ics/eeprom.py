@@ -172,7 +172,10 @@ class Eeprom:
                     raise ValueError(f"baud {value} is not one of {sorted(_BAUD_OF)}")
                 data[FIELD["baud_code"].span.start + 1] = code  # the low nibble: the rate
             elif name in FIELD:
-                data[FIELD[name].span] = FIELD[name].encode(value)
+                f = FIELD[name]
+                encoded = f.encode(value)  # validates even when nothing changes
+                if f.decode(bytes(data)) != value:  # an odd stored stretch stays as it was
+                    data[f.span] = encoded
             else:
                 raise ValueError(f"no EEPROM field {name!r}")
         return Eeprom(bytes(data))
