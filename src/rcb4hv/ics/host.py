@@ -16,7 +16,7 @@ write by reading the EEPROM back. Writes return what changed.
 from __future__ import annotations
 
 import logging
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from types import TracebackType
 from typing import Final
 
@@ -150,6 +150,12 @@ class IcsServo:
     def set_params(
         self, *, live: bool = False, **values: int
     ) -> dict[str, tuple[int | None, int | None]]:
+        """:meth:`update` with keyword arguments: ``servo.set_params(stretch=60)``."""
+        return self.update(values, live=live)
+
+    def update(
+        self, values: Mapping[str, int], *, live: bool = False
+    ) -> dict[str, tuple[int | None, int | None]]:
         """Set parameters and return ``{name: (before, after)}`` for those that changed.
 
         By default every value goes into the EEPROM (read, change, write, read back), so it
@@ -168,7 +174,7 @@ class IcsServo:
                     changes[name] = (before, v)
             return changes
         old = self.eeprom()
-        new = old.replace(**values)
+        new = old.replace(**dict(values))
         if new.data == old.data:
             return {}
         if self.baud is None and old.baud is not None:

@@ -13,6 +13,7 @@ from nicegui import ui
 from rcb4hv.session import BoardSession
 from rcb4hv.ui import (
     board_page,
+    ics_page,
     motions_page,
     project_page,
     remote_page,
@@ -33,6 +34,7 @@ PAGES: tuple[tuple[str, Callable[[UiContext], None]], ...] = (
     ("Motions", motions_page.build),
     ("Project", project_page.build),
     ("Teach", teach_page.build),
+    ("Servo tools", ics_page.build),
 )
 
 
@@ -55,7 +57,10 @@ def build_root(ctx: UiContext) -> Callable[[], None]:
             ).on_click(stop)
         banner = tid(ui.label("").classes("w-full bg-red-100 text-red-900 p-2"), "link-error")
         with ui.tabs().classes("w-full") as tabs:
-            tab_of = {name: tid(ui.tab(name), f"tab-{name.lower()}") for name, _ in PAGES}
+            tab_of = {
+                name: tid(ui.tab(name), f"tab-{name.lower().replace(' ', '-')}")
+                for name, _ in PAGES
+            }
         with ui.tab_panels(tabs, value=tab_of["Servos"]).classes("w-full"):
             for name, build in PAGES:
                 with ui.tab_panel(tab_of[name]):
