@@ -107,3 +107,62 @@ def test_the_host_api_through_a_board(board_on: Board) -> None:
         assert board_on.speed_parameter[4] == 50
         assert servo.eeprom().servo_id == 2
         assert bus.scan(range(6)) == [0, 1, 2, 3, 5]  # slots 0, 2, 4, 6, 10 of SIO1-4
+
+
+@pytest.mark.parametrize("ics_comm", [False, True])
+def test_rcb4hv_emulate_with_and_without_ics_comm_over_a_pty(ics_comm: bool) -> None:
+    import signal
+    import subprocess
+    import sys
+
+    import serial
+
+    args = ["emulate", "--pty", *(["--ics-comm"] if ics_comm else [])]
+    proc = subprocess.Popen(
+        [sys.executable, "-c", "from rcb4hv.cli.main import main; main()", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert proc.stdout is not None
+        path = proc.stdout.readline().split(" ", 1)[1].strip()
+        port = serial.Serial(path, 115200, parity="E", timeout=2)
+        try:
+            port.write(move_to_ram(TX, bytes((0xA2, 0x05))))
+            assert port.read(4) == bytes.fromhex("04 00 06 0a")
+            port.write(comm(4, 2))
+            reply = port.read(4)
+            if not ics_comm:
+                assert reply == bytes.fromhex("04 0e 15 27")
+                return
+            assert reply == bytes.fromhex("04 0e 06 18")
+            port.write(frame(0x0A, 0x00, 0x20, 0x00, 0x00, 0x00, RX & 0xFF, RX >> 8, 4))
+            answer = port.read(7)  # MOVE RAM -> COM: 07 00 + 4 bytes + SUM
+            assert answer[2:4] == bytes((0x22, 0x05)) and 3500 <= join7(*answer[4:6]) <= 11500
+        finally:
+            port.close()
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.communicate(timeout=10)
+    assert proc.returncode == 0
+
+
+def test_the_cli_via_board() -> None:
+    import json
+
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+
+    runner = CliRunner()
+    base = ["ics", "--via-board", "--port", "rcb4emu://?ics_comm=1", "--line", "4", "--json"]
+    got = runner.invoke(cli, [*base, "get", "--id", "2", "stretch"])
+    assert got.exit_code == 0, got.output
+    assert json.loads(got.output) == {"id": 2, "stretch": 90, "stretch_live": 90}
+    live = runner.invoke(cli, [*base, "set", "--id", "2", "--live", "stretch=12"])
+    assert json.loads(live.output) == {"id": 2, "changed": {"stretch": [90, 12]}}
+    eeprom = runner.invoke(cli, [*base, "set", "--id", "2", "stretch=12"])
+    assert eeprom.exit_code == 1 and "at most 64 bytes" in eeprom.output
+    off = runner.invoke(cli, ["ics", "--via-board", "--port", "rcb4emu://", "--line", "4", "id"])
+    assert off.exit_code == 1 and "IcsNoReply" in off.output

@@ -176,7 +176,9 @@ def test_rcb4_ics_controller_over_a_pty_with_even_parity(baud: int) -> None:
     try:
         path = line.split(" ", 1)[1]
         ctrl = ICSServoController(baudrate=baud)
-        ctrl.ics = serial.Serial(path, baud, timeout=ctrl.timeout, parity=serial.PARITY_EVEN)
+        ctrl.ics = run(
+            lambda: serial.Serial(path, baud, timeout=ctrl.timeout, parity=serial.PARITY_EVEN)
+        )
         try:
             assert run(ctrl.get_servo_id) == 0
             assert run(lambda: ctrl.set_stretch(40, 0)) == 40

@@ -47,6 +47,9 @@ REARM_DELAY_S: Final = 0.0005
 # A client seen reconfiguring between command and reply always does (rcb4's synchronize):
 # hold its replies until it has, however long a busy machine makes it take.
 LEARNED_GATE_S: Final = 1.0
+# After this many gates in a row ran out with no reconfigure, the client is taken not to
+# reconfigure (our own client; pyserial with the timeout set once): its answers go at once.
+PLAIN_AFTER: Final = 2
 # The slave's output is never stopped longer than this (a client that went away mid-command).
 FLOW_SAFETY_S: Final = 2.0
 
@@ -65,6 +68,7 @@ class WatchingPtyServer(PtyServer):
         self._at_flush = 0  # ... when the last reply left
         self._rearm_at: float | None = None  # a client reconfigured: re-arm then
         self.reconfiguring_client = False  # learned: the client reconfigures before reading
+        self._plain_streak = 0  # gates that ran out with no reconfigure, in a row
         self._held = bytearray()  # the servo's answer, waiting for the gate
         self._stopped_until: float | None = None  # the slave's output is stopped until then
         fcntl.ioctl(self._master, termios.TIOCPKT, struct.pack("i", 1))
@@ -104,9 +108,17 @@ class WatchingPtyServer(PtyServer):
         data = packet[1:]
         if not data:
             return False
+        now = time.monotonic()
+        if self._held:  # an answer still held belongs to the command before: it goes first
+            self._release(now)
         self._rearm()
-        gate = LEARNED_GATE_S if self.reconfiguring_client else self.reply_gate_s
-        self._gate_until = time.monotonic() + gate
+        if self.reconfiguring_client:
+            gate = LEARNED_GATE_S
+        elif self._plain_streak >= PLAIN_AFTER:
+            gate = 0.0  # a client that does not reconfigure: nothing to wait for
+        else:
+            gate = self.reply_gate_s
+        self._gate_until = now + gate
         self._at_read = self._reconfigures
         self._feed(data)
         return True
@@ -154,17 +166,22 @@ class WatchingPtyServer(PtyServer):
             # and after sending this command
             late = self.reconfiguring_client and self._reconfigures - self._at_flush >= 2
             if now >= self._gate_until or reconfigured or late:
-                self._gate_until = None
-                self._rearm()
-                self._at_flush = self._reconfigures
-                if self._held:
-                    self._schedule(bytes(self._held), now)
-                    self._held.clear()
-                if self.reconfiguring_client:
-                    # its next command waits (its write cannot complete) until the tcsetattr
-                    # that follows its read has been re-armed after
-                    self._flow(on=False)
+                self._plain_streak = 0 if reconfigured or late else self._plain_streak + 1
+                self._release(now)
         super()._flush_due(now)
+
+    def _release(self, now: float) -> None:
+        """Let the held answer go (after re-arming, so the client's next call finds it so)."""
+        self._gate_until = None
+        self._rearm()
+        self._at_flush = self._reconfigures
+        if self._held:
+            self._schedule(bytes(self._held), now)
+            self._held.clear()
+        if self.reconfiguring_client:
+            # its next command waits (its write cannot complete) until the tcsetattr that
+            # follows its read has been re-armed after
+            self._flow(on=False)
 
     def _timeout(self, now: float) -> float | None:
         wait = super()._timeout(now)
