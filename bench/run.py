@@ -23,8 +23,10 @@ MODULES = (
     "bench.bench_emulator",
     "bench.bench_client",
     "bench.bench_project",
+    "bench.bench_physics",
     "bench.bench_peer",
     "bench.bench_ui",
+    "bench.bench_view3d",
 )
 
 RESULTS = Path(__file__).resolve().parent / "results.json"

@@ -16,7 +16,21 @@
     │                              also a ValueError
     ├── Hth4FormatError            a malformed HeartToHeart4 file; also a ValueError
     ├── AsmError                   assembler source that does not assemble; also a ValueError
-    └── SimulationError            the emulated board refused a host frame in a simulation
+    ├── EditError                  a motion edit that is refused (range, joint limit, slot in
+    │   │                          use, a block that is not a pose); also a ValueError
+    │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one;
+    │                              also a RobotModelError
+    ├── SimulationError            the emulated board refused a host frame in a simulation
+    ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
+    │                              unknown robot name, a link without inertia, a joint map
+    │                              naming an unknown joint or a servo the project lacks);
+    │                              also a ValueError
+    ├── PhysicsError               the physics simulation cannot run
+    │   └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
+    │                              ImportError
+    └── IcsError                   an ICS servo answered wrongly, or a write did not verify
+        └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
+                                   also a builtin TimeoutError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -29,15 +43,22 @@ __all__ = [
     "AsmError",
     "ChecksumError",
     "CommandNotAllowedError",
+    "EditError",
     "EmulatedCommandError",
     "EmulatedReset",
     "FrameError",
     "Hth4FormatError",
+    "IcsError",
+    "IcsNoReply",
     "LayoutError",
     "NakError",
+    "NoRobotModelError",
+    "PhysicsError",
+    "PhysicsUnavailableError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "RobotModelError",
     "SimulationError",
     "TransportError",
     "VerifyError",
@@ -137,3 +158,35 @@ class EmulatedCommandError(Rcb4Error):
 class EmulatedReset(Rcb4Error):
     """Inside the emulator: the command resets the board (configuration
     ``series_servo="reset"``); the board model powers on again."""
+class RobotModelError(Rcb4Error, ValueError):
+    """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
+    malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
+    indices the project does not have."""
+
+
+class EditError(Rcb4Error, ValueError):
+    """A project edit that is refused: a value outside the documented range or the joint's
+    limits (without the override), a slot in use, a block that is not a pose."""
+
+
+class NoRobotModelError(EditError, RobotModelError):
+    """An edit that needs the robot's joint map (mirroring, joint angles) on a project whose
+    robot has no model: name one (``--robot``)."""
+
+
+class PhysicsError(Rcb4Error):
+    """The physics simulation cannot run: a robot model MuJoCo refuses, or no robot model."""
+
+
+class PhysicsUnavailableError(PhysicsError, ImportError):
+    """MuJoCo is not installed: ``pip install 'rcb4hv[sim]'``."""
+
+
+class IcsError(Rcb4Error):
+    """An ICS servo (or the bus in between) answered something else than the protocol says, or
+    a value read back after a write differs from the value written."""
+
+
+class IcsNoReply(IcsError, TimeoutError):
+    """No ICS servo answered in time: no servo with that ID, a different baud rate, a servo
+    still writing its EEPROM, or (through a board's 0Eh) the board's NAK for "no answer"."""

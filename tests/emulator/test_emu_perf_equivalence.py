@@ -12,6 +12,7 @@ and say so in the commit.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 from pathlib import Path
 
@@ -150,6 +151,11 @@ def test_fixture_project_trace_is_unchanged(
     from rcb4hv.project import simulate
 
     monkeypatch.setattr(simulate, "STEP_US", 1000)
+    # The digests were made when branch_condition defaulted to "and" (spec 13 #4); the default
+    # is "or" now (docs/spec-notes.md), which changes what the fixture's slot 17 does.
+    monkeypatch.setattr(
+        simulate, "EmulatorConfig", functools.partial(EmulatorConfig, branch_condition="and")
+    )
     assert project_trace(kxr_project_path) == PROJECT_EXPECTED
 
 

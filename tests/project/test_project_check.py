@@ -190,6 +190,5 @@ def test_older_layout_project_checks_like_its_22_original(xml: str) -> None:
     assert "build-error" not in _codes(then)
     assert [(f.code, f.slot) for f in then] == [(f.code, f.slot) for f in now]
     assert [f.address for f in then] == [
-        None if f.address is None else move_address(f.address, HTH4_22, LAYOUTS["2.1"])
-        for f in now
+        None if f.address is None else move_address(f.address, HTH4_22, LAYOUTS["2.1"]) for f in now
     ]

@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 
 from rcb4hv.emulator import Board
+from rcb4hv.ui.servos_page import COLUMNS
 from tests.ui.conftest import shot
 
 pytestmark = pytest.mark.slow
@@ -81,7 +82,8 @@ def test_slider_moves_a_servo(page: Any, board: tuple[Board, str]) -> None:
     _wait(lambda: _output(b, 2) > 9000)
     assert _output(b, 2) != before
     row = page.get_by_test_id("servo-table").locator("tbody tr").nth(1)
-    _wait(lambda: int(re.split(r"\s+", row.inner_text())[4]) > 9000)
+    measured = COLUMNS.index("measured")  # cells hold no spaces (joint names use "_")
+    _wait(lambda: int(re.split(r"\s+", row.inner_text())[measured]) > 9000)
 
 
 def test_triangle_plays_motion_1_and_the_plot_moves(page: Any) -> None:

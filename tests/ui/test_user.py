@@ -15,6 +15,7 @@ from nicegui.testing.user import User
 from nicegui.testing.user_simulation import user_simulation
 
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, emulator_url
+from rcb4hv.robot import RobotModel
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
 from rcb4hv.session import BoardSession
 from rcb4hv.ui.app import build_root
@@ -23,14 +24,14 @@ from rcb4hv.ui.context import UiContext
 Scenario = Callable[[User, UiContext, Board], Awaitable[None]]
 
 
-def run(scenario: Scenario) -> None:
+def run(scenario: Scenario, *, robot: RobotModel | None = None) -> None:
     board = Board(
         EmulatorConfig(virtual_servos=DEFAULT_ICS),
         clock=RealClock(speed=2.0),
         rom_image=default_image(),
     )
     session = BoardSession(emulator_url(board), poll_hz=20)
-    ctx = UiContext(session)
+    ctx = UiContext(session, robot=robot, robot_source="test")
 
     async def main() -> None:
         async with user_simulation(root=build_root(ctx)) as user:

@@ -5,14 +5,19 @@ from __future__ import annotations
 import math
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from rcb4hv.cli._output import plot_to
 from rcb4hv.cli._util import handle_errors, print_table
 from rcb4hv.cli.board_cmd import SERVO_HEADERS, servo_rows
+from rcb4hv.cli.project_physics import draw_frames
 from rcb4hv.client import PositionRecorder, Robot
 from rcb4hv.rom.layout import HTH4_22
+
+if TYPE_CHECKING:
+    from rcb4hv.project.physics_sim import Frame
 
 
 @click.command()
@@ -106,12 +111,72 @@ def run_demo(output: Path, port: str | None, speed: float, motion_number: int) -
             f"\nsampled {len(recorder.samples)} bulk position reads "
             f"({recorder.errors} failed) through the client while it worked"
         )
-        path = _plot(recorder, robot, output, joints)
+        frames = _physics_scene()
+        path = _plot(recorder, robot, output, joints, frames)
     click.echo(f"plot written to {path.resolve()}")
     click.echo(f"demo finished in {time.monotonic() - t_start:.1f} s")
 
 
-def _plot(recorder: PositionRecorder, robot: Robot, output: Path, joints: list[int]) -> Path:
+SCENE_ROBOT = "kxr-l2"
+SCENE_POSES: tuple[tuple[float, dict[str, float]], ...] = (
+    (0.6, {"r_hip_pitch": -0.7, "l_hip_pitch": -0.7}),  # a bow (joint angles, radians)
+    (0.6, {}),  # standing straight
+    (0.5, {"r_shoulder_roll": -2.6, "r_elbow_pitch": -0.6}),  # the right arm up
+    (0.4, {"r_shoulder_roll": -2.6, "r_elbow_pitch": -1.4}),  # a wave
+    (0.4, {"r_shoulder_roll": -2.6, "r_elbow_pitch": -0.6}),
+    (0.8, {"r_knee_pitch": 1.2, "l_knee_pitch": 1.2, "r_hip_pitch": -0.6,
+           "l_hip_pitch": -0.6, "r_ankle_pitch": -0.6, "l_ankle_pitch": -0.6}),  # a squat
+)  # fmt: skip
+"""The physics part of the demo: (seconds, joint angles) moves from the robot's home pose."""
+
+
+def _physics_scene() -> tuple[Frame, ...]:
+    """With MuJoCo installed (``rcb4hv[sim]``): a KXR-L2 in physics bows, waves and squats,
+    driven by servo commands through an emulated board in virtual time; its frames, drawn
+    under the plot. Without MuJoCo: none."""
+    import importlib.util
+
+    if importlib.util.find_spec("mujoco") is None:
+        click.echo("\n(physics part skipped: install rcb4hv[sim] for MuJoCo)")
+        return ()
+    from rcb4hv.physics import PhysicsBackend, PhysicsWorld
+    from rcb4hv.physics.standalone import robot_board
+    from rcb4hv.project.physics_sim import Frame
+    from rcb4hv.protocol import RunConstFrameServo
+    from rcb4hv.robot.builtin import load_builtin
+
+    model = load_builtin(SCENE_ROBOT)
+    board = robot_board(model)
+    board.feed(RunConstFrameServo(1, sorted(model.values(model.home).items())).encode())
+    board.run_for(0.1)
+    world = PhysicsWorld(model)
+    world.place(model.home)
+    backend = PhysicsBackend(board, world)
+    frames: list[Frame] = []
+    t0 = time.monotonic()
+    for seconds, angles in SCENE_POSES:
+        pose = {**model.home, **angles}
+        frames_n = max(1, round(seconds / board.output_period))
+        board.feed(RunConstFrameServo(frames_n, sorted(model.values(pose).items())).encode())
+        board.run_for(seconds + 0.3)
+        backend.sync()
+        frames.append(Frame(board.now, world.shapes()))
+    tilt = math.degrees(world.base().tilt)
+    click.echo(
+        f"\nphysics: a {model.title} bowed, waved and squatted in MuJoCo "
+        f"({board.now:.1f} s virtual in {time.monotonic() - t0:.2f} s; torso tilt "
+        f"{tilt:.1f} deg at the end)"
+    )
+    return tuple(frames)
+
+
+def _plot(
+    recorder: PositionRecorder,
+    robot: Robot,
+    output: Path,
+    joints: list[int],
+    frames: tuple[Frame, ...] = (),
+) -> Path:
     samples = recorder.samples
     if not samples:
         raise ValueError("no position samples were recorded")
@@ -123,7 +188,17 @@ def _plot(recorder: PositionRecorder, robot: Robot, output: Path, joints: list[i
         - min(_finite(s.angles.get(k)) for s in samples)
         > 1.0
     ]
-    with plot_to(output, (11, 6), dpi=110) as ax:
+    with plot_to(output, (11, 9.5 if frames else 6), dpi=110) as ax:
+        if frames:
+            fig = ax.figure
+            grid = fig.add_gridspec(2, 1, height_ratios=(3, 2))
+            ax.set_subplotspec(grid[0])
+            film = fig.add_subplot(grid[1])
+            draw_frames(film, frames, axis=0, spacing=0.22)
+            film.set_title(
+                f"the robot itself: a simulated {SCENE_ROBOT} (MuJoCo) after each servo move",
+                fontsize=10,
+            )
         for k in moved or ids:
             ts = [s.t for s in samples]
             ys = [s.angles.get(k, math.nan) for s in samples]

@@ -28,6 +28,9 @@ COMMAND_MODULES = (
     "rcb4hv.cli.teach_cmd",
     "rcb4hv.cli.ui_cmd",
     "rcb4hv.cli.hardware_cmd",
+    "rcb4hv.cli.trim_cmd",
+    "rcb4hv.cli.robot_cmd",
+    "rcb4hv.cli.ics_cmd",
 )
 
 

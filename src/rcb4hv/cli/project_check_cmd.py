@@ -6,13 +6,16 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
 from rcb4hv.cli._util import handle_errors, print_json, print_table
 from rcb4hv.hth4 import Project
 from rcb4hv.project.options import EMPTY_STARTUP, PRIORITY_NONE, BuildOptions
+
+if TYPE_CHECKING:
+    from rcb4hv.project.check import Finding
 
 __all__ = ["build_options", "current_build_options", "register", "settings_lines"]
 
@@ -91,26 +94,57 @@ def _short(text: str, width: int) -> str:
     return text if len(text) <= width else text[: width - 3] + "..."
 
 
+def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
+    from rcb4hv.cli.project_cmd import load_image
+    from rcb4hv.cli.project_physics import physics_robot, run_physics
+    from rcb4hv.project.physics_sim import physics_findings
+    from rcb4hv.project.simulate import DEFAULT_LIMIT
+
+    image, lay, names = load_image(file)
+    model = physics_robot(file, image, robot)
+    run, _ = run_physics(
+        image, lay, names, sorted(names), model, sequence=False, limit=DEFAULT_LIMIT, hold=0,
+        hold_for=0.0, track=False,
+    )  # fmt: skip
+    return physics_findings(run.motions)
+
+
 def register(project: click.Group) -> None:
     """Add ``check`` to the ``project`` group."""
 
     @project.command("check")
     @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
     @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+    @click.option(
+        "--physics",
+        is_flag=True,
+        help="Also play every motion on the robot in MuJoCo (needs rcb4hv[sim]) and warn of "
+        "falls and joints at their torque limit.",
+    )
+    @click.option(
+        "--robot",
+        metavar="NAME|FILE",
+        help="Robot for --physics [default: detected from the servo table].",
+    )
     @handle_errors
-    def check(file: Path, as_json: bool) -> None:
+    def check(file: Path, as_json: bool, physics: bool, robot: str | None) -> None:
         """Lint FILE (.h4p) before it goes on a robot.
 
         Reports targets (startup, priority, low-power, buttons, JUMP/CALL) in empty slots or
         outside motions, positions outside 3500-11500, 12h values outside 1-127, speeds of 0,
         motions without a final RETURN, ICS numbers missing from the servo table, unreachable
-        code and buttons bound twice. Exit status 0 when clean or only warnings, 1 on errors.
+        code and buttons bound twice. With --physics each motion is also played on the robot
+        in MuJoCo (from standing, as ``project simulate --physics``): "motion N makes the robot
+        fall at t s" and "joint X saturates" are warnings. Exit status 0 when clean or only
+        warnings, 1 on errors.
         """
         from rcb4hv.hth4 import load_project
         from rcb4hv.project.check import check_project
 
         project = load_project(file)
         findings = check_project(project)
+        if physics:
+            findings += _physics_findings(file, robot)
         errors = sum(f.severity == "error" for f in findings)
         warnings = len(findings) - errors
         if as_json:

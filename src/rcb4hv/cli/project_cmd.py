@@ -86,6 +86,9 @@ def register(cli: click.Group) -> None:
     from rcb4hv.cli import project_sim_cmd  # it builds on this module's helpers
 
     project_sim_cmd.register(project)
+    from rcb4hv.cli import edit_cmd
+
+    edit_cmd.register(project)
 
     # ------------------------------------------------------------------ build
 

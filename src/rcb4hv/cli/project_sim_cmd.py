@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -17,7 +18,18 @@ from rcb4hv.cli.project_cmd import (
     load_image,
     parse_buttons,
 )
+from rcb4hv.cli.project_physics import (
+    parse_sequence,
+    physics_robot,
+    plot_run,
+    print_physics,
+    run_physics,
+)
 from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
+
+if TYPE_CHECKING:
+    from rcb4hv.project.physics_sim import StartPose
+    from rcb4hv.rom.layout import MotionLayout
 
 
 @click.command("simulate")
@@ -33,7 +45,8 @@ from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
 @click.option(
     "--plot",
     type=click.Path(dir_okay=False, path_type=Path),
-    help="Draw servo angles over virtual time into this PNG.",
+    help="Draw servo angles over virtual time into this PNG (with --physics: the torso's "
+    "path on the floor).",
 )
 @click.option(
     "--hold-button",
@@ -52,9 +65,35 @@ from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
 @click.option(
     "--limit",
     type=click.FloatRange(min=0.001),
-    default=60.0,
+    default=None,
+    help="Virtual seconds per motion before it counts as a timeout (default: as long as it "
+    "makes progress - servos, loop counters or variables change within 60 s - up to 1 h).",
+)
+@click.option(
+    "--physics",
+    is_flag=True,
+    help="Play on the robot in MuJoCo (needs rcb4hv[sim]): report falls, end pose, "
+    "displacement and turn per motion.",
+)
+@click.option(
+    "--robot",
+    metavar="NAME|FILE",
+    help="Robot for --physics: khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper or a URDF file "
+    "[default: detected from the project's servo table].",
+)
+@click.option(
+    "--start",
+    type=click.Choice(["upright", "on_back", "on_front"]),
+    default="upright",
     show_default=True,
-    help="Virtual seconds per motion before it counts as a timeout.",
+    help="With --physics: how the robot lies before each motion (or the sequence): "
+    "standing, or on its back or front (for get-up motions).",
+)
+@click.option(
+    "--sequence",
+    metavar="SLOTS",
+    help="With --physics: play these slots (e.g. 33,15) one after another on the same "
+    "robot, without standing it up again between them.",
 )
 @build_options
 @LAYOUT_OPTION
@@ -66,26 +105,51 @@ def simulate(
     plot: Path | None,
     hold_button: str | None,
     hold_for: float,
-    limit: float,
+    limit: float | None,
+    physics: bool,
+    robot: str | None,
+    start: StartPose,
+    sequence: str | None,
     layout_name: str | None,
 ) -> None:
     """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
 
     Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
     completed (returned to the main loop), waiting (loops reading an input, e.g. a button
-    or AD sensor, as its program defines), stalled (repeats itself without reading any
-    input), timeout (--limit reached) or error (ROMERR, command error, call-stack
-    overflow/underflow; with the PC and the instruction). A boot that fails is reported with
-    its cause and the motions are still played from the host. Exit status 0 when the boot
-    and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
+    or AD sensor, as its program defines), holding (loops without reading an input while
+    servos are mixed from an AD sensor, e.g. a gyro balancing the robot), stalled (repeats
+    itself without reading any input), timeout (no progress for 60 s, 1 h in all, or
+    --limit reached) or error (ROMERR, command error, call-stack overflow/underflow; with the
+    PC and the instruction). A boot that fails is reported with its cause and the motions are
+    still played from the host. Exit status 0 when the boot and every motion completed, wait
+    or hold, 1 if any error, 2 if any timeout or stall.
+
+    With --physics each motion plays on the robot standing on flat ground in the pose the
+    board holds after its boot (--sequence: one after another without standing it up again)
+    and reports whether it fell (and when), the end pose, the displacement dx/dy (m, x forward
+    where the robot faced at the start, y left) and turn dyaw (degrees, counter-clockwise),
+    the largest tilt and tracking error and the joints at their torque limit; --plot then
+    draws the torso's path on the floor.
     """
     from rcb4hv.project.simulate import Simulator
 
     image, lay, names = load_image(file, layout_name)
     hold = parse_buttons(hold_button) if hold_button else 0
     slots = list(motion)
+    if sequence is not None:
+        if not physics:
+            raise click.UsageError("--sequence plays motions on the simulated robot: add --physics")
+        if slots:
+            raise click.UsageError("give either --motion or --sequence")
+        slots = parse_sequence(sequence)
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
+    if physics:
+        _physics(file, image, lay, names, slots, robot, sequence is not None, as_json, plot,
+                 limit=limit, hold=hold, hold_for=hold_for, start=start)  # fmt: skip
+        return
+    if robot is not None or start != "upright":
+        raise click.UsageError("--robot and --start set up the robot of --physics: add --physics")
     samples: list[tuple[float, dict[int, int | None]]] = []
     sim: Simulator
 
@@ -160,6 +224,36 @@ def simulate(
         if not as_json:
             click.echo(f"wrote {plot}")
     codes = {STATUS_EXIT.get(r.status, 0) for r in [boot, *results]}
+    sys.exit(1 if 1 in codes else max(codes))
+
+
+def _physics(
+    file: Path,
+    image: bytes,
+    lay: MotionLayout,
+    names: dict[int, str],
+    slots: list[int],
+    robot: str | None,
+    sequence: bool,
+    as_json: bool,
+    plot: Path | None,
+    *,
+    limit: float | None,
+    hold: int,
+    hold_for: float,
+    start: StartPose,
+) -> None:
+    model = physics_robot(file, image, robot)
+    run, summary = run_physics(
+        image, lay, names, slots, model, sequence=sequence, limit=limit, hold=hold,
+        hold_for=hold_for, track=plot is not None, start=start,
+    )  # fmt: skip
+    print_physics(run, summary, as_json)
+    if plot is not None:
+        plot_run(plot, run)
+        if not as_json:
+            click.echo(f"wrote {plot}")
+    codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *(m.result for m in run.motions)]}
     sys.exit(1 if 1 in codes else max(codes))
 
 

@@ -40,8 +40,23 @@ def register(cli: click.Group) -> None:
 )
 @click.option("--open", "open_browser", is_flag=True, help="Open the dashboard in a browser.")
 @click.option("--poll-hz", default=10.0, show_default=True, help="Board polling rate.")
+@click.option(
+    "--robot",
+    "robot",
+    default=None,
+    metavar="NAME|FILE",
+    help="Robot model of the 3D view and joint names: khr3hv, khr3hv-22, kxr-l2, "
+    "kxr-l2-gripper or a URDF file (with its .toml joint map). Default: detected from the "
+    "open project or the board's servos.",
+)
 def ui_command(
-    url: str, baud: int | None, bind: str, allow_remote: bool, open_browser: bool, poll_hz: float
+    url: str,
+    baud: int | None,
+    bind: str,
+    allow_remote: bool,
+    open_browser: bool,
+    poll_hz: float,
+    robot: str | None,
 ) -> None:
     """Browser dashboard for a board or the emulator (servos, remote, motions, projects,
     teaching). Needs the 'ui' extra: pip install 'rcb4hv[ui]'."""
@@ -66,6 +81,14 @@ def ui_command(
     token = None if loopback else new_token()
     if poll_hz <= 0:
         raise click.BadParameter("must be > 0", param_hint="--poll-hz")
+    if robot is not None:
+        from rcb4hv.errors import RobotModelError
+        from rcb4hv.robot.builtin import load_robot
+
+        try:
+            load_robot(robot)
+        except RobotModelError as exc:
+            raise click.BadParameter(str(exc), param_hint="--robot") from None
     serve(
         url,
         bind,
@@ -73,5 +96,6 @@ def ui_command(
         token=token,
         open_browser=open_browser,
         poll_hz=poll_hz,
+        robot=robot,
         announce=lambda s: click.echo(s, nl=True),
     )

@@ -18,7 +18,7 @@ the plain model, which the differential tests hold the fast one to.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final
 
@@ -26,6 +26,7 @@ from rcb4hv.emulator import accel
 from rcb4hv.emulator.clock import Clock, VirtualClock
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import Stop
+from rcb4hv.emulator.icslines import IcsLines
 from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
 from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
@@ -109,6 +110,10 @@ class Board:
             on_reset=self.power_on,
             accelerate=accelerate,
         )
+        self.ics_lines: IcsLines | None = None  # the SIO lines' ICS servos, for 0Eh
+        if self.config.ics_comm:
+            self.ics_lines = IcsLines(self._servos, self.config, self.clock)
+            self._interp.ics_comm = self.ics_lines.exchange
         self.frames_handled = 0
         self._closed = False
         self.power_on()
@@ -380,6 +385,31 @@ class Board:
             raise ValueError(f"ICS {ics} has no virtual servo, or position out of range")
         self.tick()
         physical[ics] = position
+
+    @property
+    def external_servos(self) -> bool:
+        """True while a servo backend (:mod:`rcb4hv.physics`) measures the virtual servos'
+        positions: a powered servo then reports what :meth:`measure` last set, not the value
+        sent to it."""
+        return self._servos.external
+
+    @external_servos.setter
+    def external_servos(self, on: bool) -> None:
+        self._servos.external = bool(on)
+
+    def measure(self, positions: Mapping[int, int], ad: Mapping[int, int]) -> None:
+        """A servo backend's measurements: virtual servo positions (ICS -> position, reported
+        at the next output period) and AD channel values. Unlike :meth:`set_servo_position`
+        and :meth:`set_ad` this does not tick, so an output listener may call it."""
+        physical = self._servos.physical
+        for ics, p in positions.items():
+            if ics in physical:
+                physical[ics] = min(max(p, 0), 0xFFFF)
+        for ch, v in ad.items():
+            if not 0 <= ch <= 10:
+                raise ValueError("AD channels are 0-10")
+            write_u16(self.ram, AD_VALUES + 2 * ch, min(max(v, 0), 1023))
+            self._touch(AD_VALUES + 2 * ch, 2)
 
     def add_output_listener(self, callback: OutputListener) -> None:
         """Call ``callback(board_time_s, {ics: sent value})`` after every output period."""

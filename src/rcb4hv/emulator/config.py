@@ -1,6 +1,7 @@
 """The emulator's frozen, validated configuration (separate from the board's runtime state).
 
-Every conflict of spec section 13 is a field here, with the spec's project default:
+Every conflict of spec section 13 is a field here, with the spec's project default (one
+exception, #4, where HeartToHeart4's own programs are the evidence):
 
 ====  ==============================  =========================================================
  #    field                           meaning (default first)
@@ -9,7 +10,9 @@ Every conflict of spec section 13 is a field here, with the spec's project defau
  2    ``logic_reply``                 ``"data"``: logic/arith from COM answer the result;
                                       ``"ack"``
  3    ``logic_carry``                 ``"unchanged"``: AND/OR/XOR/NOT leave C; ``"clear"``
- 4    ``branch_condition``            ``"and"`` of the enabled Z/C comparisons; ``"or"``
+ 4    ``branch_condition``            ``"or"``: one enabled Z/C comparison that matches is
+                                      enough (HeartToHeart4's own >=/<= tests, see
+                                      docs/spec-notes.md); ``"and"`` (the spec's inference)
  5    ``position_7fff``               ``"hold"``: 7FFF keeps torque on; ``"free"``
  6    ``unselected_update_flags``     ``"unchanged"`` on 10h/11h; ``"clear"``
  7    ``speed_zero``                  ``"one"``: speed 0 behaves as 1; ``"immediate"`` (jump)
@@ -27,6 +30,10 @@ Every conflict of spec section 13 is a field here, with the spec's project defau
 14    ``free_hold_base``              ``"include"``: the value sent for free/hold includes the
                                       base (+2) and mixing; ``"omit"``
 ====  ==============================  =========================================================
+
+``ics_comm`` (default ``False``): 0Eh ICS communication is answered by emulated ICS servos on
+the SIO lines (:mod:`rcb4hv.emulator.icslines`) instead of the NAK "no device answers". The
+reference says 0Eh must not be used ("a problem in the specification"), so it is opt-in.
 """
 
 from __future__ import annotations
@@ -61,7 +68,9 @@ class EmulatorConfig:
     shift_direction: Literal["reference", "inverted"] = "reference"
     logic_reply: Literal["data", "ack"] = "data"
     logic_carry: Literal["unchanged", "clear"] = "unchanged"
-    branch_condition: Literal["and", "or"] = "and"
+    # spec 13 #4 says "inferred AND"; HeartToHeart4 compiles a <= or >= test into one JUMP with
+    # both Z and C enabled (Z&NC after SUB: "<="), which under AND could never branch
+    branch_condition: Literal["and", "or"] = "or"
     position_7fff: Literal["hold", "free"] = "hold"
     unselected_update_flags: Literal["unchanged", "clear"] = "unchanged"
     speed_zero: Literal["one", "immediate"] = "one"
@@ -80,6 +89,7 @@ class EmulatorConfig:
     servo_initial_position: int = 7500
     supply_voltage: float = 11.1
     ad_values: tuple[int, ...] = (0,) * 10
+    ics_comm: bool = False
     # --- serving
     min_reply_latency_s: float = 0.001
     pace_replies: bool = False
@@ -132,6 +142,8 @@ class EmulatorConfig:
         object.__setattr__(self, "ad_values", ads)
         if round(self.supply_voltage * 1024 / 25) > 1023:
             raise ValueError("supply_voltage above the AD0 range (< 25 V)")
+        if not isinstance(self.ics_comm, bool):
+            raise ValueError("ics_comm must be True or False")
         if not isinstance(self.max_pending_output, int) or self.max_pending_output < 256:
             raise ValueError("max_pending_output must be >= 256")
 

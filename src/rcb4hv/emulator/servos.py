@@ -94,6 +94,9 @@ class Servos:
         self.stretch: dict[int, int] = {}
         self.speed_parameter: dict[int, int] = {}
         self.periods = 0
+        # a servo backend (physics) measures the positions: report() never makes a powered
+        # servo follow its sent value, it reports ``physical`` as the backend set it
+        self.external = False
         self.reset()
 
     def reset(self) -> None:
@@ -305,6 +308,7 @@ class Servos:
         hold_is_free = self.config.position_7fff == "free"
         physical = self.physical
         torque = self.torque
+        external = self.external
         if self.safe:
             pairs = self.vs_blocks
         else:
@@ -315,7 +319,7 @@ class Servos:
             if out == FREE or (out == HOLD and hold_is_free):
                 torque[ics] = False
                 p = physical[ics]
-            elif out == HOLD:
+            elif out == HOLD or external:
                 torque[ics] = True
                 p = physical[ics]
             else:

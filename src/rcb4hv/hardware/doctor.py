@@ -103,8 +103,7 @@ def _local(host: Host, url: str) -> Iterator[Check]:
             "permissions",
             "fail",
             f"{url} is not readable and writable by this user (group {group})",
-            f"sudo usermod -aG {group} $USER, then log out and in (or install "
-            "`rcb4hv udev-rule`)",
+            f"sudo usermod -aG {group} $USER, then log out and in (or install `rcb4hv udev-rule`)",
         )
     tty = host.tty_name(url)
     ms = host.latency_ms(url)

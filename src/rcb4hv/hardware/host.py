@@ -73,9 +73,7 @@ class Host:
 
     sysfs: Path = Path("/sys")
     list_ports: Callable[[], Sequence[PortInfo]] = _system_ports
-    can_open: Callable[[str], bool] = field(
-        default=lambda path: os.access(path, os.R_OK | os.W_OK)
-    )
+    can_open: Callable[[str], bool] = field(default=lambda path: os.access(path, os.R_OK | os.W_OK))
     group_of: Callable[[str], str | None] = _group_of
     platform: str = os.name
 

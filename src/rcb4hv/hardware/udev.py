@@ -36,11 +36,9 @@ def udev_rule(group: str = "dialout") -> str:
         lines.append(
             f'ACTION=="add", SUBSYSTEM=="usb", ATTRS{{idVendor}}=="{vid}", '
             f'ATTRS{{idProduct}}=="{pid:04x}", RUN+="/sbin/modprobe ftdi_sio", '
-            f'RUN+="/bin/sh -c \'echo {vid} {pid:04x} > {new_id}\'"'
+            f"RUN+=\"/bin/sh -c 'echo {vid} {pid:04x} > {new_id}'\""
         )
-    lines.append(
-        f"# 2. the tty: /dev/rcb4-<serial>, group {group} read/write, latency timer 1 ms"
-    )
+    lines.append(f"# 2. the tty: /dev/rcb4-<serial>, group {group} read/write, latency timer 1 ms")
     for pid in KONDO_PIDS:
         lines.append(
             f'ACTION=="add", SUBSYSTEM=="tty", ATTRS{{idVendor}}=="{vid}", '

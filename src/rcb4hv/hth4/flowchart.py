@@ -30,6 +30,7 @@ import os
 from dataclasses import replace
 from pathlib import Path
 
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,
@@ -125,4 +126,4 @@ def dump_motion_xml(chart: Flowchart) -> bytes:
 
 def save_motion_xml(chart: Flowchart, path: str | os.PathLike[str]) -> None:
     """Write ``chart`` to ``path``."""
-    Path(path).write_bytes(dump_motion_xml(chart))
+    write_atomic(path, dump_motion_xml(chart))

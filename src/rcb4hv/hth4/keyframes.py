@@ -31,6 +31,7 @@ __all__ = [
     "free_slots",
     "keyframe_frames",
     "motion_from_keyframes",
+    "now_text",
 ]
 
 END_MARKER = Return().encode() + b"\xff"
@@ -109,7 +110,8 @@ def keyframe_frames(keyframes: Sequence[Keyframe], period_ms: int = 15) -> tuple
     return tuple(frames)
 
 
-def _now_text() -> str:
+def now_text() -> str:
+    """The current time as HeartToHeart4 writes ``Date`` (7 fraction digits, UTC offset)."""
     now = datetime.datetime.now(datetime.timezone.utc).astimezone()
     text = now.strftime("%Y-%m-%dT%H:%M:%S.%f") + "0"  # .NET writes 7 fraction digits
     offset = now.strftime("%z")
@@ -140,7 +142,7 @@ def motion_from_keyframes(
         key=motion_key(slot),
         number=slot - 1,
         name=name,
-        date=date or _now_text(),
+        date=date or now_text(),
         button_data=button,
         compare_type=compare_type,
         frames=keyframe_frames(keyframes, period_ms),

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     XmlLayout,
@@ -78,4 +79,4 @@ def dump_link(doc: XmlDocument) -> bytes:
 
 def save_link(doc: XmlDocument, path: str | os.PathLike[str]) -> None:
     """Write ``doc`` to ``path``."""
-    Path(path).write_bytes(dump_link(doc))
+    write_atomic(path, dump_link(doc))

@@ -30,6 +30,7 @@ from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4.model import MOTION_SLOT_SIZE, Motion
 from rcb4hv.protocol.memory import Button
 
@@ -215,4 +216,4 @@ def dump_motion_list(motion_list: MotionList) -> bytes:
 
 def save_motion_list(motion_list: MotionList, path: str | os.PathLike[str]) -> None:
     """Write ``motion_list`` to ``path``."""
-    Path(path).write_bytes(dump_motion_list(motion_list))
+    write_atomic(path, dump_motion_list(motion_list))

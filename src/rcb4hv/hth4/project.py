@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     Builder,
@@ -230,7 +231,7 @@ def dump_project(project: Project) -> bytes:
 
 def save_project(project: Project, path: str | os.PathLike[str]) -> None:
     """Write ``project`` to ``path`` as a ``.h4p`` file."""
-    Path(path).write_bytes(dump_project(project))
+    write_atomic(path, dump_project(project))
 
 
 def _write_key(e: Builder, key: str, value_type: str | None) -> Builder | None:

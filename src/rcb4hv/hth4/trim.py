@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
+from rcb4hv.hth4._files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,
@@ -108,4 +109,4 @@ def dump_trim(trim: TrimFile) -> bytes:
 
 def save_trim(trim: TrimFile, path: str | os.PathLike[str]) -> None:
     """Write ``trim`` to ``path``."""
-    Path(path).write_bytes(dump_trim(trim))
+    write_atomic(path, dump_trim(trim))

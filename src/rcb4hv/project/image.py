@@ -43,11 +43,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Final
 
-from rcb4hv.errors import FrameError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
+from rcb4hv.hth4.motioncode import split_frames
 from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
-from rcb4hv.protocol import Button, frame_at
+from rcb4hv.protocol import Button
 from rcb4hv.protocol.memory import (
     AD_CHANNELS,
     ADDR,
@@ -103,25 +103,6 @@ _AD_LAST: Final = ADDR.ad(ADDR.AD_COUNT - 1)
 
 
 # ----------------------------------------------------------------------------- helpers
-
-
-def split_frames(data: bytes) -> tuple[list[bytes], bytes]:
-    """Cut ``data`` into frames by their SIZE bytes; return (frames, trailing bytes).
-
-    Stops at an erased byte (FF), a SIZE below 3 or a frame that runs past the end; what is
-    left (HeartToHeart4's FF end marker, erased space) is returned as the tail. Checksums are
-    checked (:class:`~rcb4hv.errors.ChecksumError` for a damaged frame).
-    """
-    frames: list[bytes] = []
-    i = 0
-    while i < len(data):
-        try:
-            frame = frame_at(data, i)
-        except FrameError:  # erased (FF), a SIZE below 3 or a frame past the end: the tail
-            break
-        frames.append(frame)
-        i += len(frame)
-    return frames, bytes(data[i:])
 
 
 def motion_image_frames(entry_frames: Sequence[bytes]) -> list[bytes]:

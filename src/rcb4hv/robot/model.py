@@ -26,6 +26,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
+from rcb4hv.errors import RobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 
 __all__ = [
@@ -135,25 +136,30 @@ class RobotModel:
     joints: tuple[Joint, ...]
     servos: tuple[ServoJoint, ...]
     sources: Mapping[str, str] = field(default_factory=dict)
+    #: the robot's own resting pose (joint angles in radians by name), e.g. the pose its
+    #: standard project holds after boot; joints not named are at 0
+    home: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         names = {link.name for link in self.links}
         if self.root not in names:
-            raise ValueError(f"{self.name}: root link {self.root!r} is not a link")
+            raise RobotModelError(f"{self.name}: root link {self.root!r} is not a link")
         joints = {j.name for j in self.joints}
         for j in self.joints:
             if j.parent not in names or j.child not in names:
-                raise ValueError(f"{self.name}: joint {j.name!r} links an unknown link")
+                raise RobotModelError(f"{self.name}: joint {j.name!r} links an unknown link")
             if j.mirror is not None and j.mirror not in joints:
-                raise ValueError(f"{self.name}: joint {j.name!r} mirrors unknown {j.mirror!r}")
+                raise RobotModelError(f"{self.name}: joint {j.name!r} mirrors unknown {j.mirror!r}")
         seen: set[int] = set()
         for s in self.servos:
             if s.joint not in joints:
-                raise ValueError(f"{self.name}: servo {s.index} maps to unknown joint {s.joint!r}")
+                raise RobotModelError(
+                    f"{self.name}: servo {s.index} maps to unknown joint {s.joint!r}"
+                )
             if s.index in seen:
-                raise ValueError(f"{self.name}: servo index {s.index} is mapped twice")
+                raise RobotModelError(f"{self.name}: servo index {s.index} is mapped twice")
             if s.sign not in (1, -1):
-                raise ValueError(f"{self.name}: servo {s.index} sign must be +1 or -1")
+                raise RobotModelError(f"{self.name}: servo {s.index} sign must be +1 or -1")
             seen.add(s.index)
 
     # ------------------------------------------------------------------ look-ups

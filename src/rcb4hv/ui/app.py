@@ -13,6 +13,8 @@ from nicegui import ui
 from rcb4hv.session import BoardSession
 from rcb4hv.ui import (
     board_page,
+    editor_page,
+    ics_page,
     motions_page,
     project_page,
     remote_page,
@@ -33,6 +35,8 @@ PAGES: tuple[tuple[str, Callable[[UiContext], None]], ...] = (
     ("Motions", motions_page.build),
     ("Project", project_page.build),
     ("Teach", teach_page.build),
+    ("Editor", editor_page.build),
+    ("Servo tools", ics_page.build),
 )
 
 
@@ -55,13 +59,17 @@ def build_root(ctx: UiContext) -> Callable[[], None]:
             ).on_click(stop)
         banner = tid(ui.label("").classes("w-full bg-red-100 text-red-900 p-2"), "link-error")
         with ui.tabs().classes("w-full") as tabs:
-            tab_of = {name: tid(ui.tab(name), f"tab-{name.lower()}") for name, _ in PAGES}
+            tab_of = {
+                name: tid(ui.tab(name), f"tab-{name.lower().replace(' ', '-')}")
+                for name, _ in PAGES
+            }
         with ui.tab_panels(tabs, value=tab_of["Servos"]).classes("w-full"):
             for name, build in PAGES:
                 with ui.tab_panel(tab_of[name]):
                     build(ctx)
 
         def refresh() -> None:
+            ctx.recheck_robot()
             st = ctx.session.state
             motion = "" if st.motion is None else f" - motion {st.motion}"
             link.text = (
@@ -113,9 +121,11 @@ def serve(
     token: str | None = None,
     open_browser: bool = False,
     poll_hz: float = 10.0,
+    robot: str | None = None,
     announce: Callable[[str], None] = print,
 ) -> None:
-    """Run the dashboard until interrupted (SIGINT/SIGTERM); ``baudrate`` None detects it."""
+    """Run the dashboard until interrupted (SIGINT/SIGTERM); ``baudrate`` None detects it;
+    ``robot`` (a built-in name or a URDF file) fixes the robot model, else it is detected."""
     import uvicorn
 
     host, port = parse_bind(bind)
@@ -130,12 +140,15 @@ def serve(
             session.wait_connected(timeout=8.0)
         except TimeoutError as exc:  # the pages show the link error and the session retries
             log.warning("%s", exc)
-        app = create_app(UiContext(session), policy)
+        ctx = UiContext(session, auto_robot=robot is None)
+        ctx.choose_robot(robot)
+        app = create_app(ctx, policy)
         shown = f"[{host}]" if family == socket.AF_INET6 else host
         address = f"http://{shown}:{policy.port}/"
         if token is not None:
             address += f"?token={token}"
-        announce(f"rcb4hv ui: {address} (board {url})")
+        model = ctx.robot.name if ctx.robot is not None else "-"
+        announce(f"rcb4hv ui: {address} (board {url}, robot {model}: {ctx.robot_source})")
         if open_browser:
             webbrowser.open(address)
         config = uvicorn.Config(app, log_level="warning", lifespan="on", ws="auto")

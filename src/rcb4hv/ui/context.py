@@ -13,7 +13,9 @@ from nicegui import ui
 from nicegui.element import Element
 
 from rcb4hv.hth4 import Project
+from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
+from rcb4hv.ui.robots import choose_robot
 
 __all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
 
@@ -56,16 +58,47 @@ async def attempt(future: Future[object], what: str) -> bool:
 
 @dataclass
 class UiContext:
-    """State shared by all pages and browser tabs (one user, one board)."""
+    """State shared by all pages and browser tabs (one user, one board).
+
+    ``robot`` is the model the 3D view draws and the servo table names joints from;
+    ``robot_source`` says where it came from (``--robot``, a project, the default). With
+    ``auto_robot`` the model is chosen again (:func:`rcb4hv.ui.robots.choose_robot`) whenever
+    a project opens; otherwise it stays as given."""
 
     session: BoardSession
     project: Project | None = None
     project_name: str = ""
+    robot: RobotModel | None = None
+    robot_source: str = ""
+    auto_robot: bool = False
     max_upload: int = MAX_UPLOAD
     _listeners: list[Callable[[], None]] = field(default_factory=list)
 
+    def choose_robot(self, spec: str | None = None) -> None:
+        """Choose the model from ``spec`` (``--robot``), the open project or the board."""
+        indices = [s.ics for s in self.session.state.servos]
+        self.robot, self.robot_source = choose_robot(spec, self.project, indices)
+
+    def recheck_robot(self) -> None:
+        """Choose again once the board's servos are known, if the model is the fallback
+        default (the board was not answering when the dashboard started)."""
+        if (
+            self.auto_robot
+            and self.project is None
+            and self.robot_source == "default"
+            and self.session.state.servos
+        ):
+            self.choose_robot()
+            if self.robot_source != "default":
+                self._notify()
+
     def set_project(self, project: Project | None, name: str = "") -> None:
         self.project, self.project_name = project, name
+        if self.auto_robot:
+            self.choose_robot()
+        self._notify()
+
+    def _notify(self) -> None:
         for fn in list(self._listeners):
             try:
                 fn()
@@ -75,3 +108,8 @@ class UiContext:
 
     def on_project(self, fn: Callable[[], None]) -> None:
         self._listeners.append(fn)
+
+    def off_project(self, fn: Callable[[], None]) -> None:
+        """Stop calling ``fn`` (a view of a closed browser tab)."""
+        if fn in self._listeners:
+            self._listeners.remove(fn)

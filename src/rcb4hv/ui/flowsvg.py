@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import html
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from rcb4hv.asm import format_command
 from rcb4hv.errors import ProtocolError
@@ -60,8 +60,17 @@ def motion_graph(
     return nodes, edges
 
 
-def motion_svg(frames: Sequence[bytes], origin: int) -> str:
-    """The motion's control flow: one box per frame, top to bottom, branches on the right."""
+def motion_svg(
+    frames: Sequence[bytes],
+    origin: int,
+    poses: Mapping[int, int] | None = None,
+    selected: int | None = None,
+) -> str:
+    """The motion's control flow: one box per frame, top to bottom, branches on the right.
+
+    ``poses`` (box index -> pose number) makes those boxes selectable: each gets
+    ``data-pose``; the box of pose ``selected`` is highlighted."""
+    poses = poses or {}
     nodes, edges = motion_graph(frames, origin)
     height = len(nodes) * (BOX_H + GAP) + GAP
     parts = [
@@ -90,10 +99,16 @@ def motion_svg(frames: Sequence[bytes], origin: int) -> str:
             )
     for i, (addr, label) in enumerate(nodes):
         fill = "#fff3e0" if label.startswith(("JUMP", "CALL", "RETURN")) else "#f5f5f5"
+        pose = poses.get(i)
+        group = ""
+        if pose is not None:
+            fill = "#bbdefb" if pose == selected else "#e3f2fd"
+            group = f' data-pose="{pose}" style="cursor:pointer" class="pose"'
         parts.append(
+            f"<g{group}>"
             f'<rect x="0" y="{y(i)}" width="{BOX_W}" height="{BOX_H}" rx="4" fill="{fill}" '
             'stroke="#777" class="node"/>'
-            f'<text x="6" y="{y(i) + 19}">{addr:05X} {html.escape(label)}</text>'
+            f'<text x="6" y="{y(i) + 19}">{addr:05X} {html.escape(label)}</text></g>'
         )
     parts.append("</svg>")
     return "".join(parts)

@@ -14,13 +14,13 @@ from rcb4hv.client import Robot
 from rcb4hv.hth4 import Project
 from rcb4hv.project.image import build_project_image
 from rcb4hv.project.relocate import project_layout
-from rcb4hv.project.simulate import MotionResult, Simulator
+from rcb4hv.project.simulate import MotionResult, SampleListener, Simulator
 from rcb4hv.project.upload import UploadResult, upload_image
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, position_to_degrees
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.plot import angle_chart, set_series
 
-__all__ = ["SimulationTrace", "build", "project_image", "simulate_motion"]
+__all__ = ["SimulationTrace", "build", "project_image", "run_motion", "simulate_motion"]
 
 SAMPLE_EVERY = 2
 """Keep every 2nd output period of a simulation for the plot."""
@@ -44,13 +44,30 @@ class SimulationTrace:
     series: dict[int, list[tuple[float, float]]] = field(default_factory=dict)
 
 
+def run_motion(
+    project: Project, slot: int, listen: SampleListener, *, limit: float = 60.0
+) -> tuple[MotionResult, Simulator]:
+    """Boot the project's image in a virtual-time emulator, then play ``slot``;
+    ``listen(t, {ics: sent value})`` hears every output period of the play, ``t`` in seconds
+    from its start. Returns the result and the simulator (its board holds the end state)."""
+    t0: list[float | None] = [None]
+
+    def relay(t: float, values: dict[int, int]) -> None:
+        if t0[0] is not None:
+            listen(t - t0[0], values)
+
+    sim = Simulator(project_image(project), listener=relay)
+    sim.boot()
+    m = project.motion(slot)
+    t0[0] = sim.now
+    return sim.play(m.address, slot=slot, name=m.name or "", limit=limit), sim
+
+
 def simulate_motion(project: Project, slot: int, *, limit: float = 60.0) -> SimulationTrace:
     """Boot the project's image in a virtual-time emulator and play ``slot``; record the
     angle of every servo each other output period."""
-    image = project_image(project)
     series: dict[int, list[tuple[float, float]]] = {}
     count = [0]
-    t0 = [0.0]
 
     def listen(t: float, values: dict[int, int]) -> None:
         count[0] += 1
@@ -59,16 +76,9 @@ def simulate_motion(project: Project, slot: int, *, limit: float = 60.0) -> Simu
         for k, v in values.items():
             if v in (POSITION_HOLD, POSITION_FREE):
                 continue
-            series.setdefault(k, []).append(
-                (round(t - t0[0], 3), round(position_to_degrees(v), 2))
-            )
+            series.setdefault(k, []).append((round(t, 3), round(position_to_degrees(v), 2)))
 
-    sim = Simulator(image, listener=listen)
-    sim.boot()
-    series.clear()
-    t0[0] = sim.now
-    m = project.motion(slot)
-    result = sim.play(m.address, slot=slot, name=m.name or "", limit=limit)
+    result, _ = run_motion(project, slot, listen, limit=limit)
     return SimulationTrace(result, series)
 
 

@@ -1,6 +1,7 @@
 """Project page: open a HeartToHeart4 project (.h4p) and look inside it: motions, servo
 table, button bindings, `project check` findings, and one motion's disassembly and
-flowchart. Simulation, build, upload and downloads are in :mod:`rcb4hv.ui.project_actions`."""
+flowchart. Simulation, build, upload and downloads are in :mod:`rcb4hv.ui.project_actions`,
+the 3D preview of a motion in :mod:`rcb4hv.ui.preview`."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from nicegui import events, ui
 from rcb4hv.asm import disassemble_frames
 from rcb4hv.errors import Rcb4Error
 from rcb4hv.hth4 import Project, button_label, parse_motion_xml, parse_project
-from rcb4hv.ui import project_actions
+from rcb4hv.ui import preview, project_actions
 from rcb4hv.ui.checks import check_rows
 from rcb4hv.ui.context import UiContext, tid
 from rcb4hv.ui.flowsvg import canvas_svg, motion_svg
@@ -107,6 +108,7 @@ def build(ctx: UiContext) -> None:
         t_bind = ui.tab("Bindings")
         t_check = ui.tab("Check")
         t_actions = ui.tab("Simulate / upload")
+        t_preview = tid(ui.tab("3D preview"), "project-tab-preview")
     with ui.tab_panels(tabs, value=t_motions).classes("w-full"):
         with ui.tab_panel(t_motions), ui.row().classes("w-full no-wrap items-start"):
             motions = tid(
@@ -154,6 +156,8 @@ def build(ctx: UiContext) -> None:
             )
         with ui.tab_panel(t_actions):
             project_actions.build(ctx, motions)
+        with ui.tab_panel(t_preview):
+            preview.build(ctx, motions)
 
     def show_motion(slot: int) -> None:
         project = ctx.project

@@ -1,5 +1,6 @@
 """Remote page: the KRC pad (press and hold sets a button in the button word, release clears
-it) and the PA1-PA4 analogue sliders, with the live angle plot to watch what the buttons do."""
+it) and the PA1-PA4 analogue sliders, with the live 3D view and angle plot to watch what the
+buttons do."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from nicegui import ui
 
 from rcb4hv.protocol import Button
 from rcb4hv.ui.context import UiContext, guarded, tid
+from rcb4hv.ui.live3d import live_view
 from rcb4hv.ui.plot import angle_chart, set_series
 from rcb4hv.ui.plot import spread as spread_of
 
@@ -71,6 +73,7 @@ def build(ctx: UiContext) -> None:
                     s = tid(ui.slider(min=0, max=255, step=1, value=0), f"pa-{i}").props("label")
                     s.classes("grow")
                     s.on_value_change(lambda e, i=i: _set_pa(ctx, i, e.value))
+        live_view(ctx, "remote")
         with ui.column().classes("grow"):
             motion = tid(ui.label("motion: -"), "remote-motion")
             chart = tid(angle_chart(session.history.seconds), "remote-plot")

@@ -1,5 +1,6 @@
-"""Servos page: the live servo table, a degree slider with hold/free per servo, all
-hold/free/neutral, and a live angle plot of the selected servos over the last 10 s."""
+"""Servos page: the live servo table (with each servo's joint from the robot model), a
+degree slider with hold/free per servo, all hold/free/neutral, the live 3D view, and a live
+angle plot of the selected servos over the last 10 s."""
 
 from __future__ import annotations
 
@@ -9,21 +10,34 @@ import time
 from nicegui import ui
 
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
+from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardState
 from rcb4hv.ui.context import UiContext, guarded, tid
+from rcb4hv.ui.live3d import live_view
 from rcb4hv.ui.plot import angle_chart, set_series
 
-__all__ = ["COLUMNS", "build", "servo_rows"]
+__all__ = ["COLUMNS", "build", "joint_name", "servo_rows"]
 
-COLUMNS = ("ics", "id", "port", "trim", "measured", "degrees", "output", "state")
+COLUMNS = ("ics", "joint", "id", "port", "trim", "measured", "degrees", "output", "state")
 LIMIT_DEG = 135.0
 """Slider range: positions 3500..11500 are about -135..+135 degrees."""
 
 
-def servo_rows(state: BoardState) -> list[dict[str, object]]:
+def joint_name(model: RobotModel | None, ics: int) -> str:
+    """The joint servo ``ics`` drives in ``model`` ("-" if none)."""
+    if model is None:
+        return "-"
+    try:
+        return model.servo(ics).joint
+    except KeyError:
+        return "-"
+
+
+def servo_rows(state: BoardState, model: RobotModel | None = None) -> list[dict[str, object]]:
     return [
         {
             "ics": s.ics,
+            "joint": joint_name(model, s.ics),
             "id": s.id,
             "port": s.port,
             "trim": s.trim,
@@ -62,11 +76,12 @@ def build(ctx: UiContext) -> None:
         table = tid(
             ui.table(
                 columns=[{"name": c, "label": c, "field": c} for c in COLUMNS],
-                rows=servo_rows(session.state),
+                rows=servo_rows(session.state, ctx.robot),
                 row_key="ics",
             ).props("dense flat"),
             "servo-table",
         )
+        live_view(ctx, "servos")
         with ui.column().classes("grow"):
             chart = tid(angle_chart(session.history.seconds), "servo-plot")
             sliders: dict[int, ui.slider] = {}
@@ -84,7 +99,7 @@ def build(ctx: UiContext) -> None:
             controls()
 
     def refresh() -> None:
-        table.rows = servo_rows(session.state)
+        table.rows = servo_rows(session.state, ctx.robot)
         table.update()
         if [s.ics for s in session.state.servos] != shown:
             controls.refresh()
@@ -111,7 +126,9 @@ def _servo_controls(
             ui.notify(str(exc), type="negative")
 
     with ui.row().classes("w-full items-center no-wrap"):
-        ui.label(f"ICS {ics}").classes("w-14")
+        with ui.column().classes("w-32 shrink-0 gap-0"):
+            ui.label(f"ICS {ics}")
+            tid(ui.label(joint_name(ctx.robot, ics)), f"joint-{ics}").classes("text-xs")
         slider = (
             tid(
                 ui.slider(min=-LIMIT_DEG, max=LIMIT_DEG, step=0.5, value=round(degrees, 1)),

@@ -1,0 +1,235 @@
+"""``rcb4hv project simulate --physics``: the motions played on the robot in MuJoCo.
+
+Wired into :mod:`rcb4hv.cli.project_sim_cmd` (the options) and
+:mod:`rcb4hv.cli.project_check_cmd` (``check --physics``); the work is
+:mod:`rcb4hv.project.physics_sim`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from rcb4hv.cli._util import print_json, print_table
+
+if TYPE_CHECKING:
+    from rcb4hv.project.physics_sim import Frame, PhysicsRun, StartPose
+    from rcb4hv.robot.model import RobotModel
+    from rcb4hv.rom.layout import MotionLayout
+
+__all__ = [
+    "draw_frames",
+    "parse_sequence",
+    "physics_robot",
+    "plot_run",
+    "print_physics",
+    "run_physics",
+]
+
+
+def parse_sequence(text: str) -> list[int]:
+    """``33,15`` -> [33, 15] (motion slots 1-120)."""
+    try:
+        slots = [int(p) for p in text.replace(" ", "").split(",") if p]
+    except ValueError:
+        raise click.BadParameter(f"{text!r}: give motion slots separated by commas") from None
+    if not slots or any(not 1 <= s <= 120 for s in slots):
+        raise click.BadParameter(f"{text!r}: motion slots are 1-120")
+    return slots
+
+
+def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
+    """The robot model for ``file``: ``--robot`` or detected from the project's servo table."""
+    from rcb4hv.project.physics_sim import project_robot
+    from rcb4hv.protocol.memory import NO_BLOCK, read_alloc
+    from rcb4hv.rom import layout
+
+    names = None
+    if file.suffix.lower() == ".h4p":
+        from rcb4hv.hth4 import load_project
+
+        project = load_project(file)
+        names = {s.ics_number: s.name or "" for s in project.servos if s.in_use}
+    used = [
+        n
+        for n in range(layout.SERVO_BLOCK_COPY_COUNT)
+        if read_alloc(image, n, at=layout.ALLOC_IMAGE) != NO_BLOCK
+    ]
+    if names is not None:
+        used = [n for n in used if n in names]
+    return project_robot(robot, names, used)
+
+
+def run_physics(
+    image: bytes,
+    lay: MotionLayout,
+    names: dict[int, str],
+    slots: list[int],
+    model: RobotModel,
+    *,
+    sequence: bool,
+    limit: float | None,
+    hold: int,
+    hold_for: float,
+    track: bool,
+    start: StartPose = "upright",
+) -> tuple[PhysicsRun, dict[str, object]]:
+    """Play ``slots`` on ``model``: the run and the top-level ``physics`` JSON object."""
+    from rcb4hv.project.physics_sim import play_physics
+
+    t0 = time.perf_counter()
+    run = play_physics(
+        image,
+        model,
+        slots,
+        names,
+        motion_layout=lay,
+        sequence=sequence,
+        limit=limit,
+        hold=hold,
+        hold_for=hold_for,
+        track=track,
+        start=start,
+    )
+    wall = time.perf_counter() - t0
+    summary: dict[str, object] = {
+        "robot": model.name,
+        "virtual_s": round(run.virtual_s, 3),
+        "wall_s": round(wall, 3),
+    }
+    return run, summary
+
+
+def print_physics(run: PhysicsRun, summary: dict[str, object], as_json: bool) -> None:
+    """The table (or JSON) of a physics run."""
+    if as_json:
+        motions = []
+        for m in run.motions:
+            d = m.result.to_dict()
+            d["physics"] = m.outcome.to_dict()
+            motions.append(d)
+        print_json({"boot": run.boot.to_dict(), "motions": motions, "physics": summary})
+        return
+    click.echo(
+        f"robot {summary['robot']}: boot {run.boot.status}, then on flat ground "
+        f"({summary['virtual_s']} s virtual in {summary['wall_s']} s)"
+    )
+    print_table(
+        ("slot", "name", "status", "fell", "end pose", "dx m", "dy m", "dyaw°", "tilt°", "err°"),
+        [
+            [
+                m.result.slot or "-",
+                m.result.name,
+                m.result.status,
+                "no" if m.outcome.fell_at_s is None else f"at {m.outcome.fell_at_s:.2f} s",
+                m.outcome.end_pose,
+                f"{m.outcome.dx_m:+.3f}",
+                f"{m.outcome.dy_m:+.3f}",
+                f"{m.outcome.dyaw_deg:+.1f}",
+                f"{m.outcome.max_tilt_deg:.1f}",
+                f"{m.outcome.max_tracking_error_deg:.1f}",
+            ]
+            for m in run.motions
+        ],
+    )
+    for m in run.motions:
+        if m.outcome.saturated_joints:
+            click.echo(
+                f"slot {m.result.slot}: at the torque limit: "
+                + ", ".join(m.outcome.saturated_joints)
+            )
+
+
+def _hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Convex hull of 2D points (Andrew's monotone chain), counter-clockwise."""
+    pts = sorted(set(points))
+    if len(pts) < 3:
+        return pts
+
+    def cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower: list[tuple[float, float]] = []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    upper: list[tuple[float, float]] = []
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def draw_frames(ax: Any, frames: tuple[Frame, ...], axis: int = 0, spacing: float = 0.3) -> None:
+    """Side views of the robot (``axis`` 0: seen from its side, x-z; 1: from the front, y-z),
+    one per frame, ``spacing`` m apart, time under each."""
+    from matplotlib.patches import Polygon
+
+    for k, frame in enumerate(frames):
+        shift = k * spacing
+        origin = frame.shapes[0][0][axis] if frame.shapes else 0.0
+        for corners in frame.shapes:
+            hull = _hull([(c[axis] - origin + shift, c[2]) for c in corners])
+            ax.add_patch(Polygon(hull, closed=True, facecolor="0.6", edgecolor="0.2", lw=0.4))
+        ax.annotate(f"{frame.t:.2f} s", (shift, -0.02), ha="center", va="top", fontsize=7)
+    ax.axhline(0.0, color="0.3", linewidth=0.8)
+    ax.set_xlim(-spacing / 2, max(1, len(frames)) * spacing - spacing / 2)
+    ax.set_ylim(-0.05, 0.45)
+    ax.set_aspect("equal")
+    ax.set_yticks([])
+    ax.set_xticks([])
+
+
+def plot_run(path: Path, run: PhysicsRun) -> None:
+    """``--plot`` with ``--physics``: each motion's filmstrip (side view) and the torso's
+    path on the floor, fallen stretches in red."""
+    import matplotlib
+
+    from rcb4hv.project.physics_sim import FALL_TILT_DEG
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = len(run.motions)
+    longest = max((len(m.frames) for m in run.motions), default=1)
+    fig = plt.figure(figsize=(max(8.0, min(30.0, 0.6 * longest + 4)), 2.2 * n + 4), dpi=100)
+    grid = fig.add_gridspec(n + 1, 1, height_ratios=[1.0] * n + [2.0])
+    try:
+        for k, m in enumerate(run.motions):
+            ax = fig.add_subplot(grid[k])
+            draw_frames(ax, m.frames)
+            ax.set_title(
+                f"slot {m.result.slot}: {m.outcome.end_pose}"
+                + (f", fell at {m.outcome.fell_at_s:.2f} s" if m.outcome.fell_at_s else ""),
+                fontsize=9,
+                loc="left",
+            )
+        ax = fig.add_subplot(grid[n])
+        for m in run.motions:
+            if not m.track:
+                continue
+            x0, y0 = m.track[0].x, m.track[0].y
+            xs = [p.x - x0 for p in m.track]
+            ys = [p.y - y0 for p in m.track]
+            ax.plot(xs, ys, linewidth=1.0, label=f"slot {m.result.slot}")
+            down = [(p.x - x0, p.y - y0) for p in m.track if p.tilt >= math.radians(FALL_TILT_DEG)]
+            if down:
+                ax.scatter([d[0] for d in down], [d[1] for d in down], s=3, color="tab:red")
+        ax.scatter([0.0], [0.0], marker="o", color="black")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x (m; each path from its motion's start, red: fallen)")
+        ax.set_ylabel("y (m)")
+        ax.grid(True, linewidth=0.3)
+        if n <= 12:
+            ax.legend(fontsize=7, loc="best")
+        fig.tight_layout()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path)
+    finally:
+        plt.close(fig)

@@ -1,0 +1,92 @@
+"""``rcb4hv trim get|set|save``: the board's servo trims (the base value, +2 of each servo
+block in RAM, spec 9), and storing them into a HeartToHeart4 project.
+
+``set`` changes the trim in RAM, which the board uses at once and forgets at reset; ``save``
+writes the board's trims into the project's servo settings, so building and uploading the
+project (``rcb4hv project upload``) makes them permanent.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from rcb4hv.cli._util import Connection, handle_errors, pass_connection, print_json, print_table
+from rcb4hv.protocol.memory import SERVO
+
+__all__ = ["register"]
+
+
+def register(cli: click.Group) -> None:
+    cli.add_command(trim)
+
+
+@click.group()
+def trim() -> None:
+    """Servo trims on the board: read them, set one, store them into a project."""
+
+
+def board_trims(conn: Connection) -> dict[int, int]:
+    """ICS number -> trim of every servo the board has."""
+    with conn.open() as robot:
+        return {s.ics: s.trim for s in robot.discover_servos()}
+
+
+@trim.command("get")
+@click.option("--json", "as_json", is_flag=True, help="Print {ics: trim} as JSON.")
+@pass_connection
+@handle_errors
+def get_command(conn: Connection, as_json: bool) -> None:
+    """Print each servo's trim."""
+    trims = board_trims(conn)
+    if as_json:
+        print_json({str(k): v for k, v in trims.items()})
+    else:
+        print_table(["ICS", "trim"], [[k, v] for k, v in sorted(trims.items())])
+
+
+@trim.command("set")
+@click.argument("ics", type=click.IntRange(0, 34))
+@click.argument("value", type=int)
+@pass_connection
+@handle_errors
+def set_command(conn: Connection, ics: int, value: int) -> None:
+    """Set servo ICS's trim to VALUE in the board's RAM (lost at reset: `trim save` keeps it)."""
+    from rcb4hv.hth4.edit import TRIM_LIMIT
+
+    if not -TRIM_LIMIT <= value <= TRIM_LIMIT:
+        raise ValueError(f"trim {value} outside -{TRIM_LIMIT}..{TRIM_LIMIT}")
+    with conn.open() as robot:
+        servos = {s.ics: s for s in robot.discover_servos()}
+        if ics not in servos:
+            raise ValueError(f"no servo at ICS {ics} (known: {sorted(servos)})")
+        address, size = SERVO.F_BASE.span(servos[ics].block_address)
+        robot.write_ram(address, value.to_bytes(size, "little", signed=True))
+    click.echo(f"ICS {ics}: trim {servos[ics].trim} -> {value}")
+
+
+@trim.command("save")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Where to write the project (default: FILE itself, atomically).",
+)
+@pass_connection
+@handle_errors
+def save_command(conn: Connection, file: Path, output: Path | None) -> None:
+    """Store the board's trims into project FILE's servo settings."""
+    from rcb4hv.hth4.edit import set_trim
+    from rcb4hv.hth4.session import EditSession
+
+    session = EditSession.open(file)
+    configured = {s.device_number for s in session.project.servos}
+    trims = board_trims(conn)
+    for ics, value in sorted(trims.items()):
+        if ics in configured:
+            session.apply(set_trim, ics, value)
+    session.save(output or file)
+    click.echo(f"{output or file}: trims of {len(trims)} servos stored")

@@ -1,0 +1,354 @@
+"""Edits of a HeartToHeart4 project: pure functions from a :class:`Project` to a new one.
+
+Every function takes a project and returns a new project (the model is immutable), so undo
+and redo are a list of projects (:class:`rcb4hv.hth4.session.EditSession`). What an edit
+does not touch keeps its objects, and so its bytes when saved.
+
+Poses (:mod:`rcb4hv.hth4.poses`): :func:`set_pose`, :func:`insert_pose`,
+:func:`duplicate_pose`, :func:`delete_pose`, :func:`move_pose`. Mirroring
+(:mod:`rcb4hv.hth4.mirror`): :func:`mirror_pose`, :func:`mirror_motion` (in place or into a
+free slot). Motions: :func:`rename_motion`, :func:`move_motion`, :func:`bind_button`,
+:func:`new_motion`. Servos: :func:`set_trim`, :func:`set_home`.
+
+When entries change length or order, every JUMP / CALL into the motion, in any motion, and
+the startup / priority / low-power addresses are rewritten (:func:`apply_layout`). Motions
+are addressed by their 1-based slot, poses by their 0-based index.
+"""
+
+from __future__ import annotations
+
+import bisect
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+
+from rcb4hv.errors import EditError
+from rcb4hv.hth4.keyframes import END_MARKER, now_text
+from rcb4hv.hth4.mirror import mirror_motion_entries
+from rcb4hv.hth4.model import Motion, Project, ServoConfig
+from rcb4hv.hth4.motioncode import retarget_motion, retarget_project, slot_size
+from rcb4hv.hth4.poses import (
+    DEFAULT_CHECKS,
+    Checks,
+    Layout,
+    delete_pose_entries,
+    insert_pose_entries,
+    motion_poses,
+    move_pose_entries,
+    set_pose_entries,
+)
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, Return
+from rcb4hv.protocol.memory import CENTER
+from rcb4hv.robot.model import RobotModel
+
+__all__ = [
+    "TRIM_LIMIT",
+    "apply_layout",
+    "bind_button",
+    "delete_pose",
+    "duplicate_pose",
+    "insert_pose",
+    "mirror_motion",
+    "mirror_pose",
+    "move_motion",
+    "move_pose",
+    "new_motion",
+    "rename_motion",
+    "set_home",
+    "set_pose",
+    "set_trim",
+    "used_motion",
+]
+
+TRIM_LIMIT = min(CENTER - POSITION_MIN, POSITION_MAX - CENTER)
+"""4000: a larger trim would put the servo's centre outside its 3500..11500 range (spec 8)."""
+
+
+def _motion(project: Project, slot: int) -> Motion:
+    try:
+        return project.motion(slot)
+    except KeyError:
+        raise EditError(f"the project has no motion slot {slot}") from None
+
+
+def used_motion(project: Project, slot: int) -> Motion:
+    """The motion in ``slot``; EditError if the slot is empty or missing."""
+    m = _motion(project, slot)
+    if m.is_empty:
+        raise EditError(f"motion slot {slot} is empty")
+    return m
+
+
+def _put(project: Project, motion: Motion) -> Project:
+    return replace(
+        project,
+        motions=tuple(motion if m.slot == motion.slot else m for m in project.motions),
+    )
+
+
+def _starts(entries: tuple[bytes, ...]) -> list[int]:
+    out = [0]
+    for e in entries:
+        out.append(out[-1] + len(e))
+    return out
+
+
+def apply_layout(project: Project, slot: int, layout: Layout) -> Project:
+    """``project`` with motion ``slot``'s entries replaced by ``layout`` and every address
+    into the motion moved with the entry it points into (poses module docstring)."""
+    motion = _motion(project, slot)
+    if layout.entries == motion.frames:
+        return project
+    size = sum(map(len, layout.entries))
+    room = slot_size(motion)
+    if size > room:
+        raise EditError(f"motion {slot}: {size} bytes do not fit its {room}-byte slot")
+    old, new = _starts(motion.frames), _starts(layout.entries)
+    new_index = {o: n for n, o in enumerate(layout.origins) if o is not None}
+    base = motion.address
+    end = base + old[-1] + (1 if old[-1] < room else 0)
+
+    def where(address: int) -> int:
+        if not base < address < end:
+            return address  # outside the motion, or its start (which stays its start)
+        off = address - base
+        i = bisect.bisect_right(old, off) - 1
+        if i >= len(motion.frames):
+            return base + new[-1]
+        inner = off - old[i]
+        j = i
+        while j < len(motion.frames) and j not in new_index:
+            j, inner = j + 1, 0  # a deleted entry: go to what followed it
+        if j == len(motion.frames):
+            return base + new[-1]
+        n = new_index[j]
+        if inner and len(layout.entries[n]) != len(motion.frames[j]):
+            raise EditError(
+                f"motion {slot}: a branch targets {address:05X}h inside an entry that changed "
+                "length; edit it in HeartToHeart4"
+            )
+        return base + new[n] + inner
+
+    edited = replace(motion, frames=layout.entries)
+    return retarget_project(_put(project, edited), where)
+
+
+# ----------------------------------------------------------------------------- poses
+
+
+def set_pose(
+    project: Project,
+    slot: int,
+    index: int,
+    positions: Mapping[int, int] | None = None,
+    speed: int | None = None,
+    checks: Checks = DEFAULT_CHECKS,
+) -> Project:
+    """Pose ``index`` of motion ``slot`` with new servo values and/or frame count."""
+    m = used_motion(project, slot)
+    return apply_layout(project, slot, set_pose_entries(m, index, positions, speed, checks))
+
+
+def insert_pose(
+    project: Project,
+    slot: int,
+    at: int,
+    positions: Mapping[int, int],
+    speed: int,
+    checks: Checks = DEFAULT_CHECKS,
+) -> Project:
+    """A new pose inserted as pose ``at`` of motion ``slot``."""
+    m = _motion(project, slot)
+    if m.is_empty:
+        raise EditError(f"motion slot {slot} is empty: create the motion first (new_motion)")
+    return apply_layout(project, slot, insert_pose_entries(m, at, positions, speed, checks))
+
+
+def duplicate_pose(project: Project, slot: int, index: int) -> Project:
+    """A copy of pose ``index`` inserted right after it."""
+    poses = motion_poses(used_motion(project, slot))
+    if not 0 <= index < len(poses):
+        raise EditError(f"motion {slot} has {len(poses)} poses; no pose {index + 1}")
+    p = poses[index]
+    return insert_pose(project, slot, index + 1, p.values, p.speed, Checks(force=True))
+
+
+def delete_pose(project: Project, slot: int, index: int) -> Project:
+    """Pose ``index`` of motion ``slot`` removed."""
+    return apply_layout(project, slot, delete_pose_entries(used_motion(project, slot), index))
+
+
+def move_pose(project: Project, slot: int, index: int, to: int) -> Project:
+    """Pose ``index`` moved to position ``to`` within its linear chain."""
+    return apply_layout(project, slot, move_pose_entries(used_motion(project, slot), index, to))
+
+
+# ----------------------------------------------------------------------------- mirroring
+
+
+def mirror_pose(
+    project: Project,
+    slot: int,
+    index: int,
+    model: RobotModel | None,
+    checks: Checks = DEFAULT_CHECKS,
+) -> Project:
+    """Pose ``index`` of motion ``slot`` replaced by its left-right mirror image."""
+    m = used_motion(project, slot)
+    return apply_layout(project, slot, mirror_motion_entries(m, model, checks, pose=index))
+
+
+def _free_target(project: Project, to: int) -> Motion:
+    target = _motion(project, to)
+    if not target.is_empty:
+        raise EditError(f"motion slot {to} holds {target.name!r}; pick a free slot")
+    return target
+
+
+def _slot_shift(source: Motion, target: Motion) -> Callable[[int], int]:
+    """Addresses inside ``source``'s slot (its whole reserved space) moved to ``target``'s."""
+    lo, hi = source.address, source.address + slot_size(source)
+
+    def where(address: int) -> int:
+        return target.address + address - lo if lo <= address < hi else address
+
+    return where
+
+
+def _shift(source: Motion, target: Motion) -> Motion:
+    """``source``'s content in ``target``'s slot, its internal branches moved along."""
+    where = _slot_shift(source, target)
+    moved = replace(
+        source, key=target.key, number=target.number, address=target.address, frames=source.frames
+    )
+    return retarget_motion(moved, where)
+
+
+def mirror_motion(
+    project: Project,
+    slot: int,
+    model: RobotModel | None,
+    *,
+    to: int | None = None,
+    name: str | None = None,
+    checks: Checks = DEFAULT_CHECKS,
+    date: str | None = None,
+) -> Project:
+    """Motion ``slot`` mirrored left-right: in place, or (``to``) as a new motion in free slot
+    ``to`` named ``name`` (default: the source name + `` (mirror)``), with no button bound and
+    the current ``date``."""
+    m = used_motion(project, slot)
+    layout = mirror_motion_entries(m, model, checks)
+    if to is None:
+        return apply_layout(project, slot, layout)
+    target = _free_target(project, to)
+    mirrored = _shift(replace(m, frames=layout.entries), target)
+    if sum(map(len, mirrored.frames)) > slot_size(target):
+        raise EditError(f"motion {slot} does not fit slot {to}")
+    new = replace(
+        mirrored,
+        name=name or f"{m.name} (mirror)",
+        date=date or now_text(),
+        button_data=0,
+        compare_type=target.compare_type,
+        key_code=target.key_code,
+    )
+    return _put(project, new)
+
+
+# ----------------------------------------------------------------------------- motions
+
+
+def rename_motion(project: Project, slot: int, name: str) -> Project:
+    """Motion ``slot`` renamed."""
+    if not name or not name.strip():
+        raise EditError("a motion needs a name")
+    return _put(project, replace(used_motion(project, slot), name=name))
+
+
+def move_motion(project: Project, slot: int, to: int) -> Project:
+    """Motion ``slot`` moved to free slot ``to``; every branch, CALL, startup and priority
+    address into it follows. The two slots swap their entries, so ``slot`` is left with the
+    empty entry (named after its key, as HeartToHeart4 names empty slots)."""
+    source = used_motion(project, slot)
+    target = _free_target(project, to)
+    size = len(source.rom_bytes())
+    if size > slot_size(target):
+        raise EditError(f"motion {slot} ({size} bytes) does not fit slot {to}")
+    moved = replace(source, key=target.key, number=target.number, address=target.address)
+    vacated = replace(target, key=source.key, number=source.number, address=source.address)
+    vacated = replace(vacated, name=source.key)
+    where = _slot_shift(source, target)
+    swapped = _put(_put(project, moved), vacated)
+    return retarget_project(swapped, where)
+
+
+def bind_button(
+    project: Project,
+    slot: int,
+    button: int,
+    compare_type: str = "Equals",
+    *,
+    force: bool = False,
+) -> Project:
+    """Motion ``slot`` started by remote button word ``button`` (0: unbind). EditError if
+    another motion already has that binding, unless ``force``."""
+    m = used_motion(project, slot)
+    if isinstance(button, bool) or not isinstance(button, int) or not 0 <= button <= 0xFFFF:
+        raise EditError(f"the button word is 16 bits (0..65535), not {button!r}")
+    if button and not force:
+        for other in project.used_motions:
+            if other.slot != slot and other.button == (button, compare_type):
+                raise EditError(
+                    f"button word {button} already starts motion {other.slot} "
+                    f"({other.name}); unbind it first or force"
+                )
+    return _put(project, replace(m, button_data=button, compare_type=compare_type))
+
+
+def new_motion(
+    project: Project, slot: int, name: str, *, button: int = 0, date: str | None = None
+) -> Project:
+    """An empty motion (no poses: HeartToHeart4's closing RETURN only) in free slot ``slot``."""
+    if not name or not name.strip():
+        raise EditError("a motion needs a name")
+    target = _free_target(project, slot)
+    motion = replace(
+        target,
+        name=name,
+        date=date or now_text(),
+        frames=(Return().encode(), END_MARKER),
+    )
+    project = _put(project, motion)
+    return bind_button(project, slot, button) if button else project
+
+
+# ----------------------------------------------------------------------------- servos
+
+
+def _servo(project: Project, ics: int) -> ServoConfig:
+    try:
+        return project.servo(ics)
+    except KeyError:
+        raise EditError(f"the project configures no servo ICS {ics}") from None
+
+
+def _put_servo(project: Project, servo: ServoConfig) -> Project:
+    return replace(
+        project,
+        servos=tuple(
+            servo if s.device_number == servo.device_number else s for s in project.servos
+        ),
+    )
+
+
+def set_trim(project: Project, ics: int, trim: int) -> Project:
+    """Servo ``ics``'s trim set (|trim| <= :data:`TRIM_LIMIT`)."""
+    if isinstance(trim, bool) or not isinstance(trim, int) or not -TRIM_LIMIT <= trim <= TRIM_LIMIT:
+        raise EditError(f"ICS {ics}: trim {trim!r} outside -{TRIM_LIMIT}..{TRIM_LIMIT}")
+    return _put_servo(project, replace(_servo(project, ics), trim=trim))
+
+
+def set_home(project: Project, ics: int, position: int, checks: Checks = DEFAULT_CHECKS) -> Project:
+    """Servo ``ics``'s home position set (documented range and joint limits checked)."""
+    checks.check({ics: position}, None, f"home position of ICS {ics}")
+    return _put_servo(project, replace(_servo(project, ics), position=position))

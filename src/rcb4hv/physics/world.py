@@ -1,0 +1,268 @@
+"""The MuJoCo world of one robot: load its MJCF, place it on the floor, step, read it back.
+
+:class:`PhysicsWorld` knows joints by name and servos by ICS number and nothing about the
+board (that is :mod:`rcb4hv.physics.backend`). MuJoCo is imported on first use; without it
+:func:`require_mujoco` raises :class:`~rcb4hv.errors.PhysicsUnavailableError`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
+from rcb4hv.robot.mjcf import (
+    DEFAULT_SERVO,
+    FREE_DAMPING_FRACTION,
+    TIMESTEP,
+    back_emf_damping,
+    stiffness,
+    to_mjcf,
+)
+from rcb4hv.robot.model import RobotModel, ServoSpec
+
+__all__ = ["BasePose", "PhysicsWorld", "require_mujoco"]
+
+SATURATION = 0.999
+"""An actuator at this fraction of its stall torque counts as saturated (rounding margin)."""
+
+
+def require_mujoco() -> Any:
+    """The ``mujoco`` module, or :class:`PhysicsUnavailableError` naming the extra."""
+    try:
+        import mujoco
+    except ImportError as exc:  # pragma: no cover - the test environment has MuJoCo
+        raise PhysicsUnavailableError(
+            "physics needs MuJoCo: install rcb4hv[sim] (pip install 'rcb4hv[sim]')"
+        ) from exc
+    return mujoco
+
+
+@dataclass(frozen=True, slots=True)
+class BasePose:
+    """The root link's position (m) and orientation in the world: ``yaw`` (rad, CCW about
+    z: the twist of its orientation about the vertical, which is the heading of its x axis
+    while upright and stays defined lying down), ``tilt`` (rad between its z axis and the
+    vertical) and the world's up direction in its frame (``up``: x forward, y left, z up)."""
+
+    x: float
+    y: float
+    z: float
+    yaw: float
+    tilt: float
+    up: tuple[float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class _Servo:
+    index: int
+    joint: str
+    spec: ServoSpec
+    qpos: int
+    dof: int
+    actuator: int
+
+
+class PhysicsWorld:
+    """One robot on a flat floor in MuJoCo, stepped by :meth:`step` (``timestep`` s each)."""
+
+    def __init__(self, model: RobotModel, *, timestep: float = TIMESTEP) -> None:
+        mj = require_mujoco()
+        self._mj = mj
+        self.model = model
+        self.timestep = timestep
+        try:
+            self.m = mj.MjModel.from_xml_string(to_mjcf(model, timestep=timestep))
+        except ValueError as exc:
+            raise PhysicsError(f"{model.name}: MuJoCo refuses the model: {exc}") from exc
+        self.d = mj.MjData(self.m)
+        m = self.m
+        self.servos: dict[int, _Servo] = {}
+        for s in model.servos:
+            j = m.joint(s.joint)
+            self.servos[s.index] = _Servo(
+                s.index,
+                s.joint,
+                s.servo or DEFAULT_SERVO,
+                int(j.qposadr[0]),
+                int(j.dofadr[0]),
+                int(m.actuator(f"servo{s.index}").id),
+            )
+        self._indices = list(self.servos)
+        self._qpos = [s.qpos for s in self.servos.values()]
+        self._joint_qpos = {j.name: int(m.joint(j.name).qposadr[0]) for j in model.joints}
+        self._gyro = int(m.sensor("gyro").adr[0])
+        self._accel = int(m.sensor("accelerometer").adr[0])
+        self._floor = int(m.geom("floor").id)
+        self._powered: dict[int, bool] = dict.fromkeys(self.servos, True)
+        self._kp: dict[int, float] = {}
+
+    # ------------------------------------------------------------------ time
+
+    @property
+    def time(self) -> float:
+        return float(self.d.time)
+
+    def step(self, n: int = 1) -> None:
+        """Advance ``n`` physics steps."""
+        if n > 0:
+            self._mj.mj_step(self.m, self.d, nstep=n)
+
+    # ------------------------------------------------------------------ pose
+
+    def place(self, angles: Mapping[str, float], yaw: float = 0.0, pitch: float = 0.0) -> None:
+        """Put the robot at rest with joint ``angles`` (rad), its root at the origin turned
+        by ``yaw`` about z and then ``pitch`` about its y axis (-pi/2: lying on its back, +pi/2:
+        on its front), lowered until its lowest point just touches the floor."""
+        d = self.d
+        d.qpos[:] = 0.0
+        d.qvel[:] = 0.0
+        cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+        cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+        # q = q_yaw(z) * q_pitch(y)
+        d.qpos[3:7] = (cy * cp, -sy * sp, cy * sp, sy * cp)
+        for name, a in angles.items():
+            adr = self._joint_qpos.get(name)
+            if adr is not None:
+                d.qpos[adr] = a
+        d.ctrl[:] = [angles.get(self.servos[i].joint, 0.0) for i in self._actuator_order()]
+        self._mj.mj_forward(self.m, d)
+        d.qpos[2] = -self.lowest_point()
+        d.time = 0.0
+        self._mj.mj_forward(self.m, d)
+
+    def _actuator_order(self) -> list[int]:
+        return [s.index for s in sorted(self.servos.values(), key=lambda s: s.actuator)]
+
+    def lowest_point(self) -> float:
+        """The lowest z (m) of the robot's geoms."""
+        m, d = self.m, self.d
+        low = math.inf
+        for g in range(m.ngeom):
+            if g == self._floor:
+                continue
+            r = d.geom_xmat[g]
+            cz = d.geom_xpos[g][2]
+            size = m.geom_size[g]
+            kind = int(m.geom_type[g])
+            if kind == self._mj.mjtGeom.mjGEOM_BOX:
+                z = cz - abs(r[6]) * size[0] - abs(r[7]) * size[1] - abs(r[8]) * size[2]
+            elif kind == self._mj.mjtGeom.mjGEOM_CYLINDER:
+                c = abs(r[8])
+                z = cz - c * size[1] - size[0] * math.sqrt(max(0.0, 1.0 - c * c))
+            else:
+                z = cz - size[0]
+            low = min(low, z)
+        return low
+
+    def shapes(self) -> list[tuple[tuple[float, float, float], ...]]:
+        """The corners (world, m) of each robot geom's box (a cylinder's or sphere's bounding
+        box): enough to draw the robot from any side."""
+        m, d = self.m, self.d
+        out = []
+        signs = [(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
+        for g in range(m.ngeom):
+            if g == self._floor:
+                continue
+            r = d.geom_xmat[g].tolist()
+            px, py, pz = d.geom_xpos[g].tolist()
+            size = m.geom_size[g].tolist()
+            kind = int(m.geom_type[g])
+            if kind == self._mj.mjtGeom.mjGEOM_BOX:
+                hx, hy, hz = size
+            elif kind == self._mj.mjtGeom.mjGEOM_CYLINDER:
+                hx, hy, hz = size[0], size[0], size[1]
+            else:
+                hx = hy = hz = size[0]
+            out.append(
+                tuple(
+                    (
+                        px + r[0] * a * hx + r[1] * b * hy + r[2] * c * hz,
+                        py + r[3] * a * hx + r[4] * b * hy + r[5] * c * hz,
+                        pz + r[6] * a * hx + r[7] * b * hy + r[8] * c * hz,
+                    )
+                    for a, b, c in signs
+                )
+            )
+        return out
+
+    def base(self) -> BasePose:
+        d = self.d
+        x, y, z = (float(v) for v in d.qpos[0:3])
+        w, qx, qy, qz = (float(v) for v in d.qpos[3:7])
+        # the third row of the rotation matrix of the unit quaternion
+        r20 = 2 * (qx * qz - w * qy)
+        r21 = 2 * (qy * qz + w * qx)
+        r22 = 1 - 2 * (qx * qx + qy * qy)
+        # the twist about the vertical of a swing-twist decomposition: the heading, also
+        # where the forward axis points up or down (lying on the back or front)
+        yaw = math.remainder(2 * math.atan2(qz, w), 2 * math.pi)
+        tilt = math.acos(max(-1.0, min(1.0, r22)))
+        # the world's up (0, 0, 1) in the root frame is the third row of R
+        return BasePose(x, y, z, yaw, tilt, (r20, r21, r22))
+
+    def quaternion(self) -> tuple[float, float, float, float]:
+        """The root link's orientation (w, x, y, z)."""
+        w, x, y, z = self.d.qpos[3:7].tolist()
+        return (w, x, y, z)
+
+    def joint_angles(self) -> dict[str, float]:
+        q = self.d.qpos
+        return {name: float(q[adr]) for name, adr in self._joint_qpos.items()}
+
+    def servo_angle(self, index: int) -> float:
+        return float(self.d.qpos[self.servos[index].qpos])
+
+    def servo_angles(self) -> dict[int, float]:
+        """Every mapped servo's joint angle (rad) by servo index."""
+        return dict(zip(self._indices, self.d.qpos[self._qpos].tolist(), strict=True))
+
+    # ------------------------------------------------------------------ servos
+
+    def drive(self, index: int, target: float, kp: float) -> None:
+        """Servo ``index`` holds ``target`` (rad) with gain ``kp`` (N·m/rad)."""
+        s = self.servos[index]
+        m = self.m
+        if not self._powered[index]:
+            m.dof_damping[s.dof] = back_emf_damping(s.spec)
+            self._powered[index] = True
+        if self._kp.get(index) != kp:
+            m.actuator_gainprm[s.actuator, 0] = kp
+            m.actuator_biasprm[s.actuator, 1] = -kp
+            self._kp[index] = kp
+        self.d.ctrl[s.actuator] = target
+
+    def release(self, index: int) -> None:
+        """Servo ``index`` goes limp: no torque, only the gear train's passive damping."""
+        s = self.servos[index]
+        if self._powered[index]:
+            self.m.dof_damping[s.dof] = FREE_DAMPING_FRACTION * back_emf_damping(s.spec)
+            self.m.actuator_gainprm[s.actuator, 0] = 0.0
+            self.m.actuator_biasprm[s.actuator, 1] = 0.0
+            self._kp[index] = 0.0
+            self._powered[index] = False
+
+    def stiffness(self, index: int, stretch: int | None) -> float:
+        return stiffness(self.servos[index].spec, stretch)
+
+    def torque(self, index: int) -> float:
+        """The servo's motor torque (N·m) at the last step."""
+        return float(self.d.actuator_force[self.servos[index].actuator])
+
+    def saturated(self, index: int) -> bool:
+        s = self.servos[index]
+        return abs(self.torque(index)) >= SATURATION * s.spec.stall_torque
+
+    # ------------------------------------------------------------------ sensors
+
+    def imu(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """(angular velocity rad/s, specific force m/s²) at the root link's IMU site, in the
+        root frame (x forward, y left, z up); at rest upright the accelerometer reads +g on z."""
+        s = self.d.sensordata
+        g, a = self._gyro, self._accel
+        return (
+            (float(s[g]), float(s[g + 1]), float(s[g + 2])),
+            (float(s[a]), float(s[a + 1]), float(s[a + 2])),
+        )

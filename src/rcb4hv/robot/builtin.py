@@ -1,0 +1,127 @@
+"""The built-in robots by name, loading a robot by name or file, and detecting a project's robot.
+
+This layer sits below :mod:`rcb4hv.hth4`: callers pass a project's servo table as plain data
+(the servo names and ICS numbers of the slots in use), e.g. from
+``Project.servos`` (``name``, ``ics_number``, ``in_use``).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Mapping
+from functools import cache
+from pathlib import Path
+
+from rcb4hv.errors import RobotModelError
+from rcb4hv.robot.khr3hv import khr3hv, khr3hv_22
+from rcb4hv.robot.kxr import kxr_l2, kxr_l2_gripper
+from rcb4hv.robot.model import RobotModel
+
+__all__ = [
+    "BUILTIN",
+    "check_indices",
+    "detect_robot",
+    "load_builtin",
+    "load_robot",
+]
+
+BUILTIN = ("khr3hv", "khr3hv-22", "kxr-l2", "kxr-l2-gripper")
+
+_FACTORIES: dict[str, Callable[[], RobotModel]] = {
+    "khr3hv": khr3hv,
+    "khr3hv-22": khr3hv_22,
+    "kxr-l2": kxr_l2,
+    "kxr-l2-gripper": kxr_l2_gripper,
+}
+
+
+@cache
+def load_builtin(name: str) -> RobotModel:
+    """The built-in model ``name`` (one of :data:`BUILTIN`); models are immutable, so each
+    is built once."""
+    try:
+        factory = _FACTORIES[name]
+    except KeyError:
+        raise RobotModelError(
+            f"unknown robot {name!r}: choose one of {', '.join(BUILTIN)}, or give a "
+            "URDF file with its joint map"
+        ) from None
+    return factory()
+
+
+def load_robot(name_or_path: str | os.PathLike[str], joint_map: str | None = None) -> RobotModel:
+    """A built-in model by name, or a URDF file (``.urdf``) with its joint-map file (TOML;
+    by default the URDF's path with ``.toml``, see :mod:`rcb4hv.robot.jointmap`)."""
+    text = os.fspath(name_or_path)
+    if text in _FACTORIES:
+        return load_builtin(text)
+    path = Path(text)
+    if path.is_file():
+        from rcb4hv.robot.jointmap import load_urdf_robot
+
+        return load_urdf_robot(path, joint_map)
+    if path.suffix or os.sep in text or "/" in text:
+        raise RobotModelError(f"{text}: no such robot file")
+    return load_builtin(text)  # raises, listing the choices
+
+
+# --------------------------------------------------------------------- detection
+
+# the words a HeartToHeart4 project's servo names use for each side
+_RIGHT_WORDS = ("右", "right", "r_")
+_LEFT_WORDS = ("左", "left", "l_")
+
+
+def _sides(names: Mapping[int, str]) -> str | None:
+    """Which side the project's even indices (SIO1-4) are: "right", "left" or None."""
+    votes = {"right": 0, "left": 0}
+    for index, name in names.items():
+        low = name.lower()
+        even = index % 2 == 0
+        if any(w in low for w in _RIGHT_WORDS):
+            votes["right" if even else "left"] += 1
+        elif any(w in low for w in _LEFT_WORDS):
+            votes["left" if even else "right"] += 1
+    if votes["right"] == votes["left"]:
+        return None
+    return "right" if votes["right"] > votes["left"] else "left"
+
+
+def detect_robot(
+    servo_names: Mapping[int, str] | Iterable[tuple[int, str]],
+    indices: Iterable[int] | None = None,
+) -> str | None:
+    """The built-in robot a project drives, from its servo table, or None when that is
+    ambiguous.
+
+    ``servo_names``: servo index (ICS number) -> display name of each slot in use; ``indices``:
+    the indices in use (default: the keys of ``servo_names``). A built-in model matches when
+    it maps exactly those indices and, where the names say which side the even indices are
+    (右/左, right/left), that side agrees (the KHR-3HV has the left on even indices, the
+    KXR-L2 the right). Returns the one matching name, or None.
+    """
+    names = dict(servo_names)
+    used = frozenset(names if indices is None else indices)
+    side = _sides({i: n for i, n in names.items() if i in used})
+    even_side = {"khr3hv": "left", "khr3hv-22": "left", "kxr-l2": "right",
+                 "kxr-l2-gripper": "right"}  # fmt: skip
+    matches = [
+        name
+        for name in BUILTIN
+        if frozenset(load_builtin(name).indices) == used
+        and (side is None or even_side[name] == side)
+    ]
+    return matches[0] if len(matches) == 1 else None
+
+
+def check_indices(model: RobotModel, indices: Iterable[int]) -> None:
+    """Raise :class:`RobotModelError` when ``model`` maps a servo index the project lacks
+    (``indices``: the project's servo indices in use)."""
+    have = set(indices)
+    missing = [s for s in model.servos if s.index not in have]
+    if missing:
+        listed = ", ".join(f"{s.index} ({s.joint})" for s in missing)
+        raise RobotModelError(
+            f"{model.name}: the project has no servo at index {listed}; "
+            f"it uses {sorted(have) or 'none'}"
+        )

@@ -1,0 +1,305 @@
+"""MJCF (MuJoCo's XML) of a :class:`~rcb4hv.robot.model.RobotModel`.
+
+:func:`to_mjcf` writes one self-contained document: a ground plane, the robot on a free joint
+(its root link), one body per link with the link's inertial and geoms, one hinge per joint
+with its limits, one servo actuator per mapped joint and an IMU site on the root link with a
+gyro and an accelerometer. The physics of :mod:`rcb4hv.physics` loads it and drives the
+actuators itself (stiffness from each servo's stretch, limp when free); exported on its own
+(``rcb4hv robot export NAME --format mjcf``) the actuators are plain position servos at the
+default stretch, ready for MuJoCo's viewer or a controller.
+
+Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q)`` clamped to the servo's
+stall torque, on a hinge with the servo's back-EMF damping ``stall_torque / no_load_speed`` and
+the gear train's reflected inertia (``armature``): together a DC motor's straight
+torque-speed line, so a joint can neither push harder than the stall torque nor turn faster
+than the no-load speed. The figures and their sources are below
+(the physics documentation lists them all).
+
+The servo model's figures live here, beside the MJCF that carries them, so the export and
+:mod:`rcb4hv.physics` use one set (each with its source).
+
+Only the ground plane collides with the robot (no self-collision): legs and arms pass
+through each other, which keeps the contact count, and so the cost, low.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterable
+from xml.sax.saxutils import quoteattr
+
+from rcb4hv.robot.kinematics import apply, compose, forward, from_xyz_rpy
+from rcb4hv.robot.model import Geom, Joint, Link, RobotModel, ServoSpec, Vec3, chain
+
+__all__ = [
+    "DEFAULT_SERVO",
+    "DEFAULT_SPEED",
+    "DEFAULT_STRETCH",
+    "FLOOR_FRICTION",
+    "FREE_DAMPING_FRACTION",
+    "FULL_TORQUE_ERROR_DEG",
+    "IMU_SITE",
+    "MOTOR_TIME_CONSTANT",
+    "STRETCH_MAX",
+    "TIMESTEP",
+    "armature",
+    "back_emf_damping",
+    "lowest_point",
+    "speed_cap",
+    "stiffness",
+    "to_mjcf",
+]
+
+# ----------------------------------------------------------------------------- servo model
+
+TIMESTEP = 0.002
+"""Physics step (s). The fastest dynamics are a servo's position loop (at most
+sqrt(kp / armature) = 170 rad/s at stretch 127, a 37 ms period) and MuJoCo's contact (time
+constant 20 ms): 2 ms resolves both with 10 or more steps, and a 10/15/20/25 ms output period
+is a whole number of steps. The fixture's motions give the same outcomes at 1 ms (checked:
+falls, end poses and turns agree, displacements within a few mm; docs/physics.md), at about
+two thirds of the cost."""
+
+STRETCH_MAX = 127
+"""ICS stretch and speed run 1-127 (Kondo ICS 3.5 software manual)."""
+
+DEFAULT_STRETCH = 60
+"""Stretch assumed for a servo the board never sent a SetStretch (12h) to. Chosen: the
+middle of the 1-127 range (no primary source gives the factory value)."""
+
+DEFAULT_SPEED = STRETCH_MAX
+"""Speed parameter assumed when none was sent: full speed (the servo's own maximum)."""
+
+FULL_TORQUE_ERROR_DEG = 2.0
+"""At stretch 127 a servo reaches its stall torque at this angle error (degrees); stiffness
+scales with stretch (kp = stretch/127 x stall / error). Chosen - no public source converts
+stretch to N·m/rad (FACTS.md). It puts kp of a KRS-3304 at stretch 60 at 18.4 N·m/rad, inside
+the kp 10-30 kxreus's MuJoCo models of the same servos use."""
+
+MOTOR_TIME_CONSTANT = 0.008
+"""Mechanical time constant of a servo's motor (s): the time its speed takes to reach 63% of
+no-load speed from rest. Gearing leaves it unchanged (the reflected inertia grows with the
+ratio squared, stall torque and 1/speed with the ratio), so it is the servo's as well. Small
+DC micromotors of a servo's size have 7-8.5 ms (Faulhaber 1331 SR: 7 ms, 1524 SR: 8.2-8.5 ms,
+their datasheets); 8 ms taken. It keeps the "0.13 s/60°" rating honest: a servo with this
+time constant turns 60° in 0.14 s from rest."""
+
+FREE_DAMPING_FRACTION = 0.1
+"""A free servo's motor is disconnected: only gear and bearing friction remain, taken as this
+fraction of the powered back-EMF damping (chosen)."""
+
+FLOOR_FRICTION = 0.4
+"""Sliding friction of a plastic (ABS/polycarbonate) foot sole on a hard floor. Published
+static coefficients of plastics on wood and laminate lie around 0.3-0.5 (engineering
+friction tables); chosen in the middle."""
+
+TORSIONAL_FRICTION = 0.005
+ROLLING_FRICTION = 0.0001
+"""Spin (m) and rolling (m) friction of a contact: MuJoCo's defaults."""
+
+DEFAULT_SERVO = ServoSpec(
+    "KRS-3304R2",
+    stall_torque=1.36,
+    no_load_speed=8.06,
+    mass=0.0337,
+    source="Kondo KRS-3304R2 ICS: 13.9 kgf·cm, 0.13 s/60° at 11.1 V (FACTS.md)",
+)
+"""The servo assumed for a joint-map entry without a servo type."""
+
+
+def _clamp_parameter(value: int | None, default: int) -> int:
+    """An ICS stretch/speed byte as the servo takes it: 1-127; anything else (HeartToHeart4
+    motions send 0) leaves the servo at ``default``."""
+    if value is None or not 1 <= value <= STRETCH_MAX:
+        return default
+    return value
+
+
+def stiffness(spec: ServoSpec, stretch: int | None) -> float:
+    """Position gain kp (N·m/rad) of a servo at ``stretch`` (see FULL_TORQUE_ERROR_DEG)."""
+    s = _clamp_parameter(stretch, DEFAULT_STRETCH)
+    return s / STRETCH_MAX * spec.stall_torque / math.radians(FULL_TORQUE_ERROR_DEG)
+
+
+def speed_cap(spec: ServoSpec, speed: int | None) -> float:
+    """Largest rotation speed (rad/s) at ICS ``speed``: that fraction of the no-load speed."""
+    return _clamp_parameter(speed, DEFAULT_SPEED) / STRETCH_MAX * spec.no_load_speed
+
+
+def armature(spec: ServoSpec) -> float:
+    """Reflected inertia (kg·m²) of the servo's motor and gear train at its output shaft:
+    J = time constant x stall torque / no-load speed (see MOTOR_TIME_CONSTANT)."""
+    return MOTOR_TIME_CONSTANT * spec.stall_torque / spec.no_load_speed
+
+
+def back_emf_damping(spec: ServoSpec) -> float:
+    """Viscous damping (N·m·s/rad) of a powered servo: a DC motor's torque falls linearly
+    from the stall torque at rest to 0 at the no-load speed, so b = stall / no-load speed."""
+    return spec.stall_torque / spec.no_load_speed
+
+
+IMU_SITE = "imu"
+"""The site on the root link carrying the gyro and the accelerometer."""
+
+# collision classes: the robot's geoms touch the floor only (contype & conaffinity)
+_ROBOT_CONTYPE, _ROBOT_AFFINITY = 1, 2
+_FLOOR_CONTYPE, _FLOOR_AFFINITY = 2, 1
+_MIN_MASS = 1e-4  # kg: MuJoCo needs a moving body to have mass; a massless link gets this
+_MIN_INERTIA = 1e-8  # kg·m²: likewise for each principal moment
+
+
+def _f(x: float) -> str:
+    """A number in XML: shortest exact repr, so the same model always gives the same text."""
+    if x == 0.0:
+        return "0"
+    return repr(float(x))
+
+
+def _v(values: Iterable[float]) -> str:
+    return " ".join(_f(x) for x in values)
+
+
+def _pose(pos: Vec3, rpy: Vec3) -> str:
+    out = f'pos="{_v(pos)}"'
+    if any(rpy):
+        # URDF's fixed-axis roll, pitch, yaw (Rz @ Ry @ Rx): MuJoCo's extrinsic "XYZ" order
+        out += f' euler="{_v(rpy)}"'
+    return out
+
+
+def _geom(link: Link, k: int, g: Geom) -> str:
+    if g.shape == "box":
+        size = _v(s / 2.0 for s in g.size)
+    elif g.shape == "cylinder":
+        size = _v((g.size[0], g.size[1] / 2.0))
+    else:
+        size = _f(g.size[0])
+    name = quoteattr(f"{link.name}_{k}")
+    return (
+        f'<geom name={name} type="{g.shape}" size="{size}" {_pose(g.pos, g.rpy)} '
+        f'rgba="{_v(g.rgba)}" mass="0"/>'
+    )
+
+
+def _inertial(link: Link) -> str:
+    i = link.inertial
+    mass = max(i.mass, _MIN_MASS)
+    ixx, iyy, izz, ixy, ixz, iyz = i.inertia
+    if ixy or ixz or iyz:
+        full = (ixx, iyy, izz, ixy, ixz, iyz)
+        return f'<inertial pos="{_v(i.com)}" mass="{_f(mass)}" fullinertia="{_v(full)}"/>'
+    diag = (max(ixx, _MIN_INERTIA), max(iyy, _MIN_INERTIA), max(izz, _MIN_INERTIA))
+    return f'<inertial pos="{_v(i.com)}" mass="{_f(mass)}" diaginertia="{_v(diag)}"/>'
+
+
+def _spec(model: RobotModel, joint: str) -> ServoSpec | None:
+    s = model.servo_for_joint(joint)
+    if s is None:
+        return None
+    return s.servo or DEFAULT_SERVO
+
+
+def _hinge(model: RobotModel, j: Joint) -> str:
+    spec = _spec(model, j.name)
+    damping = back_emf_damping(spec) if spec is not None else 0.0
+    inertia = armature(spec) if spec is not None else 0.0
+    return (
+        f'<joint name={quoteattr(j.name)} type="hinge" axis="{_v(j.axis)}" '
+        f'range="{_f(j.lower)} {_f(j.upper)}" limited="true" '
+        f'damping="{_f(damping)}" armature="{_f(inertia)}"/>'
+    )
+
+
+def lowest_point(model: RobotModel) -> float:
+    """The lowest z (m) of the model's shapes in its zero pose, root link at the origin."""
+    frames = forward(model, {})
+    low = 0.0
+    for link in model.links:
+        for g in link.geoms:
+            t = compose(frames[link.name], from_xyz_rpy(g.pos, g.rpy))
+            if g.shape == "box":
+                half = (g.size[0] / 2, g.size[1] / 2, g.size[2] / 2)
+            elif g.shape == "cylinder":
+                half = (g.size[0], g.size[0], g.size[1] / 2)
+            else:
+                half = (g.size[0], g.size[0], g.size[0])
+            for corner in itertools.product(*((-h, h) for h in half)):
+                low = min(low, apply(t, (corner[0], corner[1], corner[2]))[2])
+    return low
+
+
+def _body(model: RobotModel, link: Link, indent: str, lines: list[str]) -> None:
+    lines.append(indent + _inertial(link))
+    lines.extend(indent + _geom(link, k, g) for k, g in enumerate(link.geoms))
+
+
+def to_mjcf(
+    model: RobotModel,
+    *,
+    timestep: float = TIMESTEP,
+    floor_friction: float = FLOOR_FRICTION,
+    stretch: int = DEFAULT_STRETCH,
+    base_height: float | None = None,
+) -> str:
+    """The MJCF document of ``model`` (see the module docstring).
+
+    ``timestep`` is the physics step (s), ``floor_friction`` the sliding friction coefficient
+    of the robot's feet on the floor, ``stretch`` the ICS stretch (1-127) the exported
+    position servos get, ``base_height`` the root link's start height above the floor (m;
+    default: the zero pose standing on the floor).
+    """
+    if base_height is None:
+        base_height = -lowest_point(model)
+    if not timestep > 0:
+        raise ValueError("timestep must be > 0")
+    joints = chain(model.joints, model.root)
+    by_parent: dict[str, list[Joint]] = {}
+    for j in joints:
+        by_parent.setdefault(j.parent, []).append(j)
+    friction = f"{_f(floor_friction)} {_f(TORSIONAL_FRICTION)} {_f(ROLLING_FRICTION)}"
+    lines = [
+        f"<mujoco model={quoteattr(model.name)}>",
+        '  <compiler angle="radian" eulerseq="XYZ" autolimits="true"/>',
+        f'  <option timestep="{_f(timestep)}" integrator="implicitfast" gravity="0 0 -9.81"/>',
+        "  <default>",
+        f'    <geom contype="{_ROBOT_CONTYPE}" conaffinity="{_ROBOT_AFFINITY}" '
+        f'condim="4" friction="{friction}"/>',
+        "  </default>",
+        "  <worldbody>",
+        f'    <geom name="floor" type="plane" size="0 0 0.05" contype="{_FLOOR_CONTYPE}" '
+        f'conaffinity="{_FLOOR_AFFINITY}" rgba="0.8 0.8 0.8 1"/>',
+        f'    <body name={quoteattr(model.root)} pos="0 0 {_f(base_height)}">',
+        '      <freejoint name="base"/>',
+        f'      <site name="{IMU_SITE}" pos="0 0 0" size="0.005"/>',
+    ]
+    _body(model, model.link(model.root), "      ", lines)
+
+    def walk(parent: str, indent: str) -> None:
+        for j in by_parent.get(parent, []):
+            lines.append(f"{indent}<body name={quoteattr(j.child)} {_pose(j.xyz, j.rpy)}>")
+            lines.append(indent + "  " + _hinge(model, j))
+            _body(model, model.link(j.child), indent + "  ", lines)
+            walk(j.child, indent + "  ")
+            lines.append(f"{indent}</body>")
+
+    walk(model.root, "      ")
+    lines += ["    </body>", "  </worldbody>", "  <actuator>"]
+    for s in sorted(model.servos, key=lambda s: s.index):
+        spec = s.servo or DEFAULT_SERVO
+        kp = stiffness(spec, stretch)
+        lines.append(
+            f'    <general name="servo{s.index}" joint={quoteattr(s.joint)} gaintype="fixed" '
+            f'gainprm="{_f(kp)}" biastype="affine" biasprm="0 {_f(-kp)} 0" '
+            f'forcerange="{_f(-spec.stall_torque)} {_f(spec.stall_torque)}"/>'
+        )
+    lines += [
+        "  </actuator>",
+        "  <sensor>",
+        f'    <gyro name="gyro" site="{IMU_SITE}"/>',
+        f'    <accelerometer name="accelerometer" site="{IMU_SITE}"/>',
+        "  </sensor>",
+        "</mujoco>",
+        "",
+    ]
+    return "\n".join(lines)

@@ -1,0 +1,224 @@
+"""What the Editor page shows and does, without NiceGUI: the edit session, the chosen motion
+and pose, the joint rows of the sliders, and the files a save produces.
+
+Joint angles follow :mod:`rcb4hv.hth4.poses`: a motion value ``v`` of servo ``i`` is at
+``model.angle(i, v + trim, trim)`` (the board adds the trim to the output, spec 9), and the
+slider's angle goes back through :meth:`Editor.value_for` (its inverse, rounded to a count).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Concatenate, ParamSpec
+
+from rcb4hv.errors import EditError, Rcb4Error
+from rcb4hv.hth4 import Project, dump_motion_xml, parse_project
+from rcb4hv.hth4.keyframes import Keyframe, flowchart_from_keyframes
+from rcb4hv.hth4.mirror import project_model
+from rcb4hv.hth4.poses import Block, Checks, Pose, joint_angle, motion_blocks, motion_poses
+from rcb4hv.hth4.session import EditSession
+from rcb4hv.protocol import SystemRegister
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
+from rcb4hv.robot import RobotModel
+
+__all__ = ["Editor", "JointRow", "chain_flowchart_xml"]
+
+P = ParamSpec("P")
+
+
+@dataclass(frozen=True)
+class JointRow:
+    """One slider: servo ``ics`` of the selected pose."""
+
+    ics: int
+    label: str
+    value: int
+    degrees: float
+    lower: float
+    upper: float
+
+
+def chain_flowchart_xml(project: Project, slot: int) -> bytes | None:
+    """A HeartToHeart4 flowchart (``.xml``) of motion ``slot`` when it is a plain chain of
+    poses (then its boxes are ``Pos`` boxes, as :func:`flowchart_from_keyframes` draws them);
+    None for a motion with other blocks (branches, settings), whose boxes a project does not
+    keep."""
+    m = project.motion(slot)
+    blocks = list(motion_blocks(m))
+    while blocks and blocks[-1].kind == "Return":
+        blocks.pop()
+    if not blocks or any(b.pose is None for b in blocks):
+        return None
+    period = SystemRegister.from_word(project.system_register).frame_period_ms
+    frames = [
+        Keyframe(b.pose.speed * period / 1000, b.pose.values) for b in blocks if b.pose is not None
+    ]
+    try:
+        return dump_motion_xml(flowchart_from_keyframes(frames, period))
+    except ValueError:
+        return None
+
+
+class Editor:
+    """The Editor page's state (one per browser tab)."""
+
+    def __init__(self) -> None:
+        self.session: EditSession | None = None
+        self.model: RobotModel | None = None
+        self.model_error = ""
+        self.slot: int | None = None
+        self.pose_index: int | None = None
+        self.force = False
+
+    # ------------------------------------------------------------------ opening
+
+    def open(self, data: bytes, path: Path | None = None, model: RobotModel | None = None) -> None:
+        """Edit the project file ``data`` (read from ``path``, where Save writes)."""
+        self.session = EditSession(parse_project(data), path, data)
+        self.model, self.model_error = model, ""
+        if model is None:
+            try:
+                self.model = project_model(self.session.project)
+            except Rcb4Error as exc:
+                self.model_error = str(exc)
+        used = self.project.used_motions
+        self.select(used[0].slot if used else None)
+
+    @property
+    def project(self) -> Project:
+        if self.session is None:
+            raise EditError("no project open")
+        return self.session.project
+
+    @property
+    def trims(self) -> dict[int, int]:
+        return {s.device_number: s.trim for s in self.project.servos}
+
+    @property
+    def checks(self) -> Checks:
+        return Checks(self.model, self.trims, self.force)
+
+    # ------------------------------------------------------------------ selection
+
+    def motion_options(self) -> dict[int, str]:
+        if self.session is None:
+            return {}
+        return {m.slot: f"M{m.slot:03d} {m.name}" for m in self.project.used_motions}
+
+    def free_slots(self) -> list[int]:
+        return [] if self.session is None else [m.slot for m in self.project.motions if m.is_empty]
+
+    def select(self, slot: int | None, pose: int | None = 0) -> None:
+        self.slot = slot
+        n = len(self.poses())
+        self.pose_index = None if not n or pose is None else max(0, min(pose, n - 1))
+
+    def blocks(self) -> tuple[Block, ...]:
+        if self.session is None or self.slot is None:
+            return ()
+        m = self.project.motion(self.slot)
+        return () if m.is_empty else motion_blocks(m)
+
+    def poses(self) -> tuple[Pose, ...]:
+        if self.session is None or self.slot is None:
+            return ()
+        m = self.project.motion(self.slot)
+        return () if m.is_empty else motion_poses(m)
+
+    @property
+    def pose(self) -> Pose | None:
+        poses = self.poses()
+        i = self.pose_index
+        return poses[i] if i is not None and 0 <= i < len(poses) else None
+
+    # ------------------------------------------------------------------ joints
+
+    def degrees(self, ics: int, value: int) -> float | None:
+        """The joint angle of motion value ``value`` in degrees (None: not a joint or special)."""
+        if self.model is None or ics not in self.model.indices or not 3500 <= value <= 11500:
+            return None
+        return math.degrees(joint_angle(self.model, ics, value, self.trims.get(ics, 0)))
+
+    def value_for(self, ics: int, degrees: float) -> int:
+        """The motion value that puts servo ``ics``'s joint at ``degrees``."""
+        if self.model is None or ics not in self.model.indices:
+            return round(CENTER + degrees * COUNTS_PER_DEGREE)
+        trim = self.trims.get(ics, 0)
+        return self.model.value(ics, math.radians(degrees), trim) - trim
+
+    def joint_rows(self) -> list[JointRow]:
+        pose = self.pose
+        if pose is None:
+            return []
+        rows = []
+        for ics, value in pose.positions:
+            deg = self.degrees(ics, value)
+            label, lo, hi = f"ICS {ics}", -135.0, 135.0  # an ICS servo turns +-135 deg
+            if self.model is not None and ics in self.model.indices:
+                joint = self.model.joint(self.model.servo(ics).joint)
+                label = f"{joint.name} (ICS {ics})"
+                lo, hi = math.degrees(joint.lower), math.degrees(joint.upper)
+            rows.append(JointRow(ics, label, value, deg if deg is not None else math.nan, lo, hi))
+        return rows
+
+    def pose_angles(self) -> dict[str, float]:
+        """Joint angles (radians by joint name) of the selected pose, for the 3D view."""
+        pose, model = self.pose, self.model
+        if pose is None or model is None:
+            return {}
+        out = {}
+        for ics, value in pose.positions:
+            if ics in model.indices and 3500 <= value <= 11500:
+                out[model.servo(ics).joint] = joint_angle(model, ics, value, self.trims.get(ics, 0))
+        return out
+
+    # ------------------------------------------------------------------ editing
+
+    def apply(
+        self, edit: Callable[Concatenate[Project, P], Project], *args: P.args, **kw: P.kwargs
+    ) -> None:
+        """One undoable edit (EditError when refused: the session is unchanged)."""
+        if self.session is None:
+            raise EditError("no project open")
+        self.session.apply(edit, *args, **kw)
+        self.select(self.slot, self.pose_index)
+
+    def undo(self) -> None:
+        if self.session is not None and self.session.can_undo:
+            self.session.undo()
+            self.select(self.slot, self.pose_index)
+
+    def redo(self) -> None:
+        if self.session is not None and self.session.can_redo:
+            self.session.redo()
+            self.select(self.slot, self.pose_index)
+
+    @property
+    def dirty(self) -> bool:
+        return self.session is not None and self.session.dirty
+
+    def status(self) -> str:
+        s = self.session
+        if s is None:
+            return "no project open: open one here or on the Project page"
+        where = str(s.path) if s.path is not None else "not saved yet"
+        edits = f"{len(s.history)} edits" if s.history else "no edits"
+        return f"{where} - {edits}" + (" - unsaved changes" if s.dirty else " - saved")
+
+    def save(self, path: Path | None) -> tuple[Path, dict[str, bytes]]:
+        """Save atomically; returns the path and the flowchart files of the changed motions
+        that are plain pose chains (name -> bytes)."""
+        if self.session is None:
+            raise EditError("no project open")
+        changed = [m.slot for m in self.session.changed_motions]
+        target = self.session.save(path)
+        charts = {}
+        for slot in changed:
+            xml = chain_flowchart_xml(self.project, slot)
+            if xml is not None:
+                name = self.project.motion(slot).name or f"M{slot:03d}"
+                charts[f"{name}.xml"] = xml
+        return target, charts

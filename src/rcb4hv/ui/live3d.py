@@ -1,0 +1,87 @@
+"""The live 3D view of the Servos and Remote pages: the robot follows the board.
+
+Twice per poll period it takes the last polled servo positions (measured values and
+trims), turns them into joint angles through the model's joint map
+(:meth:`~rcb4hv.robot.RobotModel.angles`) and updates the :class:`~rcb4hv.ui.scene3d.RobotScene`
+(nothing is sent when the pose did not change). A servo that reports no position keeps its last
+angle. The view is rebuilt when the robot model changes (a project opened with another robot).
+"""
+
+from __future__ import annotations
+
+from nicegui import ui
+
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
+from rcb4hv.robot import RobotModel
+from rcb4hv.session import BoardState
+from rcb4hv.ui.context import UiContext, tid
+from rcb4hv.ui.scene3d import RobotScene
+
+__all__ = ["LiveView", "live_view", "servo_pose"]
+
+
+def servo_pose(state: BoardState) -> tuple[dict[int, int], dict[int, int]]:
+    """(measured positions, trims) by ICS number of the servos that report a position."""
+    values: dict[int, int] = {}
+    trims: dict[int, int] = {}
+    for s in state.servos:
+        if s.measured not in (POSITION_FREE, POSITION_HOLD):
+            values[s.ics] = s.measured
+            trims[s.ics] = s.trim
+    return values, trims
+
+
+class LiveView:
+    """A :class:`RobotScene` that follows ``ctx.session``; ``name`` prefixes its test ids."""
+
+    def __init__(self, ctx: UiContext, name: str, *, width: int = 460, height: int = 420) -> None:
+        self.ctx = ctx
+        self.name = name
+        self.size = (width, height)
+        self.view: RobotScene | None = None
+        self._model: RobotModel | None = None
+        self._polls = -1
+        self._angles: dict[str, float] = {}
+        with ui.column().classes("items-center gap-1") as self.box:
+            self.caption = tid(ui.label(""), f"{name}-3d-caption").classes("text-sm text-slate-600")
+            self.holder = ui.column()
+        self._build()
+        # twice per poll period: a new poll is shown within half a period of its arrival
+        period = 0.5 / ctx.session.poll_hz if ctx.session.poll_hz > 0 else 0.1
+        self.timer = ui.timer(period, self.follow)
+        ctx.on_project(self._model_changed)
+
+    def _build(self) -> None:
+        self._model = self.ctx.robot
+        self._angles = {}
+        self._polls = -1
+        self.holder.clear()
+        with self.holder:
+            if self._model is None:
+                self.view = None
+                self.caption.text = "no robot model (rcb4hv ui --robot NAME|FILE)"
+                return
+            self.view = RobotScene(self._model, width=self.size[0], height=self.size[1])
+            tid(self.view.scene, f"{self.name}-3d")
+        self.caption.text = f"{self._model.title} ({self.ctx.robot_source})"
+
+    def _model_changed(self) -> None:
+        if self.holder.is_deleted:  # its browser tab is gone
+            self.ctx.off_project(self._model_changed)
+        elif self.ctx.robot is not self._model:
+            self._build()
+
+    def follow(self) -> None:
+        """Show the last poll (called at the poll rate)."""
+        st = self.ctx.session.state
+        if self.view is None or st.polls == self._polls:
+            return
+        self._polls = st.polls
+        values, trims = servo_pose(st)
+        self._angles.update(self.view.model.angles(values, trims))
+        self.view.update(self._angles)
+
+
+def live_view(ctx: UiContext, name: str) -> LiveView:
+    """A live 3D view for a page (see :class:`LiveView`)."""
+    return LiveView(ctx, name)

@@ -1,0 +1,68 @@
+"""Which robot model the dashboard draws (the 3D view) and names joints from (servo table).
+
+In this order:
+
+1. ``rcb4hv ui --robot NAME|FILE``: that model, always.
+2. An open project whose servo table names a built-in robot
+   (:func:`rcb4hv.robot.builtin.detect_robot`: names and indices).
+3. The board's own servo table: the built-in model that maps every servo the board has, with
+   the fewest joints to spare. The default emulator board (17 servos: head, three per arm, five
+   per leg, left on SIO1-4, see :mod:`rcb4hv.rom.default`) is a subset of the 22-axis KHR-3HV
+   only, so it gets ``khr3hv-22``.
+4. Otherwise :data:`DEFAULT_ROBOT`.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable
+
+from rcb4hv.hth4 import Project
+from rcb4hv.robot import RobotModel
+from rcb4hv.robot.builtin import BUILTIN, detect_robot, load_builtin, load_robot
+
+__all__ = ["DEFAULT_ROBOT", "board_robot", "choose_robot", "project_robot"]
+
+log = logging.getLogger(__name__)
+
+DEFAULT_ROBOT = "khr3hv"
+"""The robot the RCB-4HV ships in (Kondo's KHR-3HV kit), when nothing else tells."""
+
+
+def project_robot(project: Project) -> str | None:
+    """The built-in robot ``project``'s servo table names, or None when that is ambiguous."""
+    return detect_robot({s.device_number: s.name or "" for s in project.servos if s.in_use})
+
+
+def board_robot(indices: Iterable[int]) -> str | None:
+    """The built-in model mapping every servo index in ``indices`` with the fewest extra
+    joints (None if none maps them all, or two fit equally well)."""
+    have = set(indices)
+    if not have:
+        return None
+    fits = sorted(
+        (len(load_builtin(n).indices) - len(have), n)
+        for n in BUILTIN
+        if have <= set(load_builtin(n).indices)
+    )
+    if not fits or (len(fits) > 1 and fits[0][0] == fits[1][0]):
+        return None
+    return fits[0][1]
+
+
+def choose_robot(
+    spec: str | None, project: Project | None, board_indices: Iterable[int]
+) -> tuple[RobotModel, str]:
+    """(model, where it came from) by the rules of this module; ``spec`` is ``--robot``
+    (raises :class:`~rcb4hv.errors.RobotModelError` when it names no robot)."""
+    if spec is not None:
+        return load_robot(spec), f"--robot {spec}"
+    if project is not None:
+        name = project_robot(project)
+        if name is not None:
+            return load_builtin(name), "detected from the project"
+    name = board_robot(board_indices)
+    if name is not None:
+        return load_builtin(name), "matches the board's servos"
+    log.info("no robot detected: drawing the default %s", DEFAULT_ROBOT)
+    return load_builtin(DEFAULT_ROBOT), "default"

@@ -1,0 +1,209 @@
+"""The KXR fixture's own motions on the built-in kxr-l2-gripper model, and a greeting written
+with hth4.keyframes on the test biped: walks go the right way, turns turn the right way,
+a bow stays upright in place, a sequence plays on without standing the robot up again."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.cli.project_cmd import load_image, parse_buttons
+from rcb4hv.hth4.keyframes import Keyframe
+from rcb4hv.project.physics_sim import (
+    MotionRun,
+    PhysicsOutcome,
+    physics_findings,
+    play_physics,
+)
+from rcb4hv.project.simresult import MotionResult
+from rcb4hv.robot.builtin import load_builtin
+from tests.physics.conftest import PROJECT, image_with, pose
+from tests.physics.robots import biped
+
+KXR = load_builtin("kxr-l2-gripper")
+IMAGE, LAYOUT, NAMES = load_image(Path(PROJECT))
+WALK_FORWARD, TURN_LEFT, TURN_RIGHT = 9, 13, 14  # XL2G_109, XL2G_113, XL2G_114
+GREETING = 21  # XL2G_201_挨拶: a bow
+SLOW_FORWARD, SLOW_BACK, SLOW_RIGHT = 5, 6, 8  # XL2G_105/106/108: five slow steps
+SIDE_LEFT, SIDE_RIGHT = 11, 12  # XL2G_111/112: a fast side step left / right
+
+
+def play(*slots: int, sequence: bool = False) -> list[PhysicsOutcome]:
+    run = play_physics(IMAGE, KXR, list(slots), NAMES, motion_layout=LAYOUT, sequence=sequence)
+    return [m.outcome for m in run.motions]
+
+
+def test_the_walk_forward_goes_forward_without_falling() -> None:
+    (out,) = play(WALK_FORWARD)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dx_m > 0.005
+    assert abs(out.dy_m) < out.dx_m
+
+
+def test_five_steps_forward_walk_forward_without_falling() -> None:
+    # with kxreus's sole (105 x 67 mm, reaching 46 mm outward of the ankle); with an 80 x 50
+    # mm sole centred under the ankle the robot fell on its side at 1.1 s
+    (out,) = play(SLOW_FORWARD)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dx_m > 0.2
+    assert abs(out.dy_m) < 0.05
+    assert abs(out.dyaw_deg) < 10.0
+
+
+def test_five_steps_back_walk_back_without_falling() -> None:
+    (out,) = play(SLOW_BACK)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dx_m < -0.2
+    assert abs(out.dy_m) < 0.1
+
+
+def test_five_steps_right_walk_right_without_falling() -> None:
+    # (five steps left, XL2G_107, go left but fall at 6.6 s: a margin case, docs/physics.md)
+    (out,) = play(SLOW_RIGHT)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dy_m < -0.15
+    assert abs(out.dx_m) < abs(out.dy_m) / 2
+
+
+@pytest.mark.parametrize(("slot", "sign"), [(SIDE_LEFT, 1), (SIDE_RIGHT, -1)])
+def test_side_steps_go_sideways_the_right_way(slot: int, sign: int) -> None:
+    (out,) = play(slot)
+    assert not out.fell and out.end_pose == "upright"
+    assert sign * out.dy_m > 0.03
+    assert abs(out.dx_m) < abs(out.dy_m) / 2
+
+
+@pytest.mark.parametrize(("slot", "sign"), [(TURN_LEFT, 1), (TURN_RIGHT, -1)])
+def test_turns_turn_the_right_way(slot: int, sign: int) -> None:
+    (out,) = play(slot)
+    assert not out.fell and out.end_pose == "upright"
+    assert sign * out.dyaw_deg > 10.0
+    assert math.hypot(out.dx_m, out.dy_m) < 0.05
+
+
+def test_the_fixture_greeting_bows_upright_and_in_place() -> None:
+    # with kxreus's link centres of mass (kxrl2g.l); with box centroids it fell on its front
+    (out,) = play(GREETING)
+    assert not out.fell and out.end_pose == "upright"
+    assert math.hypot(out.dx_m, out.dy_m) < 0.02
+    assert abs(out.dyaw_deg) < 3.0
+
+
+def test_a_sequence_plays_on_without_a_reset() -> None:
+    one, two = play(TURN_LEFT, TURN_LEFT, sequence=True)
+    assert not one.fell and not two.fell
+    # each motion is measured from its own start, and the second starts where the first
+    # left the robot: both turn it further left
+    assert one.dyaw_deg > 10.0
+    assert two.dyaw_deg > 5.0
+
+
+def test_a_greeting_bow_stays_upright_and_in_place() -> None:
+    robot = biped()
+    stand = pose(robot, {})
+    bow = pose(robot, {"r_hip_pitch": -45.0, "l_hip_pitch": -45.0})
+    image, layout, names = image_with([[Keyframe(0.3, stand), Keyframe(1.0, bow),
+                                        Keyframe(0.5, stand)]])  # fmt: skip
+    run = play_physics(image, robot, [18], names, motion_layout=layout, sequence=False)
+    out = run.motions[0].outcome
+    assert not out.fell and out.end_pose == "upright"
+    assert out.max_tilt_deg > 30.0  # it did bow
+    assert math.hypot(out.dx_m, out.dy_m) < 0.02
+    assert abs(out.dyaw_deg) < 3.0
+
+
+def test_findings_name_the_fall_and_the_saturated_joint() -> None:
+    result = MotionResult(7, 0x3B80, "walk", "completed", 1.0, 10)
+    outcome = PhysicsOutcome(True, 1.25, "on_side", 0.0, 0.1, 5.0, 90.0, 12.0, ("l_knee",))
+    findings = physics_findings([MotionRun(result, outcome)])
+    reasons = [f.reason for f in findings]
+    assert reasons[0].startswith("motion 7 makes the robot fall at 1.25 s")
+    assert reasons[1].startswith("joint l_knee saturates")
+    assert {f.code for f in findings} == {"physics-fall", "physics-saturation"}
+    assert all(f.severity == "warning" for f in findings)
+
+
+def test_the_cli_reports_physics_in_json(tmp_path: Path) -> None:
+    plot = tmp_path / "path.png"
+    res = CliRunner().invoke(
+        cli,
+        ["project", "simulate", str(PROJECT), "--physics", "--motion", str(TURN_LEFT),
+         "--json", "--plot", str(plot)],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    phys = data["motions"][0]["physics"]
+    assert set(phys) == {
+        "fell",
+        "fell_at_s",
+        "end_pose",
+        "dx_m",
+        "dy_m",
+        "dyaw_deg",
+        "max_tilt_deg",
+        "max_tracking_error_deg",
+        "saturated_joints",
+    }
+    assert phys["dyaw_deg"] > 10.0
+    assert data["physics"]["robot"] == "kxr-l2-gripper"
+    assert data["physics"]["virtual_s"] > 1.0
+    assert plot.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--sequence", "13,14"], "add --physics"),
+        (["--physics", "--robot", "nao"], "unknown robot 'nao'"),
+        (["--physics", "--robot", "khr3hv"], "has no servo at index"),
+        (["--physics", "--sequence", "13,200"], "motion slots are 1-120"),
+    ],
+)
+def test_the_cli_refuses_bad_physics_options(args: list[str], message: str) -> None:
+    res = CliRunner().invoke(cli, ["project", "simulate", str(PROJECT), *args])
+    assert res.exit_code != 0
+    assert message in res.output
+
+
+def test_without_mujoco_the_cli_says_which_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    res = CliRunner().invoke(
+        cli, ["project", "simulate", str(PROJECT), "--physics", "--motion", "13"]
+    )
+    assert res.exit_code == 1
+    assert "install rcb4hv[sim]" in res.output
+
+
+@pytest.mark.parametrize(
+    ("slot", "button", "check"),
+    [
+        (WALK_FORWARD, "UP", lambda o: o.dx_m > 0.08 and abs(o.dy_m) < 0.05),
+        (TURN_LEFT, "UP+LEFT", lambda o: o.dyaw_deg > 60.0),
+        (TURN_RIGHT, "UP+RIGHT", lambda o: o.dyaw_deg < -60.0),
+    ],
+)
+def test_held_on_its_button_a_walk_keeps_going_the_right_way(
+    slot: int, button: str, check: Callable[[PhysicsOutcome], bool]
+) -> None:
+    """As a user drives the robot: the remote button held 3 s repeats the step."""
+    run = play_physics(
+        IMAGE,
+        KXR,
+        [slot],
+        NAMES,
+        motion_layout=LAYOUT,
+        sequence=False,
+        hold=parse_buttons(button),
+        hold_for=3.0,
+    )
+    out = run.motions[0].outcome
+    assert not out.fell and out.end_pose == "upright"
+    assert check(out), out

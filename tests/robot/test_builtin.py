@@ -1,0 +1,166 @@
+"""The built-in robot models: structure, joint maps, limits, masses, mirror symmetry, FK."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rcb4hv.errors import RobotModelError
+from rcb4hv.robot.builtin import BUILTIN, load_builtin, load_robot
+from rcb4hv.robot.khr3hv import KHR_LIMITS_DEG
+from rcb4hv.robot.kinematics import apply, center_of_mass, forward
+from rcb4hv.robot.model import RobotModel
+
+# FACTS.md: KHR-3HV index -> sign (kxreus "khr"/"khr20")
+KHR_FACT_SIGNS = {0: -1, 2: -1, 3: 1, 4: 1, 5: 1, 8: 1, 9: -1, 12: 1, 13: 1, 14: -1, 15: 1,
+                  16: 1, 17: -1, 18: 1, 19: -1, 20: -1, 21: -1, 1: -1, 10: 1, 11: 1}  # fmt: skip
+KHR_STANDARD = {0, 2, 3, 4, 5, 8, 9, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21}
+
+
+def _model(name: str) -> RobotModel:
+    return load_builtin(name)
+
+
+@pytest.mark.parametrize(
+    ("name", "servos", "links", "mass"),
+    [
+        ("khr3hv", 17, 18, 1.493),
+        ("khr3hv-22", 22, 23, 1.493 + 5 * 0.0415),
+        ("kxr-l2", 16, 17, 1.70026 - 2 * (0.0337 + 2 * 0.02594)),
+        ("kxr-l2-gripper", 18, 19, 1.70026),
+    ],
+)
+def test_model_counts_and_mass(name: str, servos: int, links: int, mass: float) -> None:
+    m = _model(name)
+    assert len(m.servos) == servos
+    assert len(m.joints) == servos  # every joint is driven by one servo
+    assert len(m.links) == links
+    assert m.mass == pytest.approx(mass, abs=1e-6)
+    for link in m.links:
+        assert link.inertial.mass > 0
+        ixx, iyy, izz = link.inertial.inertia[:3]
+        # a physical inertia tensor: positive and obeys the triangle inequality
+        assert ixx > 0 and iyy > 0 and izz > 0
+        assert ixx + iyy >= izz and iyy + izz >= ixx and ixx + izz >= iyy
+        assert link.geoms
+
+
+def test_khr_joint_map_matches_facts() -> None:
+    std = _model("khr3hv")
+    full = _model("khr3hv-22")
+    assert set(std.indices) == KHR_STANDARD
+    assert set(full.indices) == set(range(22))
+    for m in (std, full):
+        for s in m.servos:
+            if s.index in KHR_FACT_SIGNS:
+                assert s.sign == KHR_FACT_SIGNS[s.index], s
+            # side 0 (even index) is the KHR-3HV's left
+            side = m.joint(s.joint).side
+            if side != "centre":
+                assert side == ("left" if s.index % 2 == 0 else "right")
+            assert s.servo is not None and s.servo.name == "KRS-2552RHV"
+
+
+def test_khr_limits_match_facts() -> None:
+    for m in (_model("khr3hv"), _model("khr3hv-22")):
+        for s in m.servos:
+            if s.index not in KHR_LIMITS_DEG:
+                continue
+            lo, hi = KHR_LIMITS_DEG[s.index]
+            j = m.joint(s.joint)
+            # joint angle = sign x servo angle
+            want = sorted((s.sign * lo, s.sign * hi))
+            assert math.degrees(j.lower) == pytest.approx(want[0])
+            assert math.degrees(j.upper) == pytest.approx(want[1])
+
+
+def test_kxr_joint_map_right_is_even() -> None:
+    m = _model("kxr-l2-gripper")
+    assert set(m.indices) == set(range(2, 20))
+    assert set(_model("kxr-l2").indices) == set(range(2, 18))
+    for s in m.servos:
+        assert m.joint(s.joint).side == ("right" if s.index % 2 == 0 else "left")
+        assert s.servo is not None and s.servo.name == "KRS-3304R2"
+
+
+@pytest.mark.parametrize("name", BUILTIN)
+def test_mirror_symmetry(name: str) -> None:
+    m = _model(name)
+    for j in m.joints:
+        if j.side == "centre":
+            assert j.mirror is None
+            continue
+        assert j.mirror is not None
+        o = m.joint(j.mirror)
+        assert o.mirror == j.name and o.side != j.side and o.kind == j.kind
+        assert o.xyz == pytest.approx((j.xyz[0], -j.xyz[1], j.xyz[2]))
+        if j.kind in ("roll", "yaw"):
+            assert (o.lower, o.upper) == pytest.approx((-j.upper, -j.lower))
+        else:
+            assert (o.lower, o.upper) == pytest.approx((j.lower, j.upper))
+        assert m.link(o.child).inertial.mass == pytest.approx(m.link(j.child).inertial.mass)
+    # a pose and its mirror image put the centre of mass at mirrored y
+    pose = {j.name: 0.3 * (j.lower + j.upper) / 2 + 0.1 for j in m.joints}
+    pose = {n: min(max(a, m.joint(n).lower), m.joint(n).upper) for n, a in pose.items()}
+    com = center_of_mass(m, forward(m, pose))
+    com_m = center_of_mass(m, forward(m, m.mirror_angles(pose)))
+    assert com_m == pytest.approx((com[0], -com[1], com[2]), abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("name", "sole_height"),
+    [
+        ("khr3hv", 0.2546),  # hip yaw level: 22.35 + 38.7 + 65 + 65 + 37 + 26.5 mm
+        ("khr3hv-22", 0.2546),
+        ("kxr-l2", 0.174976),  # 28 + 58 + 57.976 + 31 mm below kxreus's torso origin
+        ("kxr-l2-gripper", 0.174976),
+    ],
+)
+def test_standing_pose_fk(name: str, sole_height: float) -> None:
+    m = _model(name)
+    frames = forward(m, {})
+    # at the zero pose the soles are flat, at the bottom, the left one at +y
+    for side, sign in (("l_", 1.0), ("r_", -1.0)):
+        foot = m.link(side + "foot")
+        sole = next(g for g in foot.geoms if g.size[0] > 0.05)
+        bottom = apply(
+            frames[foot.name], (sole.pos[0], sole.pos[1], sole.pos[2] - sole.size[2] / 2)
+        )
+        assert bottom[2] == pytest.approx(-sole_height, abs=1e-4)
+        assert sign * bottom[1] > 0.01
+    for link in m.links:
+        for g in link.geoms:
+            centre = apply(frames[link.name], g.pos)
+            assert centre[2] > -sole_height
+    # in the home pose the centre of mass is over the support polygon (between the feet)
+    home = forward(m, m.home)
+    com = center_of_mass(m, home)
+    lf, rf = (apply(home[s + "foot"], (0.0, 0.0, 0.0)) for s in ("l_", "r_"))
+    assert rf[1] < com[1] < lf[1]
+    assert abs(com[0] - (lf[0] + rf[0]) / 2) < 0.03
+
+
+def test_kxr_home_pose_bends_knees() -> None:
+    m = _model("kxr-l2-gripper")
+    # the fixture's home pose: knees bent (positive), hip and ankle pitch level the torso
+    for side in ("l_", "r_"):
+        knee, hip, ankle = (m.home[side + j] for j in ("knee_pitch", "hip_pitch", "ankle_pitch"))
+        assert knee > 0
+        assert hip < 0 and ankle < 0
+        assert hip + knee + ankle == pytest.approx(0.0, abs=1e-9)  # soles parallel to torso
+        assert m.joint(side + "knee_pitch").lower <= knee <= m.joint(side + "knee_pitch").upper
+    assert m.within_limits(m.home) == []
+    # knee bend moves the ankle backwards (-x): the robot faces +x
+    frames = forward(m, {"l_knee_pitch": 0.5})
+    assert apply(frames["l_ankle"], (0.0, 0.0, 0.0))[0] < -0.01
+
+
+def test_unknown_robot_lists_choices() -> None:
+    with pytest.raises(RobotModelError, match="khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper"):
+        load_builtin("khr4")
+    with pytest.raises(RobotModelError, match="unknown robot"):
+        load_robot("nao")
+    with pytest.raises(RobotModelError, match="no such robot file"):
+        load_robot("missing/robot.urdf")
+    assert load_robot("kxr-l2") is load_builtin("kxr-l2")

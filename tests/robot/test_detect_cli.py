@@ -1,0 +1,151 @@
+"""Robot detection from a project's servo table, index checks, value<->angle, and the CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from hypothesis import given
+from hypothesis import strategies as st
+
+from rcb4hv.cli.main import cli
+from rcb4hv.errors import ProtocolError, RobotModelError
+from rcb4hv.hth4.project import load_project
+from rcb4hv.hth4.trim import load_trim
+from rcb4hv.protocol.commands import decode_command
+from rcb4hv.protocol.servocmds import RunConstFrameServo
+from rcb4hv.robot.builtin import BUILTIN, check_indices, detect_robot, load_builtin
+from rcb4hv.robot.kinematics import apply, forward
+
+
+def test_detects_the_fixture_robot(kxr_project_path: Path) -> None:
+    project = load_project(kxr_project_path)
+    table = {s.ics_number: s.name or "" for s in project.servos if s.in_use}
+    assert detect_robot(table) == "kxr-l2-gripper"
+    check_indices(load_builtin("kxr-l2-gripper"), table)
+    with pytest.raises(RobotModelError, match=r"no servo at index 0 \(head_yaw\)"):
+        check_indices(load_builtin("khr3hv"), table)
+
+
+def test_fixture_trim_file_names_right_on_even(kxr_dir: Path) -> None:
+    trim = load_trim(next(kxr_dir.glob("*.h4t")))
+    model = load_builtin("kxr-l2-gripper")
+    for e in trim.entries:
+        if e.device_number in model.indices and e.name:
+            side = model.joint(model.servo(e.device_number).joint).side
+            assert e.name.startswith("右" if side == "right" else "左"), e
+
+
+def test_fixture_motions_keep_knees_bending_forward(kxr_project_path: Path) -> None:
+    """Every pose in the fixture's motions bends the knees the physical way (>= about 0) and
+    keeps the ankles below the hips."""
+    project = load_project(kxr_project_path)
+    model = load_builtin("kxr-l2-gripper")
+    poses = 0
+    for motion in project.used_motions:
+        for frame in motion.frame_list:
+            try:
+                cmd = decode_command(frame)
+            except ProtocolError:  # a frame split over list entries (not a servo frame)
+                continue
+            if not isinstance(cmd, RunConstFrameServo):
+                continue
+            values = {i: v for i, v in cmd.positions if 3500 <= v <= 11500}
+            angles = model.angles(values)
+            for side in ("l_", "r_"):
+                if side + "knee_pitch" in angles:
+                    assert angles[side + "knee_pitch"] > math.radians(-11), motion.name
+            poses += 1
+    assert poses > 300
+
+
+@pytest.mark.parametrize("name", BUILTIN)
+def test_detects_each_builtin_from_synthetic_names(name: str) -> None:
+    model = load_builtin(name)
+    names = {s.index: ("左" if model.joint(s.joint).side == "left" else "右") + s.joint
+             for s in model.servos}  # fmt: skip
+    assert detect_robot(names) == name
+    # without side words the index set alone decides (all four sets differ)
+    assert detect_robot({i: f"servo {i}" for i in model.indices}) == name
+
+
+def test_detection_is_none_when_ambiguous_or_unknown() -> None:
+    assert detect_robot({}) is None
+    assert detect_robot({i: "x" for i in range(7)}) is None
+    # the KHR-3HV index set but named as a KXR (right on even): contradicts the KHR side rule
+    khr = load_builtin("khr3hv")
+    assert detect_robot({i: ("右" if i % 2 == 0 else "左") + "x" for i in khr.indices}) is None
+    # a slot list with names for unused slots: only `indices` count
+    kxr = load_builtin("kxr-l2")
+    names = {i: f"s{i}" for i in range(36)}
+    assert detect_robot(names, kxr.indices) == "kxr-l2"
+
+
+@given(
+    name=st.sampled_from(BUILTIN),
+    data=st.data(),
+)
+def test_value_angle_value_round_trip(name: str, data: st.DataObject) -> None:
+    model = load_builtin(name)
+    servo = data.draw(st.sampled_from(model.servos))
+    trim = data.draw(st.integers(-3000, 3000))
+    value = data.draw(st.integers(3500, 11500))
+    angle = model.angle(servo.index, value, trim)
+    assert model.value(servo.index, angle, trim) == value
+    assert model.angles({servo.index: value}, {servo.index: trim}) == {servo.joint: angle}
+
+
+def test_kxr_home_values_give_home_pose() -> None:
+    model = load_builtin("kxr-l2-gripper")
+    # the fixture's home pose values (XL2G_291), before trim
+    home = {2: 7900, 3: 7100, 4: 7500, 5: 7500, 6: 6300, 7: 6300, 8: 7500, 9: 7500,
+            10: 7650, 11: 7650, 12: 7800, 13: 7800, 14: 7650, 15: 7650, 16: 7500,
+            17: 7500, 18: 6850, 19: 6850}  # fmt: skip
+    angles = model.angles(home)
+    for joint, a in model.home.items():
+        assert angles[joint] == pytest.approx(a)
+    frames = forward(model, angles)
+    # arms slightly back, hands in front of the elbows (elbows bent forward)
+    for side in ("l_", "r_"):
+        elbow = apply(frames[side + "forearm"], (0.0, 0.0, 0.0))
+        hand = apply(frames[side + "forearm"], (0.0, 0.0, -0.05))
+        assert hand[0] > elbow[0]
+
+
+def test_cli_list_show_export(tmp_path: Path) -> None:
+    runner = CliRunner()
+    out = runner.invoke(cli, ["robot", "list", "--json"])
+    assert out.exit_code == 0, out.output
+    assert [r["name"] for r in json.loads(out.output)] == list(BUILTIN)
+    out = runner.invoke(cli, ["robot", "show", "khr3hv", "--json"])
+    data = json.loads(out.output)
+    assert data["servos"] == 17 and data["mass_kg"] == pytest.approx(1.493)
+    knee = next(j for j in data["joints"] if j["joint"] == "l_knee_pitch")
+    assert (knee["index"], knee["sign"], knee["lower_deg"], knee["upper_deg"]) == (16, 1, -60, 135)
+    out = runner.invoke(cli, ["robot", "show", "kxr-l2-gripper"])
+    assert out.exit_code == 0 and "r_gripper" in out.output
+    urdf, jmap = tmp_path / "k.urdf", tmp_path / "k.toml"
+    out = runner.invoke(
+        cli, ["robot", "export", "kxr-l2", "-o", str(urdf), "--joint-map", str(jmap)]
+    )
+    assert out.exit_code == 0, out.output
+    out = runner.invoke(cli, ["robot", "show", str(jmap), "--json"])
+    assert json.loads(out.output)["indices"] == list(range(2, 18))
+    out = runner.invoke(cli, ["robot", "show", "pepper"])
+    assert out.exit_code == 1 and "unknown robot 'pepper'" in out.output
+
+
+def test_cli_mjcf_export(tmp_path: Path) -> None:
+    out = CliRunner().invoke(
+        cli, ["robot", "export", "khr3hv", "--format", "mjcf", "-o", str(tmp_path / "k.xml")]
+    )
+    try:
+        import rcb4hv.robot.mjcf  # noqa: F401
+    except ModuleNotFoundError:
+        assert out.exit_code == 1 and "MJCF export is not available" in out.output
+    else:
+        assert out.exit_code == 0, out.output
+        assert "<mujoco" in (tmp_path / "k.xml").read_text(encoding="utf-8")

@@ -1,0 +1,178 @@
+"""The 3D view's logic through NiceGUI's simulated `User`: joint names in the servo table,
+the live view following the board, and the motion preview with play, pause and scrubbing."""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+from nicegui.testing.user import User
+
+from rcb4hv.emulator import Board
+from rcb4hv.ui.context import UiContext
+from rcb4hv.ui.scene3d import RobotBody
+from tests.ui.test_user import one, output, run, until
+from tests.ui.toy_robot import toy_model
+
+MODEL = toy_model()
+L_ARM = [link.name for link in MODEL.links].index("l_arm")
+
+
+def body(user: User, marker: str) -> RobotBody:
+    """The robot object inside the 3D scene marked ``marker``."""
+    scene = one(user, marker)
+    found = [o for o in scene.objects.values() if isinstance(o, RobotBody)]
+    assert len(found) == 1
+    return found[0]
+
+
+def arm(b: RobotBody) -> list[float]:
+    """The left arm's transform rows as last sent to the browser."""
+    pose: Any = b.args[1]
+    return list(pose[0][L_ARM])
+
+
+def test_servo_table_and_sliders_name_the_joints() -> None:
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        await until(lambda: len(one(user, "servo-table").rows) == 17)
+        rows = {r["ics"]: r["joint"] for r in one(user, "servo-table").rows}
+        assert rows[2] == "l_shoulder_pitch" and rows[3] == "r_shoulder_pitch"
+        assert rows[4] == "-"  # the toy model maps no servo 4
+        assert one(user, "joint-16").text == "l_knee"
+        await user.should_see("toy humanoid (test)")
+
+    run(scenario, robot=MODEL)
+
+
+def test_the_live_view_follows_a_servo_on_both_pages() -> None:
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        servos, remote = body(user, "servos-3d"), body(user, "remote-3d")
+        await until(lambda: len(ctx.session.state.servos) == 17)
+        before = arm(servos)
+        one(user, "slider-2").set_value(60.0)  # the left shoulder forward by 60 degrees
+        await until(lambda: output(board, 2) == ctx.session.robot.to_position(2, 60.0))
+        await until(lambda: arm(servos) != before and arm(remote) == arm(servos))
+        # rows of the arm's rotation: about +y by the joint angle of ICS 2's measured value
+        st = next(s for s in ctx.session.state.servos if s.ics == 2)
+        a = MODEL.angle(2, st.measured, st.trim)
+        assert arm(servos)[0] == round(math.cos(a), 5) and arm(servos)[2] == round(math.sin(a), 5)
+        sent = ctx.session.state.polls
+        await until(lambda: ctx.session.state.polls > sent + 3)
+        # a pose that does not change is not sent again
+        pose = servos.args[1]
+        await asyncio.sleep(0.3)
+        assert servos.args[1] is pose
+
+    run(scenario, robot=MODEL)
+
+
+def test_the_preview_plays_pauses_and_scrubs_a_project_motion(kxr_project_path: Path) -> None:
+    from rcb4hv.hth4 import load_project
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+        table = one(user, "project-motions")
+        await until(lambda: len(table.rows) == 65)
+        table.selected = [r for r in table.rows if r["slot"] == 21]
+        user.find(marker="preview-run").click()
+        await until(lambda: "completed" in one(user, "preview-info").text, 30)
+        assert "motion 21" in one(user, "preview-info").text
+        scrub = one(user, "preview-scrubber")
+        duration = float(scrub.props["max"])
+        assert 1.0 < duration < 20.0
+        b = body(user, "preview-3d")
+        await until(lambda: float(scrub.value) > 0.2)  # it plays in real time
+        user.find(marker="preview-play").click()  # pause
+        await asyncio.sleep(0.1)
+        paused = float(scrub.value)
+        await asyncio.sleep(0.3)
+        assert float(scrub.value) == paused
+        scrub.set_value(0.0)
+        start = b.args[1]
+        scrub.set_value(duration / 2)
+        assert b.args[1] != start
+        assert one(user, "preview-status").text.startswith(f"t = {duration / 2:.2f}")
+        scrub.set_value(duration)
+        assert "FELL" not in one(user, "preview-status").text  # the plain simulator has no falls
+
+    run(scenario, robot=MODEL)
+
+
+def test_opening_a_project_redraws_the_views_with_its_robot(kxr_project_path: Path) -> None:
+    from rcb4hv.hth4 import load_project
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        ctx.auto_robot = True
+        ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+        for name in ("servos", "remote"):
+            await until(lambda n=name: "KXR-L2 with grippers" in one(user, f"{n}-3d-caption").text)
+        kxr = ctx.robot
+        assert kxr is not None and kxr.name == "kxr-l2-gripper"
+        assert len(body(user, "servos-3d").args[0]) == len(kxr.links)
+        table = one(user, "servo-table")
+        await until(lambda: {r["ics"]: r["joint"] for r in table.rows}[2] == kxr.servo(2).joint)
+        ctx.set_project(None)  # no project: the board's servo table decides
+        await until(lambda: "22-axis" in one(user, "servos-3d-caption").text)
+        assert "matches the board's servos" in one(user, "remote-3d-caption").text
+
+    run(scenario, robot=MODEL)
+
+
+def test_a_physics_preview_marks_the_fall(
+    kxr_project_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.robot.builtin import load_builtin
+    from rcb4hv.ui import preview
+    from rcb4hv.ui.playback import Frame, Playback
+
+    robot = load_builtin("kxr-l2-gripper")
+    upright = Frame(0.0, {}, None)
+    lying = Frame(1.0, {}, ((0, 0, 1, 0), (0, 1, 0, 0), (-1, 0, 0, 0.05), (0, 0, 0, 1)))
+    falls = Playback(
+        1, "falls", (upright, Frame(0.5, {}, None), lying), "completed", "physics", 0.5
+    )
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+        assert one(user, "preview-physics").value  # MuJoCo is installed: physics by default
+        table = one(user, "project-motions")
+        await until(lambda: len(table.rows) == 65)
+        table.selected = [r for r in table.rows if r["slot"] == 1]
+        user.find(marker="preview-run").click()
+        await until(lambda: "(physics)" in one(user, "preview-info").text, 60)
+        assert "motion 1" in one(user, "preview-info").text
+        # a playback that falls (a stand-in for the physics result) is marked on the
+        # scrubber, in the status line and by the centre-of-mass mark turning red
+        monkeypatch.setattr(preview, "physics_playback", lambda *a: falls)
+        user.find(marker="preview-run").click()
+        await until(lambda: "falls" in one(user, "preview-info").text, 30)
+        scrub = one(user, "preview-scrubber")
+        assert scrub.props["marker-labels"] == {0.5: "fall"}
+        b = body(user, "preview-3d")
+        scrub.set_value(0.25)
+        assert b.args[1][4] is False and "FELL at 0.50 s" in one(user, "preview-status").text
+        scrub.set_value(0.75)
+        assert b.args[1][4] is True
+        scrub.set_value(1.0)
+        assert b.args[1][1][2] < 0.2  # lying: the centre of mass is low
+        root = [link.name for link in robot.links].index(robot.root)
+        assert b.args[1][0][root][11] == 0.05  # the root link where physics put it
+
+    run(scenario, robot=robot)
+
+
+def test_the_fallback_model_gives_way_once_the_board_answers() -> None:
+    from rcb4hv.robot.builtin import load_builtin
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        await until(lambda: "toy humanoid" in one(user, "servos-3d-caption").text)
+        # as if the board had not answered when the dashboard started
+        ctx.auto_robot, ctx.robot, ctx.robot_source = True, load_builtin("khr3hv"), "default"
+        await until(lambda: "22-axis" in one(user, "servos-3d-caption").text)
+        assert ctx.robot_source == "matches the board's servos"
+
+    run(scenario, robot=MODEL)
