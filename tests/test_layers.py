@@ -230,11 +230,7 @@ def test_no_two_modules_import_each_other() -> None:
     ``__init__`` is a module)."""
     graph = _module_edges()
     assert sum(map(len, graph.values())) > 300  # the scan sees the imports
-    # the command line's project commands are untangled last (issue 20, step 6)
-    pending = [
-        ["rcb4hv.cli.project_check_cmd", "rcb4hv.cli.project_cmd", "rcb4hv.cli.project_sim_cmd"]
-    ]
-    assert [c for c in _cycles(graph) if c not in pending] == []
+    assert _cycles(graph) == []
 
 
 def _private_imports() -> list[str]:

@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
-from rcb4hv.cli.project_cmd import load_image, parse_buttons
+from rcb4hv.cli.project_common import load_image, parse_buttons
 from rcb4hv.hth4.keyframes import Keyframe
 from rcb4hv.project.physics_sim import (
     MotionRun,

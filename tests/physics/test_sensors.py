@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from rcb4hv.cli.project_cmd import load_image
+from rcb4hv.cli.project_common import load_image
 from rcb4hv.emulator import EmulatorConfig
 from rcb4hv.physics import DEFAULT_SENSORS
 from rcb4hv.project.physics_sim import PhysicsSimulator, StartPose

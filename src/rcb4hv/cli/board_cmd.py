@@ -67,348 +67,366 @@ def _parse_button(name: str) -> Button:
         raise click.BadParameter(f"unknown button {name!r} (one of {names})") from exc
 
 
+@click.command()
+@pass_connection
+@click.option("-n", "--count", type=click.IntRange(min=1), default=1, show_default=True)
+@handle_errors
+def ping(conn: Connection, count: int) -> None:
+    """ACK check: is a board there? Prints the round-trip time."""
+    with conn.open() as robot:
+        times = [robot.ping() for _ in range(count)]
+    url = robot.client.transport.url
+    if count == 1:
+        click.echo(f"ACK from {url} in {times[0] * 1000:.2f} ms")
+    else:
+        click.echo(
+            f"{count} ACKs from {url}: min {min(times) * 1000:.2f} ms, "
+            f"median {statistics.median(times) * 1000:.2f} ms, max {max(times) * 1000:.2f} ms"
+        )
+
+
+@click.command()
+@pass_connection
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@handle_errors
+def version(conn: Connection, as_json: bool) -> None:
+    """The board's version string."""
+    with conn.open() as robot:
+        v = robot.version()
+    if as_json:
+        print_json({"text": v.text, "raw": v.version.hex()})
+    else:
+        click.echo(v.text)
+
+
+@click.command()
+@pass_connection
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@handle_errors
+def info(conn: Connection, as_json: bool) -> None:
+    """System register, ROM program state and servo table."""
+    with conn.open() as robot:
+        board = robot.info()
+        if as_json:
+            print_json(board.describe())
+            return
+        click.echo(f"version        {board.version}")
+        sysreg = board.system.describe()
+        flags = [k for k in ("ics_output", "rom_run", "message", "vector_jump") if sysreg[k]]
+        click.echo(
+            f"system         {sysreg['word']}h  flags: {' '.join(flags) or '-'}  "
+            f"frame {sysreg['frame_period_ms']} ms  baud {sysreg['baud']}  "
+            f"ICS baud {sysreg['ics_baud']}  Z={int(board.system.zero)} "
+            f"C={int(board.system.carry)}  ROMERR={int(board.system.rom_error)}"
+        )
+        motion = robot.board_layout().motion_at(board.pc)
+        where = f" (motion {motion})" if motion is not None else ""
+        click.echo(f"PC             {board.pc:06X}{where}")
+        click.echo(f"call depth     {board.call_depth}")
+        click.echo(f"update flags   {board.update_flags.hex(' ')}")
+        click.echo(f"servos         {len(board.servos)}")
+        if board.servos:
+            click.echo()
+            print_table(SERVO_HEADERS, servo_rows(board.servos, robot))
+
+
+@click.group()
+def ram() -> None:
+    """Read and write board RAM (0000h-048Fh)."""
+
+
+@ram.command("read")
+@click.argument("address", type=ADDRESS)
+@click.argument("size", type=INTEGER, default=16)
+@pass_connection
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@handle_errors
+def ram_read(conn: Connection, address: int, size: int, as_json: bool) -> None:
+    """Read SIZE bytes at ADDRESS (decimal, 0x.. or ..h)."""
+    with conn.open() as robot:
+        data = robot.read_ram(address, size)
+    if as_json:
+        print_json({"address": address, "size": size, "hex": data.hex()})
+    else:
+        _hexdump(address, data)
+
+
+@ram.command("write")
+@click.argument("address", type=ADDRESS)
+@click.argument("data")
+@pass_connection
+@handle_errors
+def ram_write(conn: Connection, address: int, data: str) -> None:
+    """Write hex DATA (e.g. "0a ff 10") at ADDRESS."""
+    raw = bytes.fromhex(data.replace(":", " "))
+    with conn.open() as robot:
+        robot.write_ram(address, raw)
+    click.echo(f"wrote {len(raw)} byte(s) at {address:04X}")
+
+
+@click.group()
+def rom() -> None:
+    """Read, write and dump the 256 KB ROM (EEPROM)."""
+
+
+@rom.command("read")
+@click.argument("address", type=ADDRESS)
+@click.argument("size", type=INTEGER, default=64)
+@pass_connection
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path))
+@handle_errors
+def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> None:
+    """Read SIZE bytes of ROM at ADDRESS (hex dump, or raw bytes to --output)."""
+    with conn.open() as robot:
+        data = robot.read_rom(address, size)
+    if output is not None:
+        output.write_bytes(data)
+        click.echo(f"wrote {len(data)} bytes to {output}")
+    else:
+        _hexdump(address, data)
+
+
+@rom.command("write")
+@click.argument("address", type=ADDRESS)
+@click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@pass_connection
+@click.option("--verify/--no-verify", default=True, show_default=True)
+@click.option("--progress/--no-progress", default=True, show_default=True)
+@handle_errors
+def rom_write(conn: Connection, address: int, image: Path, verify: bool, progress: bool) -> None:
+    """Write the bytes of IMAGE to ROM at ADDRESS (64-byte chunks, read back)."""
+    data = image.read_bytes()
+    if not data:
+        raise ValueError(f"{image} is empty")
+    with conn.open() as robot, _output.progress(len(data), "rom write", progress) as bar:
+        robot.write_rom(address, data, verify=verify, progress=bar)
+    checked = " and verified" if verify else ""
+    click.echo(f"wrote{checked} {len(data)} bytes at {address:06X}")
+
+
+@rom.command("dump")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@click.option("--start", type=ADDRESS, default=0, show_default=True)
+@click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
+@pass_connection
+@click.option("--progress/--no-progress", default=True, show_default=True)
+@handle_errors
+def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool) -> None:
+    """Save ROM (default: all 256 KB) to an image file."""
+    with conn.open() as robot, _output.progress(size, "rom dump", progress) as bar:
+        data = robot.read_rom(start, size, progress=bar)
+    output.write_bytes(data)
+    click.echo(f"wrote {len(data)} bytes ({start:06X}-{start + size - 1:06X}) to {output}")
+
+
+@click.group()
+def servo() -> None:
+    """List, move, free and hold servos (by ICS number = ID x 2 + port group)."""
+
+
+@servo.command("list")
+@pass_connection
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@handle_errors
+def servo_list(conn: Connection, as_json: bool) -> None:
+    """Servos found through the ICS allocation table."""
+    with conn.open() as robot:
+        servos = robot.discover_servos()
+        if as_json:
+            print_json([s.describe() for s in servos])
+        elif not servos:
+            click.echo("no servo allocated")
+        else:
+            print_table(SERVO_HEADERS, servo_rows(servos, robot))
+
+
+@servo.command("move")
+@click.argument("targets", nargs=-1, required=True, metavar="ICS=VALUE...")
+@click.option("--deg", is_flag=True, help="VALUEs are degrees, not raw positions.")
+@click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.5, show_default=True)
+@click.option("--wait/--no-wait", default=True, show_default=True)
+@click.option("--unchecked", is_flag=True, help="Allow positions outside 3500..11500.")
+@pass_connection
+@handle_errors
+def servo_move(
+    conn: Connection,
+    targets: tuple[str, ...],
+    deg: bool,
+    duration: float,
+    wait: bool,
+    unchecked: bool,
+) -> None:
+    """Move servos, e.g. `servo move 2=8000 4=7000` or `servo move --deg 2=30`."""
+    values: dict[int, float] = {}
+    for t in targets:
+        k, sep, v = t.partition("=")
+        if not sep:
+            raise click.BadParameter(f"{t!r} is not ICS=VALUE")
+        try:
+            values[parse_int(k)] = float(v)
+        except ValueError as exc:
+            raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
+    with conn.open() as robot:
+        if deg:
+            positions = {k: robot.to_position(k, a) for k, a in values.items()}
+        else:
+            positions = {k: round(v) for k, v in values.items()}
+        robot.move(positions, duration, check_range=not unchecked)
+        if wait:
+            robot.wait_interpolation(positions, timeout=duration + 2.0)
+    click.echo("moved " + ", ".join(f"ICS {k} -> {p}" for k, p in sorted(positions.items())))
+
+
+@servo.command("free")
+@click.argument("ics", nargs=-1, type=INTEGER)
+@pass_connection
+@handle_errors
+def servo_free(conn: Connection, ics: tuple[int, ...]) -> None:
+    """Torque off (all servos if no ICS number is given)."""
+    with conn.open() as robot:
+        robot.free(ics or None)
+        click.echo(f"freed {len(ics) if ics else len(robot.servo_ids())} servo(s)")
+
+
+@servo.command("hold")
+@click.argument("ics", nargs=-1, type=INTEGER)
+@pass_connection
+@handle_errors
+def servo_hold(conn: Connection, ics: tuple[int, ...]) -> None:
+    """Torque on at the current position (all servos if no ICS number is given)."""
+    with conn.open() as robot:
+        robot.hold(ics or None)
+        click.echo(f"holding {len(ics) if ics else len(robot.servo_ids())} servo(s)")
+
+
+layout_option = click.option(
+    "--layout",
+    type=click.Choice([*sorted(LAYOUTS), "auto"]),
+    default="auto",
+    show_default=True,
+    help="HeartToHeart4 version the ROM image was written with (auto: read from the ROM).",
+)
+
+
+@click.group()
+def motion() -> None:
+    """Play, stop and wait for ROM motions (HeartToHeart4 layout)."""
+
+
+@motion.command("play")
+@click.argument("number", type=MOTION_SLOT)
+@click.option("--wait/--no-wait", default=False, show_default=True)
+@click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
+@layout_option
+@pass_connection
+@handle_errors
+def motion_play(
+    conn: Connection, number: int, wait: bool, wait_timeout: float, layout: str
+) -> None:
+    """Play motion NUMBER (1 to the layout's motion count: 120, or 50 in 1.3)."""
+    with conn.open() as robot:
+        robot.layout = LAYOUTS.get(layout) or robot.layout
+        t0 = time.monotonic()
+        robot.play_motion(number)
+        click.echo(f"playing motion {number} ({robot.board_layout().address(number):06X})")
+        if wait:
+            robot.wait_motion(timeout=wait_timeout)
+            click.echo(f"motion {number} ended after {time.monotonic() - t0:.2f} s")
+
+
+@motion.command("stop")
+@click.option("--pause", is_flag=True, help="Only pause (resume continues it).")
+@layout_option
+@pass_connection
+@handle_errors
+def motion_stop(conn: Connection, pause: bool, layout: str) -> None:
+    """Stop the motion: back to the main loop (or --pause the ROM program)."""
+    with conn.open() as robot:
+        robot.layout = LAYOUTS.get(layout) or robot.layout
+        robot.stop_motion(reset=not pause)
+    click.echo("paused" if pause else "stopped; board back in its main loop")
+
+
+@motion.command("resume")
+@pass_connection
+@handle_errors
+def motion_resume(conn: Connection) -> None:
+    """Let a paused ROM program run on."""
+    with conn.open() as robot:
+        robot.resume_motion()
+    click.echo("resumed")
+
+
+@motion.command("wait")
+@click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
+@layout_option
+@pass_connection
+@handle_errors
+def motion_wait(conn: Connection, wait_timeout: float, layout: str) -> None:
+    """Wait until no motion plays (exit status 1 on timeout)."""
+    with conn.open() as robot:
+        robot.layout = LAYOUTS.get(layout) or robot.layout
+        t0 = time.monotonic()
+        robot.wait_motion(timeout=wait_timeout)
+    click.echo(f"no motion playing (waited {time.monotonic() - t0:.2f} s)")
+
+
+@motion.command("status")
+@layout_option
+@pass_connection
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@handle_errors
+def motion_status(conn: Connection, layout: str, as_json: bool) -> None:
+    """The motion being played (if any), PC, call depth, update flags."""
+    with conn.open() as robot:
+        robot.layout = LAYOUTS.get(layout) or robot.layout
+        st = robot.motion_status()
+    if as_json:
+        print_json(
+            {
+                "motion": st.motion,
+                "pc": f"{st.pc:06X}",
+                "call_depth": st.call_depth,
+                "update_flags": st.update_flags.hex(),
+                "running": st.running,
+            }
+        )
+    else:
+        what = f"motion {st.motion}" if st.motion is not None else "no motion"
+        click.echo(
+            f"{what}; PC {st.pc:06X}, call depth {st.call_depth}, "
+            f"update flags {st.update_flags.hex(' ')}"
+        )
+
+
+@click.group()
+def button() -> None:
+    """Virtual remote control (button word at 0350h)."""
+
+
+@button.command("press")
+@click.argument("names", nargs=-1, required=True, metavar="BUTTON...")
+@click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.3, show_default=True)
+@pass_connection
+@handle_errors
+def button_press(conn: Connection, names: tuple[str, ...], duration: float) -> None:
+    """Hold BUTTONs (up, down, left, right, triangle, cross, circle, square, s1-s4)."""
+    pressed = Button.NONE
+    for n in names:
+        pressed |= _parse_button(n)
+    with conn.open() as robot:
+        robot.press_button(pressed, duration)
+    label = "+".join(b.name or "" for b in Button if b and b in pressed)
+    click.echo(f"pressed {label} for {duration:g} s")
+
+
 def register(cli: click.Group) -> None:
     """Add this module's commands to ``cli``."""
-
-    @cli.command()
-    @pass_connection
-    @click.option("-n", "--count", type=click.IntRange(min=1), default=1, show_default=True)
-    @handle_errors
-    def ping(conn: Connection, count: int) -> None:
-        """ACK check: is a board there? Prints the round-trip time."""
-        with conn.open() as robot:
-            times = [robot.ping() for _ in range(count)]
-        url = robot.client.transport.url
-        if count == 1:
-            click.echo(f"ACK from {url} in {times[0] * 1000:.2f} ms")
-        else:
-            click.echo(
-                f"{count} ACKs from {url}: min {min(times) * 1000:.2f} ms, "
-                f"median {statistics.median(times) * 1000:.2f} ms, max {max(times) * 1000:.2f} ms"
-            )
-
-    @cli.command()
-    @pass_connection
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @handle_errors
-    def version(conn: Connection, as_json: bool) -> None:
-        """The board's version string."""
-        with conn.open() as robot:
-            v = robot.version()
-        if as_json:
-            print_json({"text": v.text, "raw": v.version.hex()})
-        else:
-            click.echo(v.text)
-
-    @cli.command()
-    @pass_connection
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @handle_errors
-    def info(conn: Connection, as_json: bool) -> None:
-        """System register, ROM program state and servo table."""
-        with conn.open() as robot:
-            board = robot.info()
-            if as_json:
-                print_json(board.describe())
-                return
-            click.echo(f"version        {board.version}")
-            sysreg = board.system.describe()
-            flags = [k for k in ("ics_output", "rom_run", "message", "vector_jump") if sysreg[k]]
-            click.echo(
-                f"system         {sysreg['word']}h  flags: {' '.join(flags) or '-'}  "
-                f"frame {sysreg['frame_period_ms']} ms  baud {sysreg['baud']}  "
-                f"ICS baud {sysreg['ics_baud']}  Z={int(board.system.zero)} "
-                f"C={int(board.system.carry)}  ROMERR={int(board.system.rom_error)}"
-            )
-            motion = robot.board_layout().motion_at(board.pc)
-            where = f" (motion {motion})" if motion is not None else ""
-            click.echo(f"PC             {board.pc:06X}{where}")
-            click.echo(f"call depth     {board.call_depth}")
-            click.echo(f"update flags   {board.update_flags.hex(' ')}")
-            click.echo(f"servos         {len(board.servos)}")
-            if board.servos:
-                click.echo()
-                print_table(SERVO_HEADERS, servo_rows(board.servos, robot))
-
-    # ------------------------------------------------------------------ ram
-
-    @cli.group()
-    def ram() -> None:
-        """Read and write board RAM (0000h-048Fh)."""
-
-    @ram.command("read")
-    @click.argument("address", type=ADDRESS)
-    @click.argument("size", type=INTEGER, default=16)
-    @pass_connection
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @handle_errors
-    def ram_read(conn: Connection, address: int, size: int, as_json: bool) -> None:
-        """Read SIZE bytes at ADDRESS (decimal, 0x.. or ..h)."""
-        with conn.open() as robot:
-            data = robot.read_ram(address, size)
-        if as_json:
-            print_json({"address": address, "size": size, "hex": data.hex()})
-        else:
-            _hexdump(address, data)
-
-    @ram.command("write")
-    @click.argument("address", type=ADDRESS)
-    @click.argument("data")
-    @pass_connection
-    @handle_errors
-    def ram_write(conn: Connection, address: int, data: str) -> None:
-        """Write hex DATA (e.g. "0a ff 10") at ADDRESS."""
-        raw = bytes.fromhex(data.replace(":", " "))
-        with conn.open() as robot:
-            robot.write_ram(address, raw)
-        click.echo(f"wrote {len(raw)} byte(s) at {address:04X}")
-
-    # ------------------------------------------------------------------ rom
-
-    @cli.group()
-    def rom() -> None:
-        """Read, write and dump the 256 KB ROM (EEPROM)."""
-
-    @rom.command("read")
-    @click.argument("address", type=ADDRESS)
-    @click.argument("size", type=INTEGER, default=64)
-    @pass_connection
-    @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path))
-    @handle_errors
-    def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> None:
-        """Read SIZE bytes of ROM at ADDRESS (hex dump, or raw bytes to --output)."""
-        with conn.open() as robot:
-            data = robot.read_rom(address, size)
-        if output is not None:
-            output.write_bytes(data)
-            click.echo(f"wrote {len(data)} bytes to {output}")
-        else:
-            _hexdump(address, data)
-
-    @rom.command("write")
-    @click.argument("address", type=ADDRESS)
-    @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @pass_connection
-    @click.option("--verify/--no-verify", default=True, show_default=True)
-    @click.option("--progress/--no-progress", default=True, show_default=True)
-    @handle_errors
-    def rom_write(
-        conn: Connection, address: int, image: Path, verify: bool, progress: bool
-    ) -> None:
-        """Write the bytes of IMAGE to ROM at ADDRESS (64-byte chunks, read back)."""
-        data = image.read_bytes()
-        if not data:
-            raise ValueError(f"{image} is empty")
-        with conn.open() as robot, _output.progress(len(data), "rom write", progress) as bar:
-            robot.write_rom(address, data, verify=verify, progress=bar)
-        checked = " and verified" if verify else ""
-        click.echo(f"wrote{checked} {len(data)} bytes at {address:06X}")
-
-    @rom.command("dump")
-    @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
-    @click.option("--start", type=ADDRESS, default=0, show_default=True)
-    @click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
-    @pass_connection
-    @click.option("--progress/--no-progress", default=True, show_default=True)
-    @handle_errors
-    def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool) -> None:
-        """Save ROM (default: all 256 KB) to an image file."""
-        with conn.open() as robot, _output.progress(size, "rom dump", progress) as bar:
-            data = robot.read_rom(start, size, progress=bar)
-        output.write_bytes(data)
-        click.echo(f"wrote {len(data)} bytes ({start:06X}-{start + size - 1:06X}) to {output}")
-
-    # ------------------------------------------------------------------ servo
-
-    @cli.group()
-    def servo() -> None:
-        """List, move, free and hold servos (by ICS number = ID x 2 + port group)."""
-
-    @servo.command("list")
-    @pass_connection
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @handle_errors
-    def servo_list(conn: Connection, as_json: bool) -> None:
-        """Servos found through the ICS allocation table."""
-        with conn.open() as robot:
-            servos = robot.discover_servos()
-            if as_json:
-                print_json([s.describe() for s in servos])
-            elif not servos:
-                click.echo("no servo allocated")
-            else:
-                print_table(SERVO_HEADERS, servo_rows(servos, robot))
-
-    @servo.command("move")
-    @click.argument("targets", nargs=-1, required=True, metavar="ICS=VALUE...")
-    @click.option("--deg", is_flag=True, help="VALUEs are degrees, not raw positions.")
-    @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.5, show_default=True)
-    @click.option("--wait/--no-wait", default=True, show_default=True)
-    @click.option("--unchecked", is_flag=True, help="Allow positions outside 3500..11500.")
-    @pass_connection
-    @handle_errors
-    def servo_move(
-        conn: Connection,
-        targets: tuple[str, ...],
-        deg: bool,
-        duration: float,
-        wait: bool,
-        unchecked: bool,
-    ) -> None:
-        """Move servos, e.g. `servo move 2=8000 4=7000` or `servo move --deg 2=30`."""
-        values: dict[int, float] = {}
-        for t in targets:
-            k, sep, v = t.partition("=")
-            if not sep:
-                raise click.BadParameter(f"{t!r} is not ICS=VALUE")
-            try:
-                values[parse_int(k)] = float(v)
-            except ValueError as exc:
-                raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
-        with conn.open() as robot:
-            if deg:
-                positions = {k: robot.to_position(k, a) for k, a in values.items()}
-            else:
-                positions = {k: round(v) for k, v in values.items()}
-            robot.move(positions, duration, check_range=not unchecked)
-            if wait:
-                robot.wait_interpolation(positions, timeout=duration + 2.0)
-        click.echo("moved " + ", ".join(f"ICS {k} -> {p}" for k, p in sorted(positions.items())))
-
-    @servo.command("free")
-    @click.argument("ics", nargs=-1, type=INTEGER)
-    @pass_connection
-    @handle_errors
-    def servo_free(conn: Connection, ics: tuple[int, ...]) -> None:
-        """Torque off (all servos if no ICS number is given)."""
-        with conn.open() as robot:
-            robot.free(ics or None)
-            click.echo(f"freed {len(ics) if ics else len(robot.servo_ids())} servo(s)")
-
-    @servo.command("hold")
-    @click.argument("ics", nargs=-1, type=INTEGER)
-    @pass_connection
-    @handle_errors
-    def servo_hold(conn: Connection, ics: tuple[int, ...]) -> None:
-        """Torque on at the current position (all servos if no ICS number is given)."""
-        with conn.open() as robot:
-            robot.hold(ics or None)
-            click.echo(f"holding {len(ics) if ics else len(robot.servo_ids())} servo(s)")
-
-    # ------------------------------------------------------------------ motion
-
-    layout_option = click.option(
-        "--layout",
-        type=click.Choice([*sorted(LAYOUTS), "auto"]),
-        default="auto",
-        show_default=True,
-        help="HeartToHeart4 version the ROM image was written with (auto: read from the ROM).",
-    )
-
-    @cli.group()
-    def motion() -> None:
-        """Play, stop and wait for ROM motions (HeartToHeart4 layout)."""
-
-    @motion.command("play")
-    @click.argument("number", type=MOTION_SLOT)
-    @click.option("--wait/--no-wait", default=False, show_default=True)
-    @click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
-    @layout_option
-    @pass_connection
-    @handle_errors
-    def motion_play(
-        conn: Connection, number: int, wait: bool, wait_timeout: float, layout: str
-    ) -> None:
-        """Play motion NUMBER (1 to the layout's motion count: 120, or 50 in 1.3)."""
-        with conn.open() as robot:
-            robot.layout = LAYOUTS.get(layout) or robot.layout
-            t0 = time.monotonic()
-            robot.play_motion(number)
-            click.echo(f"playing motion {number} ({robot.board_layout().address(number):06X})")
-            if wait:
-                robot.wait_motion(timeout=wait_timeout)
-                click.echo(f"motion {number} ended after {time.monotonic() - t0:.2f} s")
-
-    @motion.command("stop")
-    @click.option("--pause", is_flag=True, help="Only pause (resume continues it).")
-    @layout_option
-    @pass_connection
-    @handle_errors
-    def motion_stop(conn: Connection, pause: bool, layout: str) -> None:
-        """Stop the motion: back to the main loop (or --pause the ROM program)."""
-        with conn.open() as robot:
-            robot.layout = LAYOUTS.get(layout) or robot.layout
-            robot.stop_motion(reset=not pause)
-        click.echo("paused" if pause else "stopped; board back in its main loop")
-
-    @motion.command("resume")
-    @pass_connection
-    @handle_errors
-    def motion_resume(conn: Connection) -> None:
-        """Let a paused ROM program run on."""
-        with conn.open() as robot:
-            robot.resume_motion()
-        click.echo("resumed")
-
-    @motion.command("wait")
-    @click.option("--wait-timeout", type=click.FloatRange(min=0), default=60.0, show_default=True)
-    @layout_option
-    @pass_connection
-    @handle_errors
-    def motion_wait(conn: Connection, wait_timeout: float, layout: str) -> None:
-        """Wait until no motion plays (exit status 1 on timeout)."""
-        with conn.open() as robot:
-            robot.layout = LAYOUTS.get(layout) or robot.layout
-            t0 = time.monotonic()
-            robot.wait_motion(timeout=wait_timeout)
-        click.echo(f"no motion playing (waited {time.monotonic() - t0:.2f} s)")
-
-    @motion.command("status")
-    @layout_option
-    @pass_connection
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @handle_errors
-    def motion_status(conn: Connection, layout: str, as_json: bool) -> None:
-        """The motion being played (if any), PC, call depth, update flags."""
-        with conn.open() as robot:
-            robot.layout = LAYOUTS.get(layout) or robot.layout
-            st = robot.motion_status()
-        if as_json:
-            print_json(
-                {
-                    "motion": st.motion,
-                    "pc": f"{st.pc:06X}",
-                    "call_depth": st.call_depth,
-                    "update_flags": st.update_flags.hex(),
-                    "running": st.running,
-                }
-            )
-        else:
-            what = f"motion {st.motion}" if st.motion is not None else "no motion"
-            click.echo(
-                f"{what}; PC {st.pc:06X}, call depth {st.call_depth}, "
-                f"update flags {st.update_flags.hex(' ')}"
-            )
-
-    # ------------------------------------------------------------------ button
-
-    @cli.group()
-    def button() -> None:
-        """Virtual remote control (button word at 0350h)."""
-
-    @button.command("press")
-    @click.argument("names", nargs=-1, required=True, metavar="BUTTON...")
-    @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.3, show_default=True)
-    @pass_connection
-    @handle_errors
-    def button_press(conn: Connection, names: tuple[str, ...], duration: float) -> None:
-        """Hold BUTTONs (up, down, left, right, triangle, cross, circle, square, s1-s4)."""
-        pressed = Button.NONE
-        for n in names:
-            pressed |= _parse_button(n)
-        with conn.open() as robot:
-            robot.press_button(pressed, duration)
-        label = "+".join(b.name or "" for b in Button if b and b in pressed)
-        click.echo(f"pressed {label} for {duration:g} s")
-
-    # ------------------------------------------------------------------ demo
+    cli.add_command(ping)
+    cli.add_command(version)
+    cli.add_command(info)
+    cli.add_command(ram)
+    cli.add_command(rom)
+    cli.add_command(servo)
+    cli.add_command(motion)
+    cli.add_command(button)

@@ -1,64 +1,21 @@
-"""``rcb4hv project check`` (the lint), the "none"-setting options and the settings lines of
-``project info``. Registered into the ``project`` group by :mod:`rcb4hv.cli.project_cmd`."""
+"""``rcb4hv project check`` (the lint) and the settings lines of ``project info``. Registered
+into the ``project`` group by :mod:`rcb4hv.cli.project_cmd`."""
 
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING
 
 import click
 
 from rcb4hv.cli._util import handle_errors, print_json, print_table
 from rcb4hv.hth4 import Project
-from rcb4hv.project.options import EMPTY_STARTUP, PRIORITY_NONE, BuildOptions
 
 if TYPE_CHECKING:
     from rcb4hv.project.check import Finding
 
-__all__ = ["build_options", "current_build_options", "register", "settings_lines"]
-
-F = TypeVar("F", bound=Callable[..., Any])
-_META_KEY = "rcb4hv.build_options"
-
-
-def _store(ctx: click.Context, param: click.Parameter, value: str) -> str:
-    opts = ctx.meta.get(_META_KEY, {})
-    opts[param.name] = value
-    ctx.meta[_META_KEY] = opts
-    return value
-
-
-def build_options(func: F) -> F:
-    """Add ``--priority-none`` and ``--empty-startup`` (read with :func:`current_build_options`)."""
-    func = click.option(
-        "--empty-startup",
-        "empty_startup",
-        type=click.Choice(EMPTY_STARTUP),
-        default="call",
-        show_default=True,
-        expose_value=False,
-        callback=_store,
-        help="A startup address where no motion starts: CALL it as stored, or write 'none'.",
-    )(func)
-    return click.option(
-        "--priority-none",
-        "priority_none",
-        type=click.Choice(PRIORITY_NONE),
-        default="stub",
-        show_default=True,
-        expose_value=False,
-        callback=_store,
-        help="A priority check with Address -1: CALL the RETURN stub, or leave the check unused.",
-    )(func)
-
-
-def current_build_options() -> BuildOptions:
-    """The build options given to the running command (defaults outside a command)."""
-    ctx = click.get_current_context(silent=True)
-    values = {} if ctx is None else ctx.meta.get(_META_KEY, {})
-    return BuildOptions(**values)
+__all__ = ["register", "settings_lines"]
 
 
 def _target_text(project: Project, address: int) -> str:
@@ -95,7 +52,7 @@ def _short(text: str, width: int) -> str:
 
 
 def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
-    from rcb4hv.cli.project_cmd import load_image
+    from rcb4hv.cli.project_common import load_image
     from rcb4hv.cli.project_physics import physics_robot, run_physics
     from rcb4hv.project.physics_sim import physics_findings
     from rcb4hv.project.simulate import DEFAULT_LIMIT
@@ -109,68 +66,70 @@ def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
     return physics_findings(run.motions)
 
 
+@click.command("check")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@click.option(
+    "--physics",
+    is_flag=True,
+    help="Also play every motion on the robot in MuJoCo (needs rcb4hv[sim]) and warn of "
+    "falls and joints at their torque limit.",
+)
+@click.option(
+    "--robot",
+    metavar="NAME|FILE",
+    help="Robot for --physics [default: detected from the servo table].",
+)
+@handle_errors
+def check(file: Path, as_json: bool, physics: bool, robot: str | None) -> None:
+    """Lint FILE (.h4p) before it goes on a robot.
+
+    Reports targets (startup, priority, low-power, buttons, JUMP/CALL) in empty slots or
+    outside motions, positions outside 3500-11500, 12h values outside 1-127, speeds of 0,
+    motions without a final RETURN, ICS numbers missing from the servo table, unreachable
+    code and buttons bound twice. With --physics each motion is also played on the robot
+    in MuJoCo (from standing, as ``project simulate --physics``): "motion N makes the robot
+    fall at t s" and "joint X saturates" are warnings. Exit status 0 when clean or only
+    warnings, 1 on errors.
+    """
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.project.check import check_project
+
+    project = load_project(file)
+    findings = check_project(project)
+    if physics:
+        findings += _physics_findings(file, robot)
+    errors = sum(f.severity == "error" for f in findings)
+    warnings = len(findings) - errors
+    if as_json:
+        print_json(
+            {
+                "file": str(file),
+                "errors": errors,
+                "warnings": warnings,
+                "findings": [f.to_dict() for f in findings],
+            }
+        )
+    else:
+        if findings:
+            print_table(
+                ("severity", "slot", "name", "address", "instruction", "reason"),
+                [
+                    [
+                        f.severity,
+                        "-" if f.slot is None else f.slot,
+                        f.name,
+                        "-" if f.address is None else f"{f.address:05X}",
+                        _short(f.instruction, 48),
+                        f"{f.reason} [{f.code}]",
+                    ]
+                    for f in findings
+                ],
+            )
+        click.echo(f"{file.name}: {errors} errors, {warnings} warnings")
+    sys.exit(1 if errors else 0)
+
+
 def register(project: click.Group) -> None:
     """Add ``check`` to the ``project`` group."""
-
-    @project.command("check")
-    @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @click.option(
-        "--physics",
-        is_flag=True,
-        help="Also play every motion on the robot in MuJoCo (needs rcb4hv[sim]) and warn of "
-        "falls and joints at their torque limit.",
-    )
-    @click.option(
-        "--robot",
-        metavar="NAME|FILE",
-        help="Robot for --physics [default: detected from the servo table].",
-    )
-    @handle_errors
-    def check(file: Path, as_json: bool, physics: bool, robot: str | None) -> None:
-        """Lint FILE (.h4p) before it goes on a robot.
-
-        Reports targets (startup, priority, low-power, buttons, JUMP/CALL) in empty slots or
-        outside motions, positions outside 3500-11500, 12h values outside 1-127, speeds of 0,
-        motions without a final RETURN, ICS numbers missing from the servo table, unreachable
-        code and buttons bound twice. With --physics each motion is also played on the robot
-        in MuJoCo (from standing, as ``project simulate --physics``): "motion N makes the robot
-        fall at t s" and "joint X saturates" are warnings. Exit status 0 when clean or only
-        warnings, 1 on errors.
-        """
-        from rcb4hv.hth4 import load_project
-        from rcb4hv.project.check import check_project
-
-        project = load_project(file)
-        findings = check_project(project)
-        if physics:
-            findings += _physics_findings(file, robot)
-        errors = sum(f.severity == "error" for f in findings)
-        warnings = len(findings) - errors
-        if as_json:
-            print_json(
-                {
-                    "file": str(file),
-                    "errors": errors,
-                    "warnings": warnings,
-                    "findings": [f.to_dict() for f in findings],
-                }
-            )
-        else:
-            if findings:
-                print_table(
-                    ("severity", "slot", "name", "address", "instruction", "reason"),
-                    [
-                        [
-                            f.severity,
-                            "-" if f.slot is None else f.slot,
-                            f.name,
-                            "-" if f.address is None else f"{f.address:05X}",
-                            _short(f.instruction, 48),
-                            f"{f.reason} [{f.code}]",
-                        ]
-                        for f in findings
-                    ],
-                )
-            click.echo(f"{file.name}: {errors} errors, {warnings} warnings")
-        sys.exit(1 if errors else 0)
+    project.add_command(check)

@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from rcb4hv.cli import _output, project_check_cmd
+from rcb4hv.cli import _output, edit_cmd, project_check_cmd, project_sim_cmd
 from rcb4hv.cli._util import (
     Connection,
     handle_errors,
@@ -15,27 +15,12 @@ from rcb4hv.cli._util import (
     print_json,
     print_table,
 )
-from rcb4hv.cli.project_check_cmd import build_options, current_build_options
-from rcb4hv.protocol import Button
-from rcb4hv.rom.layout import HTH4_22, MotionLayout
-
-STATUS_EXIT = {"error": 1, "timeout": 2, "stalled": 2}
-
-
-def parse_buttons(text: str) -> int:
-    value = 0
-    for part in text.replace("|", "+").replace(",", "+").split("+"):
-        name = part.strip().upper()
-        if not name:
-            continue
-        try:
-            value |= int(Button[name])
-        except KeyError:
-            names = ", ".join(b.name for b in Button if b.name and b is not Button.NONE)
-            raise click.BadParameter(f"unknown button {part!r} (one of {names})") from None
-    if not value:
-        raise click.BadParameter("no button named")
-    return value
+from rcb4hv.cli.project_common import (
+    LAYOUT_OPTION,
+    build_options,
+    current_build_options,
+    load_image,
+)
 
 
 def _button_text(buttons: int, compare: str = "Equals") -> str:
@@ -45,320 +30,271 @@ def _button_text(buttons: int, compare: str = "Equals") -> str:
     return names if compare == "Equals" else f"{compare} {names}"
 
 
-LAYOUT_OPTION = click.option(
-    "--layout",
-    "layout_name",
-    type=click.Choice(["2.2", "2.1", "2.0", "1.3"]),
-    default=None,
-    help="HeartToHeart4 layout [default: the one the motions' stored addresses (or the "
-    "image's main loop) show; a project is moved to the layout given].",
-)
+@click.group()
+def project() -> None:
+    """HeartToHeart4 projects (.h4p): build, inspect, check, simulate and upload ROM images."""
 
 
-def load_image(
-    path: Path, layout_name: str | None = None
-) -> tuple[bytes, MotionLayout, dict[int, str]]:
-    """(image, layout, names by slot) of a .h4p project or a raw 256 KB image file."""
+@project.command("build")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@build_options
+@LAYOUT_OPTION
+@handle_errors
+def build(file: Path, output: Path, layout_name: str | None) -> None:
+    """Build the 256 KB ROM image of FILE in its HeartToHeart4 layout (or --layout)."""
     from rcb4hv.hth4 import load_project
-    from rcb4hv.project.relocate import image_layout, project_image
+    from rcb4hv.project.relocate import project_image
 
-    if path.suffix.lower() == ".h4p":
-        project = load_project(path)
-        names = {m.slot: m.name or "" for m in project.used_motions}
-        image, lay = project_image(project, layout_name, options=current_build_options())
-        return image, lay, names
-    data = path.read_bytes()
-    from rcb4hv.rom import layout
+    p = load_project(file)
+    image, lay = project_image(p, layout_name, options=current_build_options())
+    output.write_bytes(image)
+    click.echo(
+        f"wrote {len(image)} bytes ({len(p.used_motions)} motions, HeartToHeart4 "
+        f"{lay.version} layout) to {output}"
+    )
 
-    if len(data) != layout.ROM_SIZE:
-        raise ValueError(f"{path}: not a .h4p project nor a {layout.ROM_SIZE}-byte ROM image")
-    return data, image_layout(data, layout_name, default=HTH4_22), {}
+
+@project.command("info")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@handle_errors
+def info(file: Path, as_json: bool) -> None:
+    """Motions (slot, address, name, frames, button) and servos of FILE (.h4p)."""
+    from rcb4hv.hth4 import load_project
+
+    p = load_project(file)
+    startup = p.startup_motion_address
+    prio = {pm.address: i for i, pm in p.active_priority_motions}
+    motions: list[dict[str, Any]] = []
+    for m in p.used_motions:
+        motions.append(
+            {
+                "slot": m.slot,
+                "address": f"{m.address:05X}",
+                "name": m.name or "",
+                "frames": len(m.frames),
+                "bytes": len(m.rom_bytes()),
+                "button": m.button_data,
+                "button_names": _button_text(m.button_data, m.compare_type)
+                if m.button_data
+                else "",
+                "compare_type": m.compare_type,
+                "startup": m.address == startup,
+                "priority": prio.get(m.address),
+            }
+        )
+    servos: list[dict[str, Any]] = []
+    for s in p.servos:
+        if not s.in_use:
+            continue
+        servos.append(
+            {
+                "ics": s.ics_number,
+                "id": s.id,
+                "name": s.name or "",
+                "port": s.port,
+                "trim": s.trim,
+                "home": s.home_position,
+                "mixing1": [s.mixing1_address, s.mixing1_rate],
+                "mixing2": [s.mixing2_address, s.mixing2_rate],
+            }
+        )
+    settings = {
+        "title": p.project_title,
+        "system_register": f"{p.system_register:04X}",
+        "startup_motion": None if startup < 0 else f"{startup:05X}",
+        "priority_motions": [
+            {
+                "check": i,
+                "name": pm.name,
+                "port": pm.port,
+                "compare_type": pm.compare_type,
+                "value": pm.value,
+                "address": None if pm.address < 0 else f"{pm.address:05X}",
+            }
+            for i, pm in p.active_priority_motions
+        ],
+        "low_power_motion": None
+        if p.low_power_motion_address < 0
+        else f"{p.low_power_motion_address:05X}",
+        "low_power_value": p.low_power_value,
+    }
+    if as_json:
+        print_json({"settings": settings, "motions": motions, "servos": servos})
+        return
+    click.echo(
+        f"{file.name}: {settings['title'] or '(no title)'}, system register "
+        f"{settings['system_register']}h, {len(motions)} motions, "
+        f"{len(servos)} servos"
+    )
+    for line in project_check_cmd.settings_lines(p):
+        click.echo(line)
+    click.echo("")
+    rows = []
+    for mi in motions:
+        notes = []
+        if mi["startup"]:
+            notes.append("startup")
+        if mi["priority"] is not None:
+            notes.append(f"priority {mi['priority']}")
+        rows.append(
+            [
+                mi["slot"],
+                mi["address"],
+                mi["name"],
+                mi["frames"],
+                mi["bytes"],
+                mi["button_names"],
+                ", ".join(notes),
+            ]
+        )
+    print_table(("slot", "address", "name", "frames", "bytes", "button", "note"), rows)
+    click.echo("")
+    print_table(
+        ("ICS", "ID", "name", "port", "trim", "home", "mixing1", "mixing2"),
+        [
+            [
+                s["ics"],
+                s["id"],
+                s["name"],
+                s["port"],
+                s["trim"],
+                s["home"],
+                "-" if s["mixing1"][0] == 0xFFFF else f"{s['mixing1'][0]:04X} x{s['mixing1'][1]}",
+                "-" if s["mixing2"][0] == 0xFFFF else f"{s['mixing2'][0]:04X} x{s['mixing2'][1]}",
+            ]
+            for s in servos
+        ],
+    )
+
+
+@project.command("image")
+@click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@LAYOUT_OPTION
+@handle_errors
+def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
+    """The motions and settings a HeartToHeart4 ROM IMAGE holds."""
+    from rcb4hv.project.image import read_image
+    from rcb4hv.project.relocate import image_layout
+
+    data = image.read_bytes()
+    c = read_image(data, image_layout(data, layout_name))
+    motions: list[dict[str, Any]] = [
+        {
+            "slot": m.slot,
+            "address": f"{m.address:05X}",
+            "frames": len(m.frames),
+            "bytes": m.size,
+            "buttons": [_button_text(b.buttons, b.compare_type) for b in m.bindings],
+            "startup": m.startup,
+            "priority": list(m.priority),
+        }
+        for m in c.motions
+    ]
+    if as_json:
+        print_json(
+            {
+                "title": c.title,
+                "system_register": f"{c.system_register:04X}",
+                "startup_motion": None
+                if c.startup_motion_address < 0
+                else f"{c.startup_motion_address:05X}",
+                "ad_references": list(c.description.ad_references),
+                "servos": {str(k): v for k, v in c.servos.items()},
+                "priority_motions": {str(k): v for k, v in c.priority.items()},
+                "motions": motions,
+            }
+        )
+        return
+    click.echo(
+        f"{image.name}: {c.title or '(no title)'}, system register "
+        f"{c.system_register:04X}h, {len(motions)} motions, "
+        f"{len(c.servos)} servos"
+    )
+    print_table(
+        ("slot", "address", "frames", "bytes", "button", "note"),
+        [
+            [
+                m["slot"],
+                m["address"],
+                m["frames"],
+                m["bytes"],
+                ", ".join(m["buttons"]),
+                ", ".join(
+                    (["startup"] if m["startup"] else []) + [f"priority {i}" for i in m["priority"]]
+                ),
+            ]
+            for m in motions
+        ],
+    )
+
+
+@project.command("upload")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@pass_connection
+@click.option(
+    "--only-changed",
+    is_flag=True,
+    help="Read the board's ROM first; write only the 128-byte pages that differ.",
+)
+@click.option(
+    "--verify/--no-verify",
+    default=True,
+    show_default=True,
+    help="Read every written chunk back and compare.",
+)
+@click.option(
+    "--restart/--no-restart",
+    default=True,
+    show_default=True,
+    help="Restart the ROM program from 000000h afterwards.",
+)
+@click.option("--progress/--no-progress", default=True, show_default=True)
+@build_options
+@handle_errors
+def upload(
+    conn: Connection,
+    file: Path,
+    only_changed: bool,
+    verify: bool,
+    restart: bool,
+    progress: bool,
+) -> None:
+    """Write the ROM image of FILE (.h4p or a 256 KB image) to the board at --port."""
+    from rcb4hv.project.upload import upload_image
+
+    image, _, _ = load_image(file)
+    with conn.open() as robot:
+        if only_changed:
+            with _output.progress(len(image), "read", progress) as rbar:
+                current = robot.read_rom(0, len(image), progress=rbar)
+            from rcb4hv.project.upload import changed_pages
+
+            n = len(changed_pages(current, image))
+            with _output.progress(n * 128, "write", progress) as bar:
+                res = upload_image(
+                    robot,
+                    image,
+                    only_changed=True,
+                    verify=verify,
+                    restart=restart,
+                    progress=bar,
+                    known=current,
+                )
+        else:
+            with _output.progress(len(image), "write", progress) as bar:
+                res = upload_image(robot, image, verify=verify, restart=restart, progress=bar)
+    checked = " and verified" if verify else ""
+    click.echo(
+        f"wrote{checked} {res.pages_written} of {res.pages_total} pages ({res.bytes_written} bytes)"
+    )
 
 
 def register(cli: click.Group) -> None:
     """Add the ``project`` group to ``cli``."""
-
-    @cli.group()
-    def project() -> None:
-        """HeartToHeart4 projects (.h4p): build, inspect, check, simulate and upload ROM images."""
-
     project_check_cmd.register(project)
-    from rcb4hv.cli import project_sim_cmd  # it builds on this module's helpers
-
     project_sim_cmd.register(project)
-    from rcb4hv.cli import edit_cmd
-
     edit_cmd.register(project)
-
-    # ------------------------------------------------------------------ build
-
-    @project.command("build")
-    @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
-    @build_options
-    @LAYOUT_OPTION
-    @handle_errors
-    def build(file: Path, output: Path, layout_name: str | None) -> None:
-        """Build the 256 KB ROM image of FILE in its HeartToHeart4 layout (or --layout)."""
-        from rcb4hv.hth4 import load_project
-        from rcb4hv.project.relocate import project_image
-
-        p = load_project(file)
-        image, lay = project_image(p, layout_name, options=current_build_options())
-        output.write_bytes(image)
-        click.echo(
-            f"wrote {len(image)} bytes ({len(p.used_motions)} motions, HeartToHeart4 "
-            f"{lay.version} layout) to {output}"
-        )
-
-    # ------------------------------------------------------------------ info
-
-    @project.command("info")
-    @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @handle_errors
-    def info(file: Path, as_json: bool) -> None:
-        """Motions (slot, address, name, frames, button) and servos of FILE (.h4p)."""
-        from rcb4hv.hth4 import load_project
-
-        p = load_project(file)
-        startup = p.startup_motion_address
-        prio = {pm.address: i for i, pm in p.active_priority_motions}
-        motions: list[dict[str, Any]] = []
-        for m in p.used_motions:
-            motions.append(
-                {
-                    "slot": m.slot,
-                    "address": f"{m.address:05X}",
-                    "name": m.name or "",
-                    "frames": len(m.frames),
-                    "bytes": len(m.rom_bytes()),
-                    "button": m.button_data,
-                    "button_names": _button_text(m.button_data, m.compare_type)
-                    if m.button_data
-                    else "",
-                    "compare_type": m.compare_type,
-                    "startup": m.address == startup,
-                    "priority": prio.get(m.address),
-                }
-            )
-        servos: list[dict[str, Any]] = []
-        for s in p.servos:
-            if not s.in_use:
-                continue
-            servos.append(
-                {
-                    "ics": s.ics_number,
-                    "id": s.id,
-                    "name": s.name or "",
-                    "port": s.port,
-                    "trim": s.trim,
-                    "home": s.home_position,
-                    "mixing1": [s.mixing1_address, s.mixing1_rate],
-                    "mixing2": [s.mixing2_address, s.mixing2_rate],
-                }
-            )
-        settings = {
-            "title": p.project_title,
-            "system_register": f"{p.system_register:04X}",
-            "startup_motion": None if startup < 0 else f"{startup:05X}",
-            "priority_motions": [
-                {
-                    "check": i,
-                    "name": pm.name,
-                    "port": pm.port,
-                    "compare_type": pm.compare_type,
-                    "value": pm.value,
-                    "address": None if pm.address < 0 else f"{pm.address:05X}",
-                }
-                for i, pm in p.active_priority_motions
-            ],
-            "low_power_motion": None
-            if p.low_power_motion_address < 0
-            else f"{p.low_power_motion_address:05X}",
-            "low_power_value": p.low_power_value,
-        }
-        if as_json:
-            print_json({"settings": settings, "motions": motions, "servos": servos})
-            return
-        click.echo(
-            f"{file.name}: {settings['title'] or '(no title)'}, system register "
-            f"{settings['system_register']}h, {len(motions)} motions, "
-            f"{len(servos)} servos"
-        )
-        for line in project_check_cmd.settings_lines(p):
-            click.echo(line)
-        click.echo("")
-        rows = []
-        for mi in motions:
-            notes = []
-            if mi["startup"]:
-                notes.append("startup")
-            if mi["priority"] is not None:
-                notes.append(f"priority {mi['priority']}")
-            rows.append(
-                [
-                    mi["slot"],
-                    mi["address"],
-                    mi["name"],
-                    mi["frames"],
-                    mi["bytes"],
-                    mi["button_names"],
-                    ", ".join(notes),
-                ]
-            )
-        print_table(("slot", "address", "name", "frames", "bytes", "button", "note"), rows)
-        click.echo("")
-        print_table(
-            ("ICS", "ID", "name", "port", "trim", "home", "mixing1", "mixing2"),
-            [
-                [
-                    s["ics"],
-                    s["id"],
-                    s["name"],
-                    s["port"],
-                    s["trim"],
-                    s["home"],
-                    "-"
-                    if s["mixing1"][0] == 0xFFFF
-                    else f"{s['mixing1'][0]:04X} x{s['mixing1'][1]}",
-                    "-"
-                    if s["mixing2"][0] == 0xFFFF
-                    else f"{s['mixing2'][0]:04X} x{s['mixing2'][1]}",
-                ]
-                for s in servos
-            ],
-        )
-
-    # ------------------------------------------------------------------ image -> data
-
-    @project.command("image")
-    @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-    @LAYOUT_OPTION
-    @handle_errors
-    def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
-        """The motions and settings a HeartToHeart4 ROM IMAGE holds."""
-        from rcb4hv.project.image import read_image
-        from rcb4hv.project.relocate import image_layout
-
-        data = image.read_bytes()
-        c = read_image(data, image_layout(data, layout_name))
-        motions: list[dict[str, Any]] = [
-            {
-                "slot": m.slot,
-                "address": f"{m.address:05X}",
-                "frames": len(m.frames),
-                "bytes": m.size,
-                "buttons": [_button_text(b.buttons, b.compare_type) for b in m.bindings],
-                "startup": m.startup,
-                "priority": list(m.priority),
-            }
-            for m in c.motions
-        ]
-        if as_json:
-            print_json(
-                {
-                    "title": c.title,
-                    "system_register": f"{c.system_register:04X}",
-                    "startup_motion": None
-                    if c.startup_motion_address < 0
-                    else f"{c.startup_motion_address:05X}",
-                    "ad_references": list(c.description.ad_references),
-                    "servos": {str(k): v for k, v in c.servos.items()},
-                    "priority_motions": {str(k): v for k, v in c.priority.items()},
-                    "motions": motions,
-                }
-            )
-            return
-        click.echo(
-            f"{image.name}: {c.title or '(no title)'}, system register "
-            f"{c.system_register:04X}h, {len(motions)} motions, "
-            f"{len(c.servos)} servos"
-        )
-        print_table(
-            ("slot", "address", "frames", "bytes", "button", "note"),
-            [
-                [
-                    m["slot"],
-                    m["address"],
-                    m["frames"],
-                    m["bytes"],
-                    ", ".join(m["buttons"]),
-                    ", ".join(
-                        (["startup"] if m["startup"] else [])
-                        + [f"priority {i}" for i in m["priority"]]
-                    ),
-                ]
-                for m in motions
-            ],
-        )
-
-    # ------------------------------------------------------------------ upload
-
-    @project.command("upload")
-    @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-    @pass_connection
-    @click.option(
-        "--only-changed",
-        is_flag=True,
-        help="Read the board's ROM first; write only the 128-byte pages that differ.",
-    )
-    @click.option(
-        "--verify/--no-verify",
-        default=True,
-        show_default=True,
-        help="Read every written chunk back and compare.",
-    )
-    @click.option(
-        "--restart/--no-restart",
-        default=True,
-        show_default=True,
-        help="Restart the ROM program from 000000h afterwards.",
-    )
-    @click.option("--progress/--no-progress", default=True, show_default=True)
-    @build_options
-    @handle_errors
-    def upload(
-        conn: Connection,
-        file: Path,
-        only_changed: bool,
-        verify: bool,
-        restart: bool,
-        progress: bool,
-    ) -> None:
-        """Write the ROM image of FILE (.h4p or a 256 KB image) to the board at --port."""
-        from rcb4hv.project.upload import upload_image
-
-        image, _, _ = load_image(file)
-        with conn.open() as robot:
-            if only_changed:
-                with _output.progress(len(image), "read", progress) as rbar:
-                    current = robot.read_rom(0, len(image), progress=rbar)
-                from rcb4hv.project.upload import changed_pages
-
-                n = len(changed_pages(current, image))
-                with _output.progress(n * 128, "write", progress) as bar:
-                    res = upload_image(
-                        robot,
-                        image,
-                        only_changed=True,
-                        verify=verify,
-                        restart=restart,
-                        progress=bar,
-                        known=current,
-                    )
-            else:
-                with _output.progress(len(image), "write", progress) as bar:
-                    res = upload_image(robot, image, verify=verify, restart=restart, progress=bar)
-        checked = " and verified" if verify else ""
-        click.echo(
-            f"wrote{checked} {res.pages_written} of {res.pages_total} pages "
-            f"({res.bytes_written} bytes)"
-        )
-
-
-def image_slots(image: bytes, lay: MotionLayout = HTH4_22) -> list[int]:
-    from rcb4hv.project.image import read_image
-
-    return [m.slot for m in read_image(image, lay).motions]
+    cli.add_command(project)

@@ -10,10 +10,10 @@ import click
 
 from rcb4hv.cli._output import plot_to
 from rcb4hv.cli._util import MOTION_SLOT, handle_errors, print_json, print_table
-from rcb4hv.cli.project_check_cmd import build_options
-from rcb4hv.cli.project_cmd import (
+from rcb4hv.cli.project_common import (
     LAYOUT_OPTION,
     STATUS_EXIT,
+    build_options,
     image_slots,
     load_image,
     parse_buttons,

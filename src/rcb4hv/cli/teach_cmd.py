@@ -82,7 +82,7 @@ def add_motion_command(
 ) -> None:
     """Save KEYFRAMES (JSON: time in seconds and ICS -> position per pose) as a new motion of
     project FILE, in a free slot, as HeartToHeart4 compiles a chain of Pos boxes."""
-    from rcb4hv.cli.project_cmd import parse_buttons
+    from rcb4hv.cli.project_common import parse_buttons
 
     project = load_project(file)
     frames = parse_keyframes(json.loads(keyframes.read_text(encoding="utf-8")))
