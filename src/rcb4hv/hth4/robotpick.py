@@ -33,16 +33,17 @@ def servo_table(project: Project) -> dict[int, str]:
 
 def project_model(
     project: Project | Mapping[int, str] | None,
-    name: str | None = None,
+    name: str | RobotModel | None = None,
     indices: Iterable[int] | None = None,
 ) -> RobotModel:
     """The robot model ``project`` drives (see the module docstring).
 
     ``project``: a project, or its servo table (:func:`servo_table`; None when there is none,
-    e.g. a bare ROM image); ``name``: ``--robot``; ``indices``: the servo indices in use
-    (default: the servo table's). Raises :class:`~rcb4hv.errors.RobotModelError` for an
-    unknown name or a model needing servos the project lacks, and
-    :class:`~rcb4hv.errors.NoRobotModelError` when nothing names the robot.
+    e.g. a bare ROM image); ``name``: ``--robot`` (or the model it loaded); ``indices``: the
+    servo indices in use (default: the servo table's). Raises
+    :class:`~rcb4hv.errors.RobotModelError` for an unknown name or a model needing servos
+    the project lacks, and :class:`~rcb4hv.errors.NoRobotModelError` when nothing names the
+    robot.
     """
     names = servo_table(project) if isinstance(project, Project) else dict(project or {})
     used = sorted(set(names if indices is None else indices))
@@ -56,7 +57,7 @@ def project_model(
             )
             raise NoRobotModelError(f"{why}: name one with --robot {'|'.join(BUILTIN)}|FILE")
         name = found
-    model = load_robot(name)
+    model = name if isinstance(name, RobotModel) else load_robot(name)
     if names or indices is not None:
         check_indices(model, used)
     return model

@@ -77,14 +77,15 @@ class Editor:
     # ------------------------------------------------------------------ opening
 
     def open(self, data: bytes, path: Path | None = None, model: RobotModel | None = None) -> None:
-        """Edit the project file ``data`` (read from ``path``, where Save writes)."""
+        """Edit the project file ``data`` (read from ``path``, where Save writes) with
+        ``model`` (``--robot``), else the model detected from it: the rule of
+        :mod:`rcb4hv.hth4.robotpick` (a model needing servos the project lacks is refused)."""
         self.session = EditSession(parse_project(data), path, data)
-        self.model, self.model_error = model, ""
-        if model is None:
-            try:
-                self.model = project_model(self.session.project)
-            except Rcb4Error as exc:
-                self.model_error = str(exc)
+        self.model, self.model_error = None, ""
+        try:
+            self.model = project_model(self.session.project, model)
+        except Rcb4Error as exc:
+            self.model_error = str(exc)
         used = self.project.used_motions
         self.select(used[0].slot if used else None)
 
