@@ -81,3 +81,22 @@ def test_physics_targets_the_preview_pose(kxr_project_path: Path) -> None:
     assert _knees(targets) == pytest.approx([HOME_KNEE_DEG] * 2, abs=0.05)
     assert targets == pytest.approx(preview, abs=1e-9)
     assert sim.board_pose() == pytest.approx(preview, abs=1e-9)
+
+
+def test_the_preview_leaves_out_a_freed_servo_whatever_its_trim(kxr_project_path: Path) -> None:
+    """The board sends free (8000h) plus the trim (its default ``free_hold_base``): the plain
+    preview takes the trim off before it recognises free, so the freed knee (trim -1980) is
+    not drawn at an angle of its own."""
+    from rcb4hv.hth4.edit import set_pose
+    from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes
+    from rcb4hv.protocol import POSITION_FREE
+
+    project = load_project(kxr_project_path)
+    slot = 18  # empty in the fixture
+    keyframes = [Keyframe(0.1, {12: 7800, 13: 7800}), Keyframe(0.1, {12: 7800, 13: 7800})]
+    motion = motion_from_keyframes(keyframes, slot=slot, name="free knee", date="2026/01/01")
+    project = set_pose(add_motion(project, motion), slot, 1, {12: POSITION_FREE})
+    frames = simulated_playback(project, slot, MODEL).frames
+    assert math.degrees(frames[0].angles["r_knee_pitch"]) == pytest.approx(HOME_KNEE_DEG, abs=0.05)
+    assert "r_knee_pitch" not in frames[-1].angles
+    assert math.degrees(frames[-1].angles["l_knee_pitch"]) == pytest.approx(HOME_KNEE_DEG, abs=0.05)
