@@ -14,7 +14,7 @@ $(VENV)/.installed-plot: pyproject.toml | $(BIN)/python
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim,test]'
 	touch $@ $(VENV)/.installed-plot
 
 $(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev
@@ -24,7 +24,11 @@ $(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev
 demo: $(VENV)/.installed-plot
 	$(BIN)/rcb4hv demo --output demo-servo-angles.png
 
+# everything a fresh machine needs is set up here, the browser included (tools/ensure-browser
+# installs Chromium if it is missing); RCB4HV_SKIP_BROWSER=1 skips the browser tests, and the
+# pytest summary says so
 test: $(VENV)/.installed-dev
+	tools/ensure-browser $(BIN)/python
 	$(BIN)/ruff check src tests bench
 	$(BIN)/mypy --strict src
 	$(BIN)/pytest -q
@@ -52,7 +56,8 @@ bench: $(VENV)/.installed-bench
 # browser screenshots of every page (headless Chromium) copied to docs/ for the README
 screenshots: $(VENV)/.installed-dev
 	rm -rf build/screenshots
-	RCB4HV_REQUIRE_BROWSER=1 $(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py
+	tools/ensure-browser $(BIN)/python
+	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py
 	mkdir -p docs
 	cp build/screenshots/servos.png build/screenshots/remote.png build/screenshots/project.png docs/
 	cp build/screenshots/3d-view.png build/screenshots/3d-preview.png docs/

@@ -1,4 +1,5 @@
-"""Shared test configuration: fixture location, the --port option for hardware tests."""
+"""Shared test configuration: fixture location (``../shared`` must be there), the --port
+option for hardware tests, and the browser opt-out in the report header and summary."""
 
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, settings
+
+from tests.ui.browser import SKIP_ENV, find_chromium, skip_requested
 
 REPO = Path(__file__).resolve().parent.parent
 FIXTURES = REPO.parent / "shared" / "fixtures" / "hth4"
@@ -30,6 +33,34 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     )
 
 
+def pytest_sessionstart(session: pytest.Session) -> None:
+    """The shared material beside the clone is part of the test set-up, not optional: without
+    it a third of the suite (every test of the real HeartToHeart4 project) could not run."""
+    if not KXR_PROJECT_DIR.is_dir():
+        raise pytest.UsageError(
+            f"the HeartToHeart4 fixtures are missing: {KXR_PROJECT_DIR} does not exist. "
+            f"The tests need the shared material checked out beside this clone, as "
+            f"{REPO.parent / 'shared'} (with fixtures/hth4/kxr-l2-hac inside)."
+        )
+
+
+def _browser_line() -> str:
+    if skip_requested():
+        return f"browser tests: SKIPPED ({SKIP_ENV}=1 opted out; the dashboard was not tested)"
+    return f"browser tests: run with {find_chromium() or 'NO CHROMIUM FOUND (they will fail)'}"
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    return _browser_line()
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    """Right under the ``N passed, M skipped`` line: an opt-out is never silent."""
+    reporter = config.pluginmanager.get_plugin("terminalreporter")
+    if skip_requested() and reporter is not None:
+        reporter.write_line(_browser_line(), yellow=True, bold=True)
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     if config.getoption("--port"):
         return
@@ -48,9 +79,7 @@ def hardware_port(request: pytest.FixtureRequest) -> str:
 
 @pytest.fixture(scope="session")
 def kxr_dir() -> Path:
-    """The HeartToHeart4 fixture folder, or skip when ../shared is absent."""
-    if not KXR_PROJECT_DIR.is_dir():
-        pytest.skip(f"HeartToHeart4 fixtures not found at {KXR_PROJECT_DIR} (../shared absent)")
+    """The HeartToHeart4 fixture folder (checked at session start)."""
     return KXR_PROJECT_DIR
 
 

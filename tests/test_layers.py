@@ -22,7 +22,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "__init__"),  # rcb4hv.errors and the root package (__version__)
     ("protocol",),
     ("transport",),
-    ("rom", "robot"),  # robot: models as data, kinematics, URDF/MJCF
+    ("rom", "robot", "ics"),  # robot: models as data, kinematics, URDF/MJCF; ics: ICS servos
     ("emulator", "hth4"),
     ("client", "asm", "physics"),  # physics: MuJoCo as a servo backend of the emulator
     ("project",),

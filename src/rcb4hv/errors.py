@@ -25,9 +25,12 @@
     │                              unknown robot name, a link without inertia, a joint map
     │                              naming an unknown joint or a servo the project lacks);
     │                              also a ValueError
-    └── PhysicsError               the physics simulation cannot run
-        └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
-                                   ImportError
+    ├── PhysicsError               the physics simulation cannot run
+    │   └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
+    │                              ImportError
+    └── IcsError                   an ICS servo answered wrongly, or a write did not verify
+        └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
+                                   also a builtin TimeoutError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -43,6 +46,8 @@ __all__ = [
     "EditError",
     "FrameError",
     "Hth4FormatError",
+    "IcsError",
+    "IcsNoReply",
     "LayoutError",
     "NakError",
     "NoRobotModelError",
@@ -160,3 +165,13 @@ class PhysicsError(Rcb4Error):
 
 class PhysicsUnavailableError(PhysicsError, ImportError):
     """MuJoCo is not installed: ``pip install 'rcb4hv[sim]'``."""
+
+
+class IcsError(Rcb4Error):
+    """An ICS servo (or the bus in between) answered something else than the protocol says, or
+    a value read back after a write differs from the value written."""
+
+
+class IcsNoReply(IcsError, TimeoutError):
+    """No ICS servo answered in time: no servo with that ID, a different baud rate, a servo
+    still writing its EEPROM, or (through a board's 0Eh) the board's NAK for "no answer"."""

@@ -13,7 +13,13 @@ import pytest
 from rcb4hv.aio import AsyncRcb4Client, AsyncTransport
 from rcb4hv.transport import Fault, FaultConfig, FaultyTransport, Transport
 from tests.client.conftest import Rig, make_rig
-from tests.client.test_client_faults import EXPECTED, SLACK, TIMEOUT
+from tests.client.test_client_faults import (
+    CALM_TIMEOUT,
+    DELAY,
+    EXPECTED,
+    SLACK,
+    fault_timeout,
+)
 
 
 class Bridged(AsyncTransport):
@@ -52,24 +58,26 @@ def rig(request: pytest.FixtureRequest) -> Iterator[Rig]:
 
 @pytest.mark.parametrize("fault", list(Fault), ids=[f.value for f in Fault])
 def test_scripted_fault(rig: Rig, fault: Fault) -> None:
-    ft = FaultyTransport(rig.client.transport, FaultConfig(delay_s=0.2))
-    client = AsyncRcb4Client(Bridged(ft), timeout=TIMEOUT)
+    ft = FaultyTransport(rig.client.transport, FaultConfig(delay_s=DELAY))
+    client = AsyncRcb4Client(Bridged(ft), timeout=CALM_TIMEOUT)
     expected = EXPECTED[fault]
 
     async def main() -> None:
         await client.write_ram(0x0462, b"\x11\x22\x33\x44")
         ft.inject(fault)
+        client.timeout = fault_timeout(fault)
         t0 = time.monotonic()
         if expected is None:
             assert await client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
         else:
             with pytest.raises(expected):
                 await client.read_ram(0x0462, 4)
-        assert time.monotonic() - t0 < TIMEOUT + SLACK
+        assert time.monotonic() - t0 < client.timeout + SLACK
+        client.timeout = CALM_TIMEOUT
         assert ft.history[-1][1] is fault
         await client.acknowledge_check()
         assert await client.read_ram(0x0462, 4) == b"\x11\x22\x33\x44"
-        await asyncio.sleep(0.2)  # a delayed reply lands now and must be discarded
+        await asyncio.sleep(DELAY)  # a delayed reply lands now and must be discarded
         await client.acknowledge_check()
         assert (await client.get_version_info()).text.startswith("CB-4")
 

@@ -8,9 +8,11 @@ import pytest
 
 from rcb4hv.client import Rcb4Client, Robot
 from rcb4hv.client.layout import detect_board_layout
+from rcb4hv.emulator import emulator_url
 from rcb4hv.errors import TransportError
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS
 
+from .conftest import make_board
 from .test_client_golden import H, ScriptedTransport
 
 
@@ -42,7 +44,8 @@ def test_unknown_rom_falls_back_to_2_2() -> None:
 def test_robot_plays_motions_on_an_emulated_board_of_each_layout(version: str) -> None:
     lay = LAYOUTS[version]
     given = lay if version == "1.3" else None  # 1.3 cannot be told from 2.1 by the ROM reads
-    with Robot.open(f"rcb4emu://?speed=20&layout={version}", layout=given) as robot:
+    board = make_board(lay)  # virtual time, moved by the robot's requests
+    with Robot.open(emulator_url(board), layout=given) as robot:
         robot.wait_ready()
         assert robot.layout == lay
         robot.play_motion(2)
@@ -63,11 +66,12 @@ def test_cli_motion_play_reads_the_layout_or_takes_it() -> None:
 
     from rcb4hv.cli.main import cli
 
-    url = "rcb4emu://?speed=20&layout=2.1"
+    board21, board13 = make_board(LAYOUTS["2.1"]), make_board(LAYOUTS["1.3"])
+    url = emulator_url(board21)
     r = CliRunner().invoke(cli, ["motion", "play", "--port", url, "2", "--wait"])
     assert r.exit_code == 0, r.output
     assert "playing motion 2 (0013B8)" in r.output and "ended" in r.output
-    url13 = "rcb4emu://?speed=20&layout=1.3"
+    url13 = emulator_url(board13)
     r = CliRunner().invoke(cli, ["motion", "play", "--port", url13, "2", "--layout", "1.3"])
     assert r.exit_code == 0 and "playing motion 2 (001EB8)" in r.output
     r = CliRunner().invoke(cli, ["motion", "status", "--port", url, "--json"])

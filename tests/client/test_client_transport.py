@@ -12,6 +12,7 @@ from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from rcb4hv import emulator as emu
 from rcb4hv.cli.main import cli
 from rcb4hv.client import Rcb4Client, Robot, plan_reads
 from rcb4hv.emulator import emulator_url
@@ -39,7 +40,9 @@ def test_reads_are_bounded_on_a_silent_link() -> None:
         t0 = time.monotonic()
         with pytest.raises(Rcb4TimeoutError):
             c.get_version_info()  # ...and the echo of 03 FD 00 is no version reply
-        assert 0.09 < time.monotonic() - t0 < 0.3
+        # never early; the upper margin is the timeout plus a second of scheduling delay (a
+        # loaded CI runner: load 4 on two cores), still far short of an unbounded read
+        assert 0.09 < time.monotonic() - t0 < 0.1 + 1.0
 
 
 def test_closed_port_raises_transport_error() -> None:
@@ -74,7 +77,6 @@ def test_kondo_autodetect(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_baud_detection_on_emulator_and_pty() -> None:
-    emu = pytest.importorskip("rcb4hv.emulator")
     board = make_board()
     with emu.PtyServer(board) as srv:
         c = Rcb4Client.open(str(srv.path), baudrate=None, timeout=0.2)
@@ -121,7 +123,7 @@ def test_plan_reads_servo_positions() -> None:
 
 @pytest.fixture
 def cli_url() -> object:
-    board = make_board(speed=20.0)
+    board = make_board()
     url = emulator_url(board)
     with Robot.open(url) as r:
         r.wait_ready()
@@ -207,7 +209,6 @@ def test_cli_errors_are_one_line(cli_url: str) -> None:
 
 
 def test_cli_demo_writes_a_plot(tmp_path: Path) -> None:
-    pytest.importorskip("matplotlib")
     out = tmp_path / "angles.png"
     code, stdout, _ = _run("demo", "--output", str(out), "--speed", "4")
     assert code == 0, stdout

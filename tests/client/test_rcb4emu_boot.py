@@ -30,9 +30,12 @@ def test_open_waits_for_the_start_up_program() -> None:
 
 
 def test_boot_live_opens_at_power_on() -> None:
+    # the start-up program allocates the servos 8 ms of board time after power-on: at a
+    # thousandth of real time the first command comes before that even on a loaded machine
+    slow = "rcb4emu://?boot=live&speed=0.001"
+    with Rcb4Client.open(slow) as rcb, pytest.raises(NakError):  # nothing allocated yet
+        rcb.move(Com(), Ics(4, 2), 2)
     with Rcb4Client.open("rcb4emu://?boot=live") as rcb:
-        with pytest.raises(NakError):  # nothing allocated yet
-            rcb.move(Com(), Ics(4, 2), 2)
         robot = Robot(rcb)
         robot.wait_ready(timeout=10.0)
         assert len(robot.discover_servos()) == 17
@@ -45,8 +48,23 @@ def test_bad_boot_option() -> None:
 
 @pytest.mark.parametrize("boot", ["ready", "live"])
 def test_emulate_boot_option(boot: str) -> None:
+    # A live board's start-up program allocates the servos 8 ms of board time after power-on;
+    # at a thousandth of real time that is 8 s, so the first command comes before it even on a
+    # loaded machine (at full speed it had to come within 8 ms of the server starting).
+    speed = "1" if boot == "ready" else "0.001"
     proc = subprocess.Popen(
-        [sys.executable, "-m", "rcb4hv", "emulate", "--tcp", "127.0.0.1:0", "--boot", boot],
+        [
+            sys.executable,
+            "-m",
+            "rcb4hv",
+            "emulate",
+            "--tcp",
+            "127.0.0.1:0",
+            "--boot",
+            boot,
+            "--speed",
+            speed,
+        ],
         stdout=subprocess.PIPE,
         text=True,
     )

@@ -11,6 +11,10 @@ Fenced blocks are collected per page, in order:
 * a block right after ``<!-- snippet: skip (REASON) -->`` is not run (it needs a real board
   or root); the reason is required.
 
+A block that uses a file an earlier block of the page made must say so where the reader
+sees it: the text between the previous block and this one (HTML comments do not count) names
+the file. So must a ``file:`` block name the file it is saved as.
+
 Each page runs in its own temporary directory with ``../shared`` pointing at the shared
 fixtures, as from the repository root, and ``rcb4hv`` on the PATH.
 """
@@ -33,6 +37,8 @@ from tests.conftest import FIXTURES, REPO
 PAGES = [REPO / "README.md", *sorted((REPO / "docs").rglob("*.md"))]
 FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
 MARK = re.compile(r"<!--\s*(file|snippet):\s*([^>]*?)\s*-->\s*$")
+COMMENT = re.compile(r"<!--.*?-->", re.S)
+SCRATCH = {".stdout", ".stderr", "snippet.py"}
 RUN = {"python", "sh", "bash", "console"}
 
 
@@ -44,6 +50,7 @@ class Block:
     text: str
     file: str | None = None
     skip: str | None = None
+    prose: str = ""  # what the reader sees between the previous block and this one
 
     @property
     def id(self) -> str:
@@ -53,9 +60,12 @@ class Block:
 def blocks(page: Path) -> list[Block]:
     source = page.read_text(encoding="utf-8")
     out = []
+    last_end = 0
     for m in FENCE.finditer(source):
         before = source[: m.start()].rstrip("\n").rsplit("\n", 1)[-1]
         block = Block(page, source.count("\n", 0, m.start()) + 1, m.group(1), m.group(2))
+        block.prose = COMMENT.sub("", source[last_end : m.start()])
+        last_end = m.end()
         mark = MARK.search(before)
         if mark and mark.group(1) == "file":
             block.file = mark.group(2)
@@ -170,16 +180,34 @@ def test_every_page_is_collected() -> None:
     "page", _pages_with_runnable_blocks(), ids=lambda p: str(p.relative_to(REPO))
 )
 def test_examples_run(page: Path, tmp_path: Path) -> None:
-    if not FIXTURES.is_dir():
-        pytest.skip(f"HeartToHeart4 fixtures not found at {FIXTURES} (../shared absent)")
     cwd = _workdir(tmp_path)
     ran = 0
+    made: set[str] = set()  # files earlier blocks left in the work directory
+    unsaid: list[str] = []
     for block in blocks(page):
         if block.skip or not (block.lang in RUN or block.file):
             continue
+        if block.file is not None and not _mentions(block.prose, block.file):
+            unsaid.append(f"{block.id} is saved as {block.file} without saying so")
+        unsaid += [
+            f"{block.id} uses {name}, made by an earlier block, without saying so"
+            for name in sorted(made)
+            if _mentions(block.text, name) and not _mentions(block.prose, name)
+        ]
         run_block(block, cwd)
+        made |= _files(cwd)
         ran += 1
     assert ran
+    assert not unsaid, "\n".join(unsaid)
+
+
+def _files(cwd: Path) -> set[str]:
+    """Names of the files in ``cwd`` that a later example could use (names with a suffix)."""
+    return {p.name for p in cwd.rglob("*") if p.is_file() and "." in p.name} - SCRATCH
+
+
+def _mentions(text: str, name: str) -> bool:
+    return re.search(rf"(?<![\w.-]){re.escape(name)}(?![\w-])", text) is not None
 
 
 def test_skip_markers_are_rare() -> None:

@@ -150,7 +150,9 @@ def test_emulate_layout_2_1_serves_both_older_and_new_clients(tmp_path: Path) ->
                 polls += 1
                 assert time.monotonic() - t0 < 10
                 time.sleep(0.05)
-            assert polls >= 3  # the motion took its time (0.6 s at 15 ms periods or more)
+            # the motion took its time (0.6 s at 15 ms periods or more, real time: the
+            # emulator serves it on its real clock), however few polls a loaded machine made
+            assert polls >= 1 and time.monotonic() - t0 >= 0.5
         finally:
             port.close()
     finally:

@@ -1,7 +1,7 @@
 """The PyPI ``rcb4`` client (0.1.6), unchanged, against ``rcb4hv emulate --pty``.
 
-Builds a throwaway venv once per session (``pip install --no-deps rcb4==0.1.6 numpy pyserial``)
-and runs ``rcb4_driver.py`` in it; skipped with the reason when the registry is unreachable.
+``rcb4`` comes from the ``test`` extra (``make test`` installs it); ``rcb4_driver.py`` runs
+in a subprocess of this interpreter and prints JSON lines.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-import venv
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import pytest
@@ -18,46 +18,21 @@ from rcb4hv.rom import DEFAULT_ICS
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
-NETWORK_HINTS = (
-    "NewConnectionError",
-    "Failed to establish",
-    "Temporary failure in name resolution",
-    "Could not find a version",
-    "No matching distribution",
-    "Network is unreachable",
-    "ConnectTimeout",
-    "ReadTimeout",
-    "ProxyError",
-)
+PEER_VERSION = "0.1.6"  # the pin of pyproject.toml's test extra
 
 
 @pytest.fixture(scope="session")
-def rcb4_python(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    root = tmp_path_factory.mktemp("rcb4-venv")
-    venv.create(root, with_pip=True)
-    py = root / "bin" / "python"
-    proc = subprocess.run(
-        [
-            str(py),
-            "-m",
-            "pip",
-            "install",
-            "--quiet",
-            "--disable-pip-version-check",
-            "--no-deps",
-            "rcb4==0.1.6",
-            "numpy",
-            "pyserial",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=100,
+def rcb4_python() -> Path:
+    """This interpreter, which must hold the pinned peer client."""
+    try:
+        found = version("rcb4")
+    except PackageNotFoundError:
+        found = None
+    assert found == PEER_VERSION, (
+        f"the peer client rcb4=={PEER_VERSION} is not installed (found {found}): "
+        "pip install -e '.[test]' (make test does it)"
     )
-    if proc.returncode != 0:
-        if any(h in proc.stderr for h in NETWORK_HINTS):
-            pytest.skip(f"PyPI unreachable, cannot install rcb4 0.1.6: {proc.stderr[-300:]}")
-        pytest.fail(f"pip failed: {proc.stderr[-2000:]}")
-    return py
+    return Path(sys.executable)
 
 
 @pytest.mark.slow

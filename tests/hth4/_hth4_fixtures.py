@@ -5,16 +5,14 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-import pytest
+from tests.conftest import KXR_PROJECT_DIR
 
-REPO_ROOT = Path(__file__).resolve().parents[2]
-FIXTURES = REPO_ROOT.parent / "shared" / "fixtures" / "hth4" / "kxr-l2-hac"
+FIXTURES = KXR_PROJECT_DIR
 
 
 def fixture(name: str) -> Path:
     path = FIXTURES / name
-    if not path.is_file():
-        pytest.skip(f"HeartToHeart4 fixture {path} is absent (needs ../shared/fixtures/hth4)")
+    assert path.is_file(), f"HeartToHeart4 fixture {path} is missing from ../shared"
     return path
 
 

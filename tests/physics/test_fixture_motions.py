@@ -29,6 +29,9 @@ from tests.physics.robots import biped
 KXR = load_builtin("kxr-l2-gripper")
 IMAGE, LAYOUT, NAMES = load_image(Path(PROJECT))
 WALK_FORWARD, TURN_LEFT, TURN_RIGHT = 9, 13, 14  # XL2G_109, XL2G_113, XL2G_114
+GREETING = 21  # XL2G_201_挨拶: a bow
+SLOW_FORWARD, SLOW_BACK, SLOW_RIGHT = 5, 6, 8  # XL2G_105/106/108: five slow steps
+SIDE_LEFT, SIDE_RIGHT = 11, 12  # XL2G_111/112: a fast side step left / right
 
 
 def play(*slots: int, sequence: bool = False) -> list[PhysicsOutcome]:
@@ -41,7 +44,39 @@ def test_the_walk_forward_goes_forward_without_falling() -> None:
     assert not out.fell and out.end_pose == "upright"
     assert out.dx_m > 0.005
     assert abs(out.dy_m) < out.dx_m
+
+
+def test_five_steps_forward_walk_forward_without_falling() -> None:
+    # with kxreus's sole (105 x 67 mm, reaching 46 mm outward of the ankle); with an 80 x 50
+    # mm sole centred under the ankle the robot fell on its side at 1.1 s
+    (out,) = play(SLOW_FORWARD)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dx_m > 0.2
+    assert abs(out.dy_m) < 0.05
     assert abs(out.dyaw_deg) < 10.0
+
+
+def test_five_steps_back_walk_back_without_falling() -> None:
+    (out,) = play(SLOW_BACK)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dx_m < -0.2
+    assert abs(out.dy_m) < 0.1
+
+
+def test_five_steps_right_walk_right_without_falling() -> None:
+    # (five steps left, XL2G_107, go left but fall at 6.6 s: a margin case, docs/physics.md)
+    (out,) = play(SLOW_RIGHT)
+    assert not out.fell and out.end_pose == "upright"
+    assert out.dy_m < -0.15
+    assert abs(out.dx_m) < abs(out.dy_m) / 2
+
+
+@pytest.mark.parametrize(("slot", "sign"), [(SIDE_LEFT, 1), (SIDE_RIGHT, -1)])
+def test_side_steps_go_sideways_the_right_way(slot: int, sign: int) -> None:
+    (out,) = play(slot)
+    assert not out.fell and out.end_pose == "upright"
+    assert sign * out.dy_m > 0.03
+    assert abs(out.dx_m) < abs(out.dy_m) / 2
 
 
 @pytest.mark.parametrize(("slot", "sign"), [(TURN_LEFT, 1), (TURN_RIGHT, -1)])
@@ -50,6 +85,14 @@ def test_turns_turn_the_right_way(slot: int, sign: int) -> None:
     assert not out.fell and out.end_pose == "upright"
     assert sign * out.dyaw_deg > 10.0
     assert math.hypot(out.dx_m, out.dy_m) < 0.05
+
+
+def test_the_fixture_greeting_bows_upright_and_in_place() -> None:
+    # with kxreus's link centres of mass (kxrl2g.l); with box centroids it fell on its front
+    (out,) = play(GREETING)
+    assert not out.fell and out.end_pose == "upright"
+    assert math.hypot(out.dx_m, out.dy_m) < 0.02
+    assert abs(out.dyaw_deg) < 3.0
 
 
 def test_a_sequence_plays_on_without_a_reset() -> None:

@@ -88,3 +88,28 @@ def edit_frame(frame: str, **offsets: int) -> str:
     for name, value in offsets.items():
         data[int(name[1:])] = value
     return with_checksum(bytes(data[:-1]))
+
+
+def frames_at(address: int, commands: list[object]) -> list[str]:
+    """HeartToHeart4 frame texts of ``commands`` (Command objects or frame texts); a command
+    given as ``callable(addresses)`` is built once every frame's address is known (forward
+    jumps). ``address`` is where the first frame lands in ROM."""
+    from rcb4hv.protocol import encode_command
+
+    sizes = []
+    for c in commands:
+        if isinstance(c, str):
+            sizes.append(len(bytes.fromhex(c)))
+        elif callable(c):
+            sizes.append(7)  # JUMP / CALL: 07 0B/0C A0 A1 A2 COND SUM
+        else:
+            sizes.append(len(encode_command(c)))  # type: ignore[arg-type]
+    starts = [address + sum(sizes[:i]) for i in range(len(sizes))]
+    out = []
+    for c in commands:
+        if isinstance(c, str):
+            out.append(c)
+            continue
+        cmd = c(starts) if callable(c) else c
+        out.append(encode_command(cmd).hex(" ").upper())  # type: ignore[arg-type]
+    return out

@@ -7,6 +7,7 @@ Quirks: SetStretch values of 0, priority checks with ``Address`` -1, ``LowPowerM
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 import pytest
@@ -18,21 +19,29 @@ from rcb4hv.project.image import build_project_image, read_image
 from rcb4hv.project.options import BuildOptions
 from rcb4hv.project.simulate import Simulator
 from rcb4hv.protocol import (
+    ALWAYS,
     SYS,
     Call,
+    Condition,
+    Data,
     Ics,
+    Jump,
     Move,
     Ram,
+    Return,
     SetStretch,
+    Sub,
     decode_command,
     encode_command,
     frame_at,
 )
+from rcb4hv.protocol.memory import ADDR, SERVO
 from rcb4hv.rom import layout
 from tests.project.quirks import (
     EMPTY_ADDRESS,
     edit_frame,
     fixture_xml,
+    frames_at,
     load,
     motion_frames,
     set_motion_frames,
@@ -192,3 +201,83 @@ def test_boot_failure_inside_the_startup_motion_names_it(xml: str) -> None:
     assert boot.error == "startup motion 13B80h (slot 39): command error: ICS 30 is not allocated"
     assert boot.instruction == "MOVE RAM[VAR[0]], ICS[30].MEASURED, 2"
     assert sim.play(layout.motion_address(9)).status == "completed"
+
+
+# --------------------------------------------------------------- the last real projects' loops
+
+HOLD_SLOT = 2  # replaced by each pattern below; the fixture's motion 2 is a short walk
+
+
+def _replace_motion(xml: str, commands: list[object]) -> bytes:
+    frames = frames_at(layout.motion_address(HOLD_SLOT), commands)
+    return build_project_image(load(set_motion_frames(xml, HOLD_SLOT, frames)))
+
+
+def test_gyro_mixed_hold_loop_is_holding(xml: str, tmp_path: Path) -> None:
+    """The wheeled KXR balance projects: a pose, then an endless loop that (re)sets servo
+    mixing from the gyro's AD channel and reads nothing itself; the board balances through
+    the mixing every output period."""
+    pose = motion_frames(xml, HOLD_SLOT)[1]
+    gyro = ADDR.AD_VALUES + 2 * 1  # AD1
+    loop = [
+        pose,
+        Move(Ics(SERVO.MIX1_SOURCE, 2), Data(gyro.to_bytes(2, "little"))),
+        Move(Ics(SERVO.MIX1_METHOD, 2), Data(b"\x05")),  # + 5 x AD1
+        lambda at: Jump(at[1], ALWAYS),
+    ]
+    image = _replace_motion(xml, loop)
+    sim = Simulator(image)
+    assert sim.boot().status == "completed"
+    r = sim.play(layout.motion_address(HOLD_SLOT))
+    assert r.status == "holding", r
+    assert r.inputs == ("AD1",) and r.ok
+    assert "servos mixed from AD1" in r.detail
+    # the same loop without the mixing is an endless loop: stalled
+    r = Simulator(_replace_motion(xml, [pose, lambda at: Jump(at[1], ALWAYS)]))
+    r.boot()
+    assert r.play(layout.motion_address(HOLD_SLOT)).status == "stalled"
+    # and the command line says holding and exits 0
+    path = _write(
+        tmp_path,
+        set_motion_frames(xml, HOLD_SLOT, frames_at(layout.motion_address(HOLD_SLOT), loop)),
+    )
+    res = CliRunner().invoke(cli, ["project", "simulate", str(path), "--motion", "2"])
+    assert res.exit_code == 0, res.output
+    assert "holding" in res.output and "servos mixed from AD1" in res.output
+
+
+def test_long_counted_loop_finishes_past_the_old_limit(xml: str, tmp_path: Path) -> None:
+    """The KHR-3HV project: a counter counted down from 256, two poses per pass: 77 s of
+    virtual time, past the fixed 60 s of the old default limit, and it completes."""
+    frames = motion_frames(xml, HOLD_SLOT)
+    speed = 10  # output periods per pose: 150 ms at the fixture's 15 ms period
+    there, back = (edit_frame(f, b7=speed) for f in frames[1:3])
+    var = ADDR.user_variable(0)
+    loop = [
+        Move(Ram(var), Data((256).to_bytes(2, "little"))),
+        there,
+        back,
+        Sub(Ram(var), Data(b"\x01\x00")),
+        lambda at: Jump(at[1], Condition.if_not_zero()),
+        Return(),
+    ]
+    image = _replace_motion(xml, loop)
+    sim = Simulator(image)
+    assert sim.boot().status == "completed"
+    t0 = time.perf_counter()
+    r = sim.play(layout.motion_address(HOLD_SLOT))
+    took = time.perf_counter() - t0
+    assert r.status == "completed", r
+    assert 256 * 2 * speed * 0.015 <= r.duration < 256 * 2 * (speed + 1) * 0.015 + 1
+    assert took < 30  # virtual time is cheap (about a second here)
+    # an explicit limit is still a hard one
+    sim2 = Simulator(image)
+    sim2.boot()
+    assert sim2.play(layout.motion_address(HOLD_SLOT), limit=60.0).status == "timeout"
+    path = _write(
+        tmp_path,
+        set_motion_frames(xml, HOLD_SLOT, frames_at(layout.motion_address(HOLD_SLOT), loop)),
+    )
+    res = CliRunner().invoke(cli, ["project", "simulate", str(path), "--motion", "2"])
+    assert res.exit_code == 0, res.output
+    assert "1 completed" in res.output

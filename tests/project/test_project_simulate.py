@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import time
+
 import pytest
 
 from rcb4hv import hth4
 from rcb4hv.emulator import EmulatorConfig
-from rcb4hv.project.simulate import MotionResult, Simulator
+from rcb4hv.project.simulate import PROGRESS_WINDOW, MotionResult, Simulator
 from rcb4hv.protocol import (
     ALWAYS,
     Add,
@@ -20,6 +22,7 @@ from rcb4hv.protocol import (
     Ram,
     Return,
 )
+from rcb4hv.protocol.memory import ADDR
 from rcb4hv.rom import ImageDescription, Motion, ServoConfig, build_image, layout
 
 
@@ -144,6 +147,22 @@ def test_endless_loop_without_inputs_is_stalled_and_a_counter_times_out() -> Non
     r = _play(_image(counter), limit=2.0)
     assert r.status == "timeout" and abs(r.duration - 2.0) < 0.01
     assert a <= (r.pc or 0) < a + 16
+
+
+def test_a_loop_without_progress_times_out_after_one_window() -> None:
+    """No explicit limit: a loop that never recurs but changes nothing a motion's progress
+    shows (servos, loop counters, variables; here only a temporary word) is a timeout after
+    one progress window, not after the hour a progressing motion may take."""
+    a = layout.motion_address(1)
+    busy = [Add(Ram(ADDR.TEMPORARIES[0]), Data(b"\x01\x00")), Jump(a, ALWAYS)]
+    sim = Simulator(_image(busy))
+    assert sim.boot().status == "completed"
+    t0 = time.perf_counter()
+    r = sim.play(a)
+    assert r.status == "timeout" and r.error == "no progress", r
+    assert r.duration == pytest.approx(PROGRESS_WINDOW, abs=0.01)
+    assert "without progress" in r.detail
+    assert time.perf_counter() - t0 < 20  # one window of virtual time: well under a second
 
 
 def test_button_poll_is_waiting() -> None:

@@ -373,7 +373,11 @@ FAULT_SCENARIOS: Final[tuple[FaultScenario, ...]] = (
 """Every fault the suite injects, with the typed error it must produce."""
 
 SLACK: Final = 0.1
-"""Seconds a failing call may overrun its timeout (scheduling on a loaded 2-core box)."""
+"""Seconds a failing call may overrun its timeout in ``make reliability`` (its figure: a
+quiet 2-core box)."""
+LOADED_SLACK: Final = 1.0
+"""The same for the tests, which must pass on a loaded runner too (load 4 on two cores delays
+a wake-up by a good part of a second); a hang still fails them."""
 
 
 @dataclass
@@ -394,10 +398,11 @@ class TcpRig:
 
 
 @contextlib.contextmanager
-def tcp_rig(timeout: float = 0.25, seed: int = 0) -> Iterator[TcpRig]:
+def tcp_rig(timeout: float = 0.25, seed: int = 0, frame_timeout: float = 0.05) -> Iterator[TcpRig]:
     # A 50 ms frame timeout (the board's is 20 ms) leaves a split request's short gap a wide
-    # margin on a loaded machine; the long gap scales with it.
-    board = Board(EmulatorConfig(frame_timeout_s=0.05), clock=RealClock(speed=10.0))
+    # margin on a quiet machine; the long gap scales with it. The tests widen both (see
+    # test_rel_faults) to hold on a loaded one.
+    board = Board(EmulatorConfig(frame_timeout_s=frame_timeout), clock=RealClock(speed=10.0))
     server = TcpServer(board, "127.0.0.1", 0)
     rig: TcpRig | None = None
     try:
@@ -433,9 +438,12 @@ def _do_call(client: Rcb4Client, call: str, value: bytes) -> None:
         assert client.read_ram(0x0462, len(value)) == value
 
 
-def run_fault_scenario(rig: TcpRig, scenario: FaultScenario, value: bytes) -> FaultOutcome:
-    """Inject ``scenario.fault`` into one call, check its outcome and time, then check that
-    calls on the (healed) link work again. ``value`` is in RAM 0462 before the call."""
+def run_fault_scenario(
+    rig: TcpRig, scenario: FaultScenario, value: bytes, slack: float = SLACK
+) -> FaultOutcome:
+    """Inject ``scenario.fault`` into one call, check its outcome and time (``slack`` past
+    the timeout at most), then check that calls on the (healed) link work again. ``value`` is
+    in RAM 0462 before the call."""
     client = rig.client
     timeout = client.timeout
     if isinstance(scenario.fault, Fault):
@@ -460,7 +468,7 @@ def run_fault_scenario(rig: TcpRig, scenario: FaultScenario, value: bytes) -> Fa
     elif scenario.expected is not None and not isinstance(error, scenario.expected):
         want = "/".join(e.__name__ for e in scenario.expected)
         why = f"expected {want}, got {error!r}"
-    elif elapsed > timeout + SLACK:
+    elif elapsed > timeout + slack:
         why = f"took {elapsed:.3f} s with a timeout of {timeout} s"
     elif rig.faults.transactions - before != 1:
         why = f"{rig.faults.transactions - before} transactions: the client retried"

@@ -15,10 +15,7 @@ from tests.reliability.mutations import SEED_FRAMES
 
 @pytest.fixture(scope="module")
 def frames() -> list[bytes]:
-    try:
-        return fastfuzz.corpus()
-    except FileNotFoundError as exc:
-        pytest.skip(str(exc))
+    return fastfuzz.corpus()
 
 
 def test_corpus_is_the_fixture_motions_and_the_host_frames(frames: list[bytes]) -> None:

@@ -14,8 +14,11 @@ from pathlib import Path
 
 import pytest
 
-CHROMIUM = os.environ.get("RCB4HV_CHROMIUM", "/usr/bin/chromium")
-REQUIRE = os.environ.get("RCB4HV_REQUIRE_BROWSER") == "1"
+SKIP_ENV = "RCB4HV_SKIP_BROWSER"
+"""Set to 1 to skip the dashboard's browser tests (the only way to skip them: a missing
+browser is a failure, and the test summary says when they were skipped)."""
+CHROMIUM_ENV = "RCB4HV_CHROMIUM"
+DEBIAN_CHROMIUM = "/usr/bin/chromium"
 SHOTS = Path(
     os.environ.get(
         "RCB4HV_SCREENSHOTS", Path(__file__).resolve().parents[2] / "build" / "screenshots"
@@ -35,21 +38,51 @@ LAUNCH_ARGS = [
 ]
 
 
-def browser_or_skip() -> str:
-    """Chromium's path; skip (or fail under RCB4HV_REQUIRE_BROWSER=1) when it is missing."""
-    why = None
-    if not (Path(CHROMIUM).is_file() or shutil.which(CHROMIUM)):
-        why = f"no Chromium at {CHROMIUM} (apt-get install chromium)"
-    else:
-        try:
-            import playwright  # noqa: F401
-        except ImportError:
-            why = "playwright is not installed (pip install -e '.[dev]')"
-    if why is not None:
-        if REQUIRE:
-            pytest.fail(f"browser tests required (RCB4HV_REQUIRE_BROWSER=1): {why}")
-        pytest.skip(why)
-    return CHROMIUM
+def skip_requested() -> bool:
+    """True when the browser tests are opted out with ``RCB4HV_SKIP_BROWSER=1``."""
+    return os.environ.get(SKIP_ENV) == "1"
+
+
+def _playwright_chromium() -> str | None:
+    """The Chromium that ``playwright install chromium`` downloaded, if there is one."""
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        return None
+    with sync_playwright() as pw:
+        path = str(pw.chromium.executable_path)
+    return path if Path(path).is_file() else None
+
+
+def find_chromium() -> str | None:
+    """The browser the tests drive: ``$RCB4HV_CHROMIUM`` if set (and nothing else then),
+    else Debian's ``/usr/bin/chromium``, a ``chromium`` on PATH, or Playwright's download."""
+    explicit = os.environ.get(CHROMIUM_ENV)
+    if explicit:
+        return explicit if (Path(explicit).is_file() or shutil.which(explicit)) else None
+    for name in (DEBIAN_CHROMIUM, "chromium", "chromium-browser"):
+        found = shutil.which(name)
+        if found:
+            return found
+    return _playwright_chromium()
+
+
+def require_browser() -> str:
+    """Chromium's path for the browser tests. A missing browser or Playwright fails the test
+    (``make test`` installs both); only ``RCB4HV_SKIP_BROWSER=1`` skips."""
+    if skip_requested():
+        pytest.skip(f"{SKIP_ENV}=1: the dashboard's browser tests were opted out")
+    try:
+        import playwright  # noqa: F401
+    except ImportError:
+        pytest.fail("playwright is not installed (pip install -e '.[dev]'; make test does it)")
+    path = find_chromium()
+    if path is None:
+        pytest.fail(
+            "no Chromium for the browser tests: run tools/ensure-browser (make test does), "
+            f"or set {SKIP_ENV}=1 to skip them"
+        )
+    return path
 
 
 @contextmanager
@@ -96,3 +129,9 @@ def ui_server(board_url: str, *extra: str) -> Iterator[str]:
             proc.wait()
         if proc.stdout is not None:
             proc.stdout.close()
+
+
+if __name__ == "__main__":  # tools/ensure-browser asks here what the tests would find
+    found = find_chromium()
+    print(found or "")
+    sys.exit(0 if found else 1)

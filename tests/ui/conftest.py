@@ -10,7 +10,7 @@ import pytest
 
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, TcpServer
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
-from tests.ui.browser import LAUNCH_ARGS, SHOTS, browser_or_skip, ui_server
+from tests.ui.browser import LAUNCH_ARGS, SHOTS, require_browser, ui_server
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +26,7 @@ def board() -> Iterator[tuple[Board, str]]:
 
 @pytest.fixture(scope="module")
 def chromium_path() -> str:
-    return browser_or_skip()
+    return require_browser()
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,5 @@
-"""``rcb4hv emulate``: serve an emulated RCB-4HV on a pty or a TCP socket."""
+"""``rcb4hv emulate``: serve an emulated RCB-4HV on a pty or a TCP socket;
+``rcb4hv emulate-ics``: serve an emulated ICS servo bus the same way."""
 
 from __future__ import annotations
 
@@ -7,10 +8,19 @@ import signal
 import sys
 import threading
 from types import FrameType
+from typing import TYPE_CHECKING
 
 import click
 
+if TYPE_CHECKING:
+    from rcb4hv.emulator.server import Served
+
 log = logging.getLogger(__name__)
+
+# emulate-ics on a pty holds a reply until the client has reconfigured the port (rcb4's ics.py
+# does, ~2 ms after writing: tx time + 2 ms) or for this long (see emulator.ptywatch); a client
+# that never reconfigures waits it once per command, well inside the 0.1 s ICS reply timeout.
+ICS_REPLY_GATE_S = 0.04
 
 
 def _parse_hostport(value: str) -> tuple[str, int]:
@@ -53,6 +63,12 @@ def _parse_hostport(value: str) -> tuple[str, int]:
 )
 @click.option("--pace", is_flag=True, help="Pace replies at the configured COM baud.")
 @click.option("--frame-timeout", type=float, default=None, help="Partial-frame timeout in seconds.")
+@click.option(
+    "--ics-comm",
+    is_flag=True,
+    help="Answer 0Eh (ICS communication) from emulated ICS servos on the SIO lines "
+    "(the servo slots' servos); without it 0Eh is NAKed as before.",
+)
 def emulate(
     use_pty: bool,
     tcp: str | None,
@@ -63,19 +79,19 @@ def emulate(
     boot: str,
     pace: bool,
     frame_timeout: float | None,
+    ics_comm: bool,
 ) -> None:
     """Run the board emulator until interrupted (SIGINT/SIGTERM: clean exit 0).
 
     Prints one line, ``PTY <path>`` or ``TCP <host>:<port>``, as soon as it is ready.
     """
     from rcb4hv.emulator import Board, BootClock, EmulatorConfig, boot_to_main_loop
-    from rcb4hv.emulator.server import PtyServer, TcpServer
 
     if use_pty == (tcp is not None):
         raise click.UsageError("give exactly one of --pty or --tcp HOST:PORT")
     if not speed > 0:
         raise click.BadParameter("must be > 0", param_hint="--speed")
-    kwargs: dict[str, object] = {"pace_replies": pace}
+    kwargs: dict[str, object] = {"pace_replies": pace, "ics_comm": ics_comm}
     if latency is not None:
         kwargs["min_reply_latency_s"] = latency
     if frame_timeout is not None:
@@ -96,6 +112,16 @@ def emulate(
     if boot == "ready":
         boot_to_main_loop(board, clock, lay)
     clock.go_real()
+    _serve(board, use_pty, tcp, f"speed {speed:g}")
+
+
+def _serve(
+    device: Served, use_pty: bool, tcp: str | None, what: str, reply_gate_s: float = 0.0
+) -> None:
+    """Serve ``device`` on a pty or TCP until SIGINT/SIGTERM; print ``PTY``/``TCP`` first."""
+    from rcb4hv.emulator.ptywatch import WatchingPtyServer
+    from rcb4hv.emulator.server import PtyServer, TcpServer
+
     stop = threading.Event()
 
     def handler(signum: int, frame: FrameType | None) -> None:
@@ -105,27 +131,87 @@ def emulate(
     signal.signal(signal.SIGTERM, handler)
     server: PtyServer | TcpServer
     if use_pty:
-        server = PtyServer(board)
+        server = (
+            WatchingPtyServer(device, reply_gate_s=reply_gate_s)
+            if reply_gate_s > 0
+            else PtyServer(device)
+        )
         line = f"PTY {server.path}"
     else:
         assert tcp is not None
         host, port = _parse_hostport(tcp)
-        server = TcpServer(board, host, port)
+        server = TcpServer(device, host, port)
         line = f"TCP {server.address[0]}:{server.address[1]}"
     server.start()
     print(line, flush=True)
-    log.info("emulator serving (%s), speed %g", line, speed)
+    log.info("emulator serving (%s), %s", line, what)
     try:
         while not stop.wait(0.5):
             if server.error is not None:
                 break
     finally:
         server.stop()
-        board.close()
+        close = getattr(device, "close", None)
+        if close is not None:
+            close()
     if server.error is not None:
         sys.exit(1)
+
+
+@click.command("emulate-ics")
+@click.option("--pty", "use_pty", is_flag=True, help="Serve on a new pseudo-terminal.")
+@click.option("--tcp", "tcp", metavar="HOST:PORT", help="Serve on TCP (e.g. 127.0.0.1:0).")
+@click.option("--ids", default="0", show_default=True, help="Servo IDs on the bus, e.g. 0,1,5.")
+@click.option(
+    "--baud",
+    type=click.Choice(["115200", "625000", "1250000"]),
+    default="115200",
+    show_default=True,
+    help="The servos' baud rate (EEPROM). A pty cannot see the host's rate or parity: "
+    "every servo answers whatever the host set.",
+)
+@click.option("--speed", type=float, default=1.0, show_default=True, help="Clock speed factor.")
+@click.option(
+    "--version",
+    "ics_version",
+    type=click.Choice(["3.5", "3.6"]),
+    default="3.6",
+    show_default=True,
+    help="3.5: the servos do not answer the ICS 3.6 position read (sc 5).",
+)
+@click.option("--pace", is_flag=True, help="Pace replies at the baud rate (11 bits a byte).")
+def emulate_ics(
+    use_pty: bool,
+    tcp: str | None,
+    ids: str,
+    baud: str,
+    speed: float,
+    ics_version: str,
+    pace: bool,
+) -> None:
+    """Run an emulated ICS 3.5/3.6 servo bus until interrupted (one servo, ID 0, by default).
+
+    Prints one line, ``PTY <path>`` or ``TCP <host>:<port>``, as soon as it is ready. The
+    host hears its own bytes echoed before each reply, as on the real half-duplex wire.
+    """
+    from rcb4hv.emulator import RealClock
+    from rcb4hv.ics import EmulatedBus, IcsSettings, ServeOptions, parse_ids
+
+    if use_pty == (tcp is not None):
+        raise click.UsageError("give exactly one of --pty or --tcp HOST:PORT")
+    if not speed > 0:
+        raise click.BadParameter("must be > 0", param_hint="--speed")
+    try:
+        id_list = parse_ids(ids)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--ids") from exc
+    settings = IcsSettings(version="3.5" if ics_version == "3.5" else "3.6")
+    bus = EmulatedBus.with_ids(id_list, clock=RealClock(speed), settings=settings, baud=int(baud))
+    bus.config = ServeOptions(pace_replies=pace)
+    _serve(bus, use_pty, tcp, f"ICS IDs {list(id_list)} at {baud} baud", ICS_REPLY_GATE_S)
 
 
 def register(cli: click.Group) -> None:
     """Add this module's commands to ``cli``."""
     cli.add_command(emulate)
+    cli.add_command(emulate_ics)

@@ -71,7 +71,7 @@ def run_physics(
     model: RobotModel,
     *,
     sequence: bool,
-    limit: float,
+    limit: float | None,
     hold: int,
     hold_for: float,
     track: bool,

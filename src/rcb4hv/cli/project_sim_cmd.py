@@ -65,9 +65,9 @@ if TYPE_CHECKING:
 @click.option(
     "--limit",
     type=click.FloatRange(min=0.001),
-    default=60.0,
-    show_default=True,
-    help="Virtual seconds per motion before it counts as a timeout.",
+    default=None,
+    help="Virtual seconds per motion before it counts as a timeout (default: as long as it "
+    "makes progress - servos, loop counters or variables change within 60 s - up to 1 h).",
 )
 @click.option(
     "--physics",
@@ -105,7 +105,7 @@ def simulate(
     plot: Path | None,
     hold_button: str | None,
     hold_for: float,
-    limit: float,
+    limit: float | None,
     physics: bool,
     robot: str | None,
     start: StartPose,
@@ -116,11 +116,13 @@ def simulate(
 
     Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
     completed (returned to the main loop), waiting (loops reading an input, e.g. a button
-    or AD sensor, as its program defines), stalled (repeats itself without reading any
-    input), timeout (--limit reached) or error (ROMERR, command error, call-stack
-    overflow/underflow; with the PC and the instruction). A boot that fails is reported with
-    its cause and the motions are still played from the host. Exit status 0 when the boot
-    and every motion completed or wait, 1 if any error, 2 if any timeout or stall.
+    or AD sensor, as its program defines), holding (loops without reading an input while
+    servos are mixed from an AD sensor, e.g. a gyro balancing the robot), stalled (repeats
+    itself without reading any input), timeout (no progress for 60 s, 1 h in all, or
+    --limit reached) or error (ROMERR, command error, call-stack overflow/underflow; with the
+    PC and the instruction). A boot that fails is reported with its cause and the motions are
+    still played from the host. Exit status 0 when the boot and every motion completed, wait
+    or hold, 1 if any error, 2 if any timeout or stall.
 
     With --physics each motion plays on the robot standing on flat ground in the pose the
     board holds after its boot (--sequence: one after another without standing it up again)
@@ -236,7 +238,7 @@ def _physics(
     as_json: bool,
     plot: Path | None,
     *,
-    limit: float,
+    limit: float | None,
     hold: int,
     hold_for: float,
     start: StartPose,

@@ -26,6 +26,7 @@ from rcb4hv.emulator import accel
 from rcb4hv.emulator.clock import Clock, VirtualClock
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import BoardReset, CommandError, Stop
+from rcb4hv.emulator.icslines import IcsLines
 from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
 from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
@@ -109,6 +110,10 @@ class Board:
             on_reset=self.power_on,
             accelerate=accelerate,
         )
+        self.ics_lines: IcsLines | None = None  # the SIO lines' ICS servos, for 0Eh
+        if self.config.ics_comm:
+            self.ics_lines = IcsLines(self._servos, self.config, self.clock)
+            self._interp.ics_comm = self.ics_lines.exchange
         self.frames_handled = 0
         self._closed = False
         self.power_on()

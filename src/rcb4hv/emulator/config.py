@@ -30,6 +30,10 @@ exception, #4, where HeartToHeart4's own programs are the evidence):
 14    ``free_hold_base``              ``"include"``: the value sent for free/hold includes the
                                       base (+2) and mixing; ``"omit"``
 ====  ==============================  =========================================================
+
+``ics_comm`` (default ``False``): 0Eh ICS communication is answered by emulated ICS servos on
+the SIO lines (:mod:`rcb4hv.emulator.icslines`) instead of the NAK "no device answers". The
+reference says 0Eh must not be used ("a problem in the specification"), so it is opt-in.
 """
 
 from __future__ import annotations
@@ -85,6 +89,7 @@ class EmulatorConfig:
     servo_initial_position: int = 7500
     supply_voltage: float = 11.1
     ad_values: tuple[int, ...] = (0,) * 10
+    ics_comm: bool = False
     # --- serving
     min_reply_latency_s: float = 0.001
     pace_replies: bool = False
@@ -137,6 +142,8 @@ class EmulatorConfig:
         object.__setattr__(self, "ad_values", ads)
         if round(self.supply_voltage * 1024 / 25) > 1023:
             raise ValueError("supply_voltage above the AD0 range (< 25 V)")
+        if not isinstance(self.ics_comm, bool):
+            raise ValueError("ics_comm must be True or False")
         if not isinstance(self.max_pending_output, int) or self.max_pending_output < 256:
             raise ValueError("max_pending_output must be >= 256")
 

@@ -118,6 +118,8 @@ class Interpreter:
         self.accelerate = accelerate
         self._on_rom_write = on_rom_write
         self._on_reset = on_reset
+        # 0Eh: (ICS number, bytes sent) -> the device's answer or None (set by the board)
+        self.ics_comm: Callable[[int, bytes], bytes | None] | None = None
         self._any = config.branch_condition == "or"
         self._logic_clear = config.logic_carry == "clear"
         self.cache: dict[int, Entry] = {}
@@ -279,7 +281,13 @@ class Interpreter:
         return Ack(cmd.cmd) if next_pc is None else None
 
     def _exec_icscomm(self, cmd: CommunicateDevice, next_pc: int | None) -> Reply | None:
-        raise CommandError("ICS communication (0Eh): no device answers")
+        answer = None
+        if self.ics_comm is not None:
+            answer = self.ics_comm(cmd.ics, self.read(Ram(cmd.tx_address), cmd.tx_count))
+        if not answer:
+            raise CommandError("ICS communication (0Eh): no device answers")
+        self.write(Ram(cmd.rx_address), answer)  # CommandError (NAK) if it runs past RAM
+        return Ack(cmd.cmd)
 
     def data_op(self, cmd: accel.DataCommand, op: AluOp) -> bytes:
         """AND..SHIFT: compute through the ALU, write back unless NW, set Z and C."""

@@ -14,6 +14,7 @@ Options (query string):
   ``min_reply_latency_s``);
 * ``board=N``   serve a Board registered with :func:`emulator_url` instead of a new one
   (tests use this to drive a board on a virtual clock and inspect its RAM);
+* ``ics_comm=1``: answer 0Eh from emulated ICS servos (``EmulatorConfig.ics_comm``);
 * ``boot=ready`` (default) or ``boot=live``: a new board first runs its start-up program
   in virtual time, so the port opens on a board whose ROM program has reached its main
   loop (servo table in RAM, servos homed) — a command sent right after opening finds the
@@ -39,13 +40,14 @@ from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
+from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.rom.default import default_image
 from rcb4hv.rom.layout import LAYOUTS
 
 if TYPE_CHECKING:
     from typing_extensions import Buffer
 
-__all__ = ["BoardLike", "Serial", "emulator_url"]
+__all__ = ["BoardLike", "Serial", "emulator_url", "registered_device"]
 
 SCHEME = "rcb4emu"
 
@@ -77,6 +79,11 @@ def emulator_url(board: BoardLike) -> str:
         n = next(_ids)
     _boards[n] = board
     return f"{SCHEME}://?board={n}"
+
+
+def registered_device(n: int) -> Any:
+    """The device registered as ``n`` by :func:`emulator_url` (None if gone)."""
+    return _boards.get(n)
 
 
 class Serial(SerialBase):
@@ -117,7 +124,8 @@ class Serial(SerialBase):
                 if self._layout is not None:
                     lay = LAYOUTS[self._layout]
                     image = default_image(lay)
-                self.board = Board(clock=clock, rom_image=image, rom_path=self._rom)
+                config = EmulatorConfig(ics_comm=self._ics_comm)
+                self.board = Board(config, clock=clock, rom_image=image, rom_path=self._rom)
                 if self._boot_ready:
                     boot_to_main_loop(self.board, clock, lay)
                 clock.go_real()
@@ -146,6 +154,7 @@ class Serial(SerialBase):
         self._speed, self._rom, self._latency, self._board_id = 1.0, None, None, None
         self._boot_ready = True
         self._layout = None
+        self._ics_comm = False
         try:
             for key, values in urllib.parse.parse_qs(parts.query, True).items():
                 value = values[-1]
@@ -163,6 +172,10 @@ class Serial(SerialBase):
                     self._latency = float(value)
                     if self._latency < 0:
                         raise ValueError("latency must be >= 0")
+                elif key == "ics_comm":
+                    if value not in ("0", "1"):
+                        raise ValueError("ics_comm must be 0 or 1")
+                    self._ics_comm = value == "1"
                 elif key == "board":
                     self._board_id = int(value)
                 elif key == "boot":

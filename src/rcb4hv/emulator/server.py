@@ -18,7 +18,12 @@ it can apply with EINVAL - which is what a reopen with the same settings plus ev
 is. The server therefore re-arms a sentinel speed (B50) on its slave fd whenever the client
 has been active (before answering it) and at least every :data:`PTY_REARM` seconds, so the next
 open always changes the speed and succeeds. Speed means nothing on a pty.
+Clients that reconfigure the port around every read need more: see
+:mod:`rcb4hv.emulator.ptywatch`.
 The TCP server serves one connection at a time; a new connection replaces the old one.
+
+Both serve any :class:`Served` device, not only a :class:`~rcb4hv.emulator.Board`: the ICS bus
+emulator (:class:`~rcb4hv.ics.EmulatedBus`, ``rcb4hv emulate-ics``) is served the same way.
 """
 
 from __future__ import annotations
@@ -36,12 +41,12 @@ import threading
 import time
 import tty
 from collections import deque
-from typing import Final
+from typing import Final, Protocol
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.protocol.memory import SystemRegister, read_system
 
-__all__ = ["PtyServer", "TcpServer"]
+__all__ = ["PtyServer", "Served", "TcpServer"]
 
 log = logging.getLogger(__name__)
 
@@ -53,7 +58,7 @@ SENTINEL_SPEED: Final = termios.B50
 PR_SET_TIMERSLACK: Final = 29
 
 
-def _fine_timer_slack() -> None:
+def fine_timer_slack() -> None:
     """Ask Linux to fire this thread's timers on time (``PR_SET_TIMERSLACK`` 1 ns instead of
     the default 50 µs): a paced reply is due a few hundred µs after its request, so the
     default slack alone would add a fifth to it. Anywhere else (or if it fails) nothing
@@ -70,13 +75,47 @@ def _fine_timer_slack() -> None:
         log.debug("no fine timer slack: %s", exc)
 
 
+class ServeConfig(Protocol):
+    """The serving fields of a device's configuration."""
+
+    @property
+    def min_reply_latency_s(self) -> float: ...
+
+    @property
+    def pace_replies(self) -> bool: ...
+
+
+class Served(Protocol):
+    """What the servers drive: bytes in, bytes out, on the device's own clock."""
+
+    @property
+    def config(self) -> ServeConfig: ...
+
+    def feed(self, data: bytes) -> bytes: ...
+
+    def tick(self) -> None: ...
+
+    def take_output(self) -> bytes: ...
+
+    def poll_timeout(self) -> float | None: ...
+
+    def reset_input(self) -> None: ...
+
+
+def _wire_baud(device: Served) -> int:
+    """The baud rate replies are paced at: the board's COM rate, or the device's own."""
+    if isinstance(device, Board):
+        return SystemRegister.from_word(read_system(device.ram)).baud_rate
+    return int(getattr(device, "wire_baud", 115200))
+
+
 class _Server:
-    """Common loop: the board, the reply queue and the stop pipe."""
+    """Common loop: the device, the reply queue and the stop pipe."""
 
     name = "rcb4hv-emulator"
     _max_wait = MAX_WAIT
 
-    def __init__(self, board: Board) -> None:
+    def __init__(self, board: Served) -> None:
         self.board = board
         self._queue: deque[tuple[float, bytes]] = deque()
         self._unsent = bytearray()
@@ -144,7 +183,7 @@ class _Server:
         cfg = self.board.config
         at = received + cfg.min_reply_latency_s
         if cfg.pace_replies:
-            baud = SystemRegister.from_word(read_system(self.board.ram)).baud_rate
+            baud = _wire_baud(self.board)
             at += (self._rx_unanswered + len(data)) * 11 / baud
         self._rx_unanswered = 0
         self._queue.append((at, data))
@@ -173,6 +212,9 @@ class _Server:
     def _on_write_error(self) -> None:
         pass
 
+    def _prepare_thread(self) -> None:
+        pass
+
     def _housekeeping(self) -> None:
         pass
 
@@ -187,7 +229,8 @@ class _Server:
 
     def _main(self) -> None:
         if self.board.config.pace_replies:
-            _fine_timer_slack()
+            fine_timer_slack()
+        self._prepare_thread()
         try:
             self._loop()
         except BaseException as exc:  # pragma: no cover - logged, the thread ends
@@ -236,7 +279,7 @@ class PtyServer(_Server):
     name = "rcb4hv-emulator-pty"
     _max_wait = PTY_REARM
 
-    def __init__(self, board: Board) -> None:
+    def __init__(self, board: Served) -> None:
         super().__init__(board)
         self._master, self._slave = pty.openpty()
         tty.setraw(self._slave)
@@ -244,6 +287,14 @@ class PtyServer(_Server):
         self.path = os.ttyname(self._slave)
         self._last_rearm = 0.0
         self._rearm()
+
+    def _armed(self) -> bool:
+        """Whether the slave carries the sentinel speed (no client open or reconfigure since)."""
+        try:
+            attrs = termios.tcgetattr(self._slave)
+        except (termios.error, OSError):
+            return False
+        return bool(attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED)
 
     def _rearm(self) -> None:
         """Put the sentinel speed on the slave so the next client open changes something."""
@@ -274,16 +325,19 @@ class PtyServer(_Server):
     def _out_fd(self) -> int | None:
         return self._master
 
-    def _on_readable(self, fd: int) -> bool:
+    def _read_master(self) -> bytes:
         try:
-            data = os.read(self._master, 4096)
+            return os.read(self._master, 4096)
         except BlockingIOError:
-            return False
+            return b""
         except OSError as exc:
             if exc.errno == errno.EIO:  # no one has the slave open (cannot happen: we hold it)
                 time.sleep(MIN_WAIT)
-                return False
+                return b""
             raise
+
+    def _on_readable(self, fd: int) -> bool:
+        data = self._read_master()
         if not data:
             return False
         self._rearm()
@@ -300,7 +354,7 @@ class TcpServer(_Server):
 
     name = "rcb4hv-emulator-tcp"
 
-    def __init__(self, board: Board, host: str = "127.0.0.1", port: int = 0) -> None:
+    def __init__(self, board: Served, host: str = "127.0.0.1", port: int = 0) -> None:
         super().__init__(board)
         self._listener = socket.create_server((host, port))
         self._listener.setblocking(False)

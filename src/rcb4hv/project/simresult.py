@@ -8,7 +8,7 @@ from typing import Literal
 
 __all__ = ["MotionResult", "Status"]
 
-Status = Literal["completed", "waiting", "stalled", "timeout", "error"]
+Status = Literal["completed", "waiting", "holding", "stalled", "timeout", "error"]
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,7 @@ class MotionResult:
 
     @property
     def ok(self) -> bool:
-        return self.status in ("completed", "waiting")
+        return self.status in ("completed", "waiting", "holding")
 
     def to_dict(self) -> dict[str, object]:
         return {
@@ -55,9 +55,13 @@ class MotionResult:
             where = "" if self.pc is None else f" at {self.pc:05X}h"
             ins = f": {self.instruction}" if self.instruction else ""
             return f"{self.error}{where}{ins}"
+        if self.status == "holding" and self.loop is not None:
+            sensors = ", ".join(self.inputs)
+            return f"loop {self.loop[0]:05X}-{self.loop[1]:05X}h: servos mixed from {sensors}"
         if self.loop is not None:
             what = ", ".join(self.inputs) if self.inputs else "nothing"
             return f"loop {self.loop[0]:05X}-{self.loop[1]:05X}h reads {what}"
         if self.status == "timeout":
-            return f"PC {self.pc:05X}h after the limit" if self.pc is not None else ""
+            why = "without progress" if self.error == "no progress" else "after the limit"
+            return f"PC {self.pc:05X}h {why}" if self.pc is not None else ""
         return ""

@@ -22,11 +22,19 @@ Each play ends in one of these states (:class:`MotionResult.status`):
     input, as its own program defines. ``loop`` gives the loop's ROM address range, ``inputs``
     what it reads. A recurring state means the loop can never end while the inputs stay as
     they are.
+``holding``
+    The program repeats itself exactly without reading any input itself, but servos are
+    mixed from an AD channel (mixing source in the AD values): the board holds a pose that
+    the sensor corrects every output period (a gyro balancing a wheeled robot), as its
+    program intends. ``inputs`` names the sensors (``AD1``).
 ``stalled``
     The program repeats itself exactly without reading any input (an endless loop, or update
     flags that never clear): it can never end.
 ``timeout``
-    Still running after ``limit`` virtual seconds without repeating itself.
+    Still running without repeating itself: with an explicit ``limit``, after that many
+    virtual seconds; by default (``limit=None``) after a :data:`PROGRESS_WINDOW` in which
+    neither a servo nor a loop counter or variable changed, or after :data:`MAX_LIMIT` at
+    most. A long counted loop that moves its servos is not a timeout: virtual time is cheap.
 ``error``
     The ROM program stopped (ROM_F cleared): ROMERR (a checksum error in a fetched
     instruction), a command error (unallocated ICS, RAM out of range, ...), a call-stack
@@ -46,7 +54,6 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
 from typing import Any, Final
 
 from rcb4hv.asm import format_command
@@ -54,6 +61,7 @@ from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError, SimulationError
 from rcb4hv.project.instructions import boot_cause, input_names
 from rcb4hv.project.simresult import MotionResult, Status
+from rcb4hv.project.simwatch import Watch, mixed_sensors, progress_state
 from rcb4hv.protocol import (
     Ack,
     Command,
@@ -81,6 +89,8 @@ from rcb4hv.rom.older import detect_image_layout
 
 __all__ = [
     "DEFAULT_LIMIT",
+    "MAX_LIMIT",
+    "PROGRESS_WINDOW",
     "MotionResult",
     "SampleListener",
     "SimulationError",
@@ -96,7 +106,15 @@ _DECODED: dict[bytes, tuple[Command | None, str]] = {}
 SampleListener = Callable[[float, dict[int, int]], None]
 
 DEFAULT_LIMIT: Final = 60.0
-"""Virtual seconds a motion may run before it is reported as ``timeout``."""
+"""Virtual seconds of an explicit limit's traditional default (``--limit 60``)."""
+PROGRESS_WINDOW: Final = 60.0
+"""Without a limit: virtual seconds a motion may run without any progress (no servo, loop
+counter or variable changed between two looks this far apart) before it is a ``timeout``.
+A pose lasts at most 255 output periods of at most 25 ms (6.4 s: spec 9 and the system
+register's period choice), so a motion that makes progress changes something in any 60 s."""
+MAX_LIMIT: Final = 3600.0
+"""Without a limit: virtual seconds a motion that keeps making progress may run at most (an
+hour: far past any motion played from a remote, and cheap, since waits are skipped in bulk)."""
 
 STEP_US: Final = 2000
 """Virtual microseconds per step while the program executes instructions (waits on update
@@ -111,34 +129,6 @@ _STOP_WORDS: Final[dict[str, str]] = {
     "suspended": "stopped by the host (ROM_F cleared)",
 }
 """How :class:`MotionResult` names the board's stop kinds (:class:`rcb4hv.emulator.Stop`)."""
-
-
-@dataclass
-class _Watch:
-    """Exact-state recurrence detector.
-
-    Looks only on a grid of ``grid_us`` (a common multiple of the output period and the 100 ms
-    timer period) from its start, so two equal looks are also at the same point of both
-    cycles; reset when an input or the output period changes.
-    """
-
-    start_us: int
-    grid_us: int
-    seen: dict[int, int] = field(default_factory=dict)
-
-    def next_look(self, t_us: int) -> int:
-        """Microseconds from ``t_us`` to the next look (0 if ``t_us`` is one)."""
-        return -(t_us - self.start_us) % self.grid_us
-
-    def check(self, board: Board, t_us: int) -> int | None:
-        """The time of an earlier look at the same state, or None."""
-        if (t_us - self.start_us) % self.grid_us:
-            return None
-        key = hash((bytes(board.ram), tuple(board.call_stack)))
-        first = self.seen.get(key)
-        if first is None:
-            self.seen[key] = t_us
-        return first
 
 
 class Simulator:
@@ -360,10 +350,12 @@ class Simulator:
         name: str = "",
         hold: int = 0,
         hold_for: float = 0.0,
-        limit: float = DEFAULT_LIMIT,
+        limit: float | None = None,
     ) -> MotionResult:
-        """Play the motion at ``address``; hold button word ``hold`` for ``hold_for`` seconds."""
-        if not limit > 0:
+        """Play the motion at ``address``; hold button word ``hold`` for ``hold_for`` seconds.
+        ``limit``: virtual seconds before a timeout (None: while it makes progress, see
+        :data:`PROGRESS_WINDOW` and :data:`MAX_LIMIT`)."""
+        if limit is not None and not limit > 0:
             raise ValueError("limit must be > 0")
         if not 0 <= hold <= 0xFFFF:
             raise ValueError("the button word is 16 bits")
@@ -387,19 +379,30 @@ class Simulator:
             n = b.instructions_executed - i0
             return MotionResult(slot, address, name, status, t / 1e6, n, held=held, **kw)
 
+        hold_us = round(hold_for * 1e6) if hold else None
         try:
-            return self._run(
-                result, t0, round(hold_for * 1e6) if hold else None, round(limit * 1e6)
-            )
+            if limit is not None:
+                return self._run(result, t0, hold_us, round(limit * 1e6), None)
+            window = round(PROGRESS_WINDOW * 1e6)
+            return self._run(result, t0, hold_us, round(MAX_LIMIT * 1e6), window)
         finally:
             if read_u16(b.ram, ADDR.BUTTONS):
                 b.set_buttons(0)
 
     def _run(
-        self, result: Callable[..., MotionResult], t0: int, hold_us: int | None, limit_us: int
+        self,
+        result: Callable[..., MotionResult],
+        t0: int,
+        hold_us: int | None,
+        limit_us: int,
+        window_us: int | None,
     ) -> MotionResult:
+        """Run until the motion ends; ``window_us``: a timeout also after that long without
+        progress (None: ``limit_us`` only)."""
         b = self.board
-        watch: _Watch | None = None
+        watch: Watch | None = None
+        look_us = window_us  # elapsed time of the next progress look
+        state = progress_state(b)
         while True:
             elapsed = self._t_us - t0
             if hold_us is not None and elapsed >= hold_us:
@@ -414,13 +417,18 @@ class Simulator:
                 return result("completed")
             if elapsed >= limit_us:
                 return result("timeout", pc=pc)
-            cap = limit_us - elapsed
+            if look_us is not None and window_us is not None and elapsed >= look_us:
+                now_state = progress_state(b)
+                if now_state == state:
+                    return result("timeout", pc=pc, error="no progress")
+                state, look_us = now_state, look_us + window_us
+            cap = limit_us - elapsed if look_us is None else min(limit_us, look_us) - elapsed
             if hold_us is not None:
                 cap = min(cap, hold_us - elapsed)
             else:
                 grid = math.lcm(self._period_us(), TIMER_US)
                 if watch is None or watch.grid_us != grid:
-                    watch = _Watch(self._t_us, grid)
+                    watch = Watch(self._t_us, grid)
                 first = watch.check(b, self._t_us)
                 if first is not None:
                     return self._classify(result, first, self._t_us - first)
@@ -462,6 +470,9 @@ class Simulator:
         loop = (min(pcs), max(a + n - 1 for a, n in pcs.items())) if pcs else None
         if inputs:
             return result("waiting", entered_us, loop=loop, inputs=tuple(inputs), pc=b.pc)
+        sensors = mixed_sensors(b)
+        if sensors and pcs:
+            return result("holding", entered_us, loop=loop, inputs=sensors, pc=b.pc)
         why = "endless loop" if pcs else "update flags that never clear"
         return result("stalled", entered_us, loop=loop, error=why, pc=b.pc)
 
@@ -469,7 +480,7 @@ class Simulator:
         self,
         motions: Sequence[tuple[int, str]],
         *,
-        limit: float = DEFAULT_LIMIT,
+        limit: float | None = None,
         hold: int = 0,
         hold_for: float = 0.0,
         progress: Callable[[MotionResult], None] | None = None,

@@ -40,7 +40,9 @@ class LimbJoint:
     ``parent``: a centre link's name, or the base name of a link of the same limb.
     ``xyz``: the joint's origin in the parent frame (left side), metres. ``lower``/``upper``:
     the left joint's limits, radians. ``geoms``: the child link's shapes (left side);
-    ``mass``: the child link's mass, kg, spread uniformly through ``geoms``.
+    ``mass``: the child link's mass, kg, spread uniformly through ``geoms``; ``com``, when
+    given, is the link's measured centre of mass (m, left side, link frame), which replaces
+    the boxes' centroid (their inertia about it is kept).
     """
 
     name: str
@@ -54,6 +56,7 @@ class LimbJoint:
     geoms: tuple[Geom, ...]
     mass: float
     centre: bool = False
+    com: Vec3 | None = None
 
 
 def mirror_geom(g: Geom) -> Geom:
@@ -70,6 +73,8 @@ def _side_joint(spec: LimbJoint, prefix: str, centre_links: set[str]) -> tuple[J
     parent = spec.parent if spec.parent in centre_links else prefix + spec.parent
     geoms = spec.geoms
     inertial = solid_many(spec.mass, geoms)
+    if spec.com is not None:
+        inertial = replace(inertial, com=spec.com)
     x, y, z = spec.xyz
     axis, lower, upper = spec.axis, spec.lower, spec.upper
     side: str = "left"

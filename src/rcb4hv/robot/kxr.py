@@ -27,6 +27,7 @@ Sources (tables in docs/robots.md):
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid
@@ -98,15 +99,27 @@ M_SHOULDER, M_UPPER_ARM, M_FOREARM, M_FINGER = 11.355, 42.494, 74.384, 25.94
 # joint origins (kxreus kxrl2g.l world positions at the zero pose, mm, left side)
 HIP = (0.0, 23.5, -28.0)
 THIGH, SHIN = 58.0, 57.976
-SOLE_BELOW_ANKLE = 31.0  # kxrl2g.l leg end coordinates
+SOLE_BELOW_ANKLE = 31.0  # kxrl2g.l leg end coordinates (the sole's underside)
 SHOULDER = (-7.25, 46.5, 69.0)
 SHOULDER_PITCH_TO_ROLL = 29.0
 UPPER_ARM = 53.0
 ELBOW_TO_GRIPPER = 65.5
 HAND = 100.5  # elbow to the hand's end coordinates
 HEAD_TOP = 146.0  # head link (120) + its end coordinates (26)
-# sole plate: no public figure found; a documented estimate (docs/robots.md)
-SOLE = (80.0, 50.0, 3.0)
+# sole (left foot, mm): kxreus kxrl2g.l's foot link geometry (RLEG_LINK4, mirrored): a 10 mm
+# plate from 21 to 31 below the ankle-roll axis, 105 mm long centred fore-aft, reaching 21 mm
+# inward and 46.2 mm outward of the axis; its outer side is rounded, so it is drawn and
+# collided as three boxes inside that outline (x half-length, inner y, outer y):
+SOLE_TOP, SOLE_BOTTOM = 21.0, SOLE_BELOW_ANKLE
+SOLE_STEPS = ((52.5, -21.0, 18.9), (42.0, 18.9, 33.6), (21.0, 33.6, 44.1))
+
+# link centres of mass (mm, left side, link frame at the joint): kxreus kxrl2g.l's inertial
+# parameters of LLEG_LINK0..4 and torso-link-l2l5 (computed by kxreus from the Kondo parts
+# the link is built of: the servo cases sit behind the hip and ankle axes, the knee's in
+# front; the foot's plate reaches outward of the ankle)
+COM_TORSO = (-6.216, 0.0, 41.94)
+COM_HIP, COM_THIGH, COM_SHIN = (-13.148, 0.0, -8.556), (0.0, 0.0, -33.737), (10.966, 0.0, -12.284)
+COM_ANKLE, COM_FOOT = (-13.148, 0.0, 8.556), (0.0, 7.514, -25.416)
 
 _Y, _X = (0.0, 1.0, 0.0), (1.0, 0.0, 0.0)
 _DARK, _LIGHT = (0.2, 0.2, 0.22, 1.0), (0.9, 0.9, 0.92, 1.0)
@@ -159,6 +172,7 @@ def _build(gripper: bool) -> RobotModel:
         axis: Vec3,
         geoms: tuple[Geom, ...],
         mass_g: float,
+        com: Vec3 | None = None,
     ) -> LimbJoint:
         lo, hi = _limits(name)
         return LimbJoint(
@@ -172,6 +186,7 @@ def _build(gripper: bool) -> RobotModel:
             hi,
             geoms,
             mass_g * G,
+            com=None if com is None else (com[0] * MM, com[1] * MM, com[2] * MM),
         )
 
     forearm = [_box((30.0, 26.0, 60.0), (0.0, 0.0, -30.0), _LIGHT)]
@@ -222,7 +237,11 @@ def _build(gripper: bool) -> RobotModel:
                 M_FINGER,
             )
         )
-    sole = _box(SOLE, (0.0, 0.0, -SOLE_BELOW_ANKLE + SOLE[2] / 2), _LIGHT)
+    thick = SOLE_BOTTOM - SOLE_TOP
+    sole = tuple(
+        _box((2 * x, y1 - y0, thick), (0.0, (y0 + y1) / 2, -SOLE_TOP - thick / 2), _LIGHT)
+        for x, y0, y1 in SOLE_STEPS
+    )
     specs += [
         joint(
             "hip_roll",
@@ -232,6 +251,7 @@ def _build(gripper: bool) -> RobotModel:
             _X,
             (_box((40.0, 27.0, 40.0), (-5.0, 0.0, -8.0)),),
             M_HIP,
+            COM_HIP,
         ),
         joint(
             "hip_pitch",
@@ -241,6 +261,7 @@ def _build(gripper: bool) -> RobotModel:
             _Y,
             (_box((30.0, 27.0, THIGH), (0.0, 0.0, -THIGH / 2), _LIGHT),),
             M_THIGH,
+            COM_THIGH,
         ),
         joint(
             "knee_pitch",
@@ -250,6 +271,7 @@ def _build(gripper: bool) -> RobotModel:
             _Y,
             (_box((30.0, 27.0, SHIN), (0.0, 0.0, -SHIN / 2), _LIGHT),),
             M_SHIN,
+            COM_SHIN,
         ),
         joint(
             "ankle_pitch",
@@ -259,6 +281,7 @@ def _build(gripper: bool) -> RobotModel:
             _Y,
             (_box((40.0, 27.0, 40.0), (-5.0, 0.0, 8.0)),),
             M_ANKLE,
+            COM_ANKLE,
         ),
         joint(
             "ankle_roll",
@@ -266,15 +289,23 @@ def _build(gripper: bool) -> RobotModel:
             "ankle",
             (0.0, 0.0, 0.0),
             _X,
-            (sole, _box((40.0, 27.0, 24.0), (-5.0, 0.0, -16.0))),
+            (*sole, _box((38.0, 27.0, SOLE_TOP), (0.0, 0.0, -SOLE_TOP / 2))),
             M_FOOT,
+            COM_FOOT,
         ),
     ]
     torso_geoms = (
         _box((50.0, 69.0, 95.0), (-7.25, 0.0, 37.5), _LIGHT),
         _box((40.0, 40.0, HEAD_TOP - 95.0), (-2.0, 0.0, (95.0 + HEAD_TOP) / 2), _LIGHT),
     )
-    root = Link("torso", solid_many((M_TORSO + M_HEAD) * G, torso_geoms), torso_geoms)
+    # the torso's own centre of mass is kxreus's; the head's is its box's centre
+    head = solid_many(M_HEAD * G, torso_geoms[1:])
+    com = tuple(
+        (M_TORSO * G * COM_TORSO[k] * MM + head.mass * head.com[k]) / ((M_TORSO + M_HEAD) * G)
+        for k in range(3)
+    )
+    body = solid_many((M_TORSO + M_HEAD) * G, torso_geoms)
+    root = Link("torso", replace(body, com=(com[0], com[1], com[2])), torso_geoms)
     servo_map: dict[str, tuple[int, int]] = {}
     for name, (ics, right, left) in _MAP.items():
         if name == "gripper" and not gripper:

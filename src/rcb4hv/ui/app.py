@@ -14,6 +14,7 @@ from rcb4hv.session import BoardSession
 from rcb4hv.ui import (
     board_page,
     editor_page,
+    ics_page,
     motions_page,
     project_page,
     remote_page,
@@ -35,6 +36,7 @@ PAGES: tuple[tuple[str, Callable[[UiContext], None]], ...] = (
     ("Project", project_page.build),
     ("Teach", teach_page.build),
     ("Editor", editor_page.build),
+    ("Servo tools", ics_page.build),
 )
 
 
@@ -57,7 +59,10 @@ def build_root(ctx: UiContext) -> Callable[[], None]:
             ).on_click(stop)
         banner = tid(ui.label("").classes("w-full bg-red-100 text-red-900 p-2"), "link-error")
         with ui.tabs().classes("w-full") as tabs:
-            tab_of = {name: tid(ui.tab(name), f"tab-{name.lower()}") for name, _ in PAGES}
+            tab_of = {
+                name: tid(ui.tab(name), f"tab-{name.lower().replace(' ', '-')}")
+                for name, _ in PAGES
+            }
         with ui.tab_panels(tabs, value=tab_of["Servos"]).classes("w-full"):
             for name, build in PAGES:
                 with ui.tab_panel(tab_of[name]):

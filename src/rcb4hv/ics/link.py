@@ -1,0 +1,162 @@
+"""Ways for a host to reach an ICS bus: a serial port in ICS mode, or a board's 0Eh.
+
+An :class:`IcsLink` sends one command and returns the servo's reply without the echo, or
+raises :class:`~rcb4hv.errors.IcsNoReply`.
+
+* :class:`SerialIcsLink`: a Kondo USB adapter HS switched to ICS mode (8E1), a pty or TCP
+  socket served by ``rcb4hv emulate-ics``, or ``icsemu://`` in process. It reads the echo and
+  the reply in one go (the host hears its own bytes first) and checks the echo.
+* :class:`BoardIcsLink`: an RCB-4HV in between (``--via-board``): the command goes into the
+  board's RAM with MOVE, 0Eh sends it on the SIO line of an ICS number, and the answer is
+  read back from RAM with MOVE. 0Eh carries at most 64 bytes, so a whole-EEPROM write (66)
+  cannot go this way. The reference calls 0Eh unusable on real boards ("a problem in the
+  specification"); the board emulator answers it with ``--ics-comm``.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from typing import Final, Protocol
+
+from rcb4hv.errors import IcsError, IcsNoReply, NakError
+from rcb4hv.ics.codec import Kind, Sc, reply_length, strip_echo
+from rcb4hv.protocol import (
+    Ack,
+    Com,
+    CommunicateDevice,
+    Data,
+    DataReply,
+    Move,
+    Nak,
+    Ram,
+    decode_reply,
+    encode_command,
+)
+from rcb4hv.protocol import reply_length as frame_reply_length
+from rcb4hv.transport import Transport
+
+__all__ = [
+    "DEFAULT_RX_ADDRESS",
+    "DEFAULT_TX_ADDRESS",
+    "BoardIcsLink",
+    "IcsLink",
+    "SerialIcsLink",
+    "timeout_for",
+]
+
+log = logging.getLogger(__name__)
+
+# A reply comes within a few ms; rcb4 ics.py waits 0.1 s (x3 for ID, x10 for an EEPROM read,
+# x50 for an EEPROM write, whose reply alone takes ~0.35 s: FACTS).
+REPLY_TIMEOUT_S: Final = 0.1
+EEPROM_READ_TIMEOUT_S: Final = 1.0
+EEPROM_WRITE_TIMEOUT_S: Final = 2.0
+# Scratch RAM for --via-board: HeartToHeart4's vector packages (0357h, 32 x 8 bytes; unused
+# unless vector jumps are on). TX up to 64 bytes, then RX up to 66 (an EEPROM read).
+DEFAULT_TX_ADDRESS: Final = 0x0357
+DEFAULT_RX_ADDRESS: Final = 0x0397
+BOARD_TIMEOUT_S: Final = 1.0
+
+
+def timeout_for(command: bytes) -> float:
+    """How long to wait for the reply to ``command``."""
+    if command[0] & 0xE0 in (Kind.READ, Kind.WRITE) and command[1] == Sc.EEPROM:
+        return EEPROM_WRITE_TIMEOUT_S if command[0] & 0xE0 == Kind.WRITE else EEPROM_READ_TIMEOUT_S
+    return REPLY_TIMEOUT_S * 3 if command[0] & 0xE0 == Kind.ID else REPLY_TIMEOUT_S
+
+
+class IcsLink(Protocol):
+    """One command out, the servo's reply (echo removed) back."""
+
+    def exchange(self, command: bytes) -> bytes: ...
+
+    def follow_baud(self, baud: int) -> None: ...
+
+    def close(self) -> None: ...
+
+
+class SerialIcsLink:
+    """An ICS bus on a serial port (adapter in ICS mode, pty, socket, ``icsemu://``)."""
+
+    def __init__(self, transport: Transport, *, timeout_scale: float = 1.0) -> None:
+        self.transport = transport
+        self.timeout_scale = timeout_scale
+
+    def exchange(self, command: bytes) -> bytes:
+        t = self.transport
+        want = len(command) + reply_length(command)
+        t.reset_input()
+        t.write(command)
+        got = t.read(want, time.monotonic() + timeout_for(command) * self.timeout_scale)
+        rest = strip_echo(command, got)
+        if len(got) < len(command):
+            raise IcsError(f"no echo of {command.hex(' ')}: is the adapter in ICS mode?")
+        if len(rest) < want - len(command):
+            raise IcsNoReply(f"no reply to {command.hex(' ')} (got {rest.hex(' ') or 'nothing'})")
+        return rest
+
+    def follow_baud(self, baud: int) -> None:
+        """Switch the host to ``baud`` (after a servo's baud change)."""
+        set_baudrate = getattr(self.transport, "set_baudrate", None)
+        if set_baudrate is None:
+            raise IcsError(f"{self.transport!r} cannot change its baud rate")
+        set_baudrate(baud)
+
+    def close(self) -> None:
+        self.transport.close()
+
+
+class BoardIcsLink:
+    """An ICS bus behind an RCB-4HV, through 0Eh (``ics`` picks the SIO line: its low bit
+    is the side, SIO1-4 or SIO5-8, as in ICS number = 2 x ID + side)."""
+
+    def __init__(
+        self,
+        transport: Transport,
+        ics: int = 0,
+        *,
+        tx_address: int = DEFAULT_TX_ADDRESS,
+        rx_address: int = DEFAULT_RX_ADDRESS,
+    ) -> None:
+        self.transport = transport
+        self.ics = ics
+        self.tx_address = tx_address
+        self.rx_address = rx_address
+
+    def _board(self, frame_cmd: Move | CommunicateDevice) -> Ack | Nak | DataReply:
+        t = self.transport
+        frame = encode_command(frame_cmd)
+        t.reset_input()
+        t.write(frame)
+        got = t.read(frame_reply_length(frame_cmd), time.monotonic() + BOARD_TIMEOUT_S)
+        if len(got) < 4:
+            raise IcsNoReply(f"the board did not answer {frame.hex(' ')}")
+        reply = decode_reply(got, frame_cmd)
+        if not isinstance(reply, (Ack, Nak, DataReply)):
+            raise IcsError(f"unexpected board reply {got.hex(' ')}")
+        return reply
+
+    def exchange(self, command: bytes) -> bytes:
+        if len(command) > 64:
+            raise IcsError(
+                f"0Eh sends at most 64 bytes; this command has {len(command)} "
+                "(write the EEPROM through the USB adapter in ICS mode instead)"
+            )
+        if isinstance(self._board(Move(Ram(self.tx_address), Data(command))), Nak):
+            raise NakError(f"the board refused the RAM write at {self.tx_address:04X}h")
+        comm = CommunicateDevice(self.ics, len(command), self.tx_address, self.rx_address)
+        if isinstance(self._board(comm), Nak):
+            raise IcsNoReply(f"0Eh: no answer to {command.hex(' ')} on ICS {self.ics} (NAK)")
+        n = reply_length(command)
+        reply = self._board(Move(Com(), Ram(self.rx_address), n))
+        if not isinstance(reply, DataReply):
+            raise IcsError("the board did not return the answer's RAM")
+        return bytes(reply.data)
+
+    def follow_baud(self, baud: int) -> None:
+        """The board's SIO rate is the board's business: nothing here can follow a servo."""
+        raise IcsError(f"the servo now talks at {baud} baud; a board's SIO line cannot follow")
+
+    def close(self) -> None:
+        self.transport.close()
