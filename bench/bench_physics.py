@@ -29,7 +29,7 @@ def _crouch(model: Any, depth: float) -> dict[int, int]:
             angles[j.name] = 2 * depth
         elif "hip_pitch" in j.name or "ankle_pitch" in j.name:
             angles[j.name] = -depth
-    values: dict[int, int] = model.values(angles)
+    values: dict[int, int] = model.motion_values(angles)
     return values
 
 

@@ -152,7 +152,7 @@ EXACT_PAIRS = ((11, 12), (13, 14), (64, 65), (67, 68), (69, 70), (48, 56))
 def test_builtin_model_reproduces_the_fixtures_mirror_pairs(
     project: hth4.Project, left: int, right: int
 ) -> None:
-    from rcb4hv.hth4.mirror import project_model
+    from rcb4hv.hth4.robotpick import project_model
 
     model = project_model(project)
     assert model.name == "kxr-l2-gripper"

@@ -19,9 +19,9 @@ FREE_SLOTS = (18, 19, 20)  # empty in the fixture
 
 
 def pose(model: RobotModel, degrees: Mapping[str, float]) -> dict[int, int]:
-    """Raw positions (trim 0) of every mapped servo for joint angles in degrees (others 0)."""
+    """Motion values of every mapped servo for joint angles in degrees (others 0)."""
     angles = {s.joint: math.radians(degrees.get(s.joint, 0.0)) for s in model.servos}
-    return model.values(angles)
+    return model.motion_values(angles)
 
 
 def image_with(

@@ -42,10 +42,10 @@ def simulator() -> PhysicsSimulator:
 
 
 def measured(sim: PhysicsSimulator, ics: int) -> int:
-    """A servo's measured position as a host reads it: value at block +4, plus the trim."""
+    """A servo's measured position as a host reads it: the value at block +4 (motion space:
+    the board reports position minus trim)."""
     data = host_read(sim.board.feed, Move(Com(), Ics(SERVO.MEASURED, ics), 2))
-    base = SERVO.F_BASE.get(sim.board.ram, sim.board.alloc(ics))
-    return int.from_bytes(data, "little") + base
+    return int.from_bytes(data, "little")
 
 
 def test_standing_still_stays_upright() -> None:
@@ -82,12 +82,12 @@ def test_a_free_limb_falls_and_a_host_reads_where_it_is() -> None:
     sim.play(LAYOUT.address(ARMS_SLOT))
     elbow = 6  # r_elbow, held at -90° (forearm forward)
     held = measured(sim, elbow)
-    assert abs(math.degrees(ROBOT.angle(elbow, held)) + 90.0) < 5.0
+    assert abs(math.degrees(ROBOT.motion_angle(elbow, held)) + 90.0) < 5.0
     sim.board.feed(encode(RunSingleServo(elbow, 1, POSITION_FREE)))
     sim._run_us(3_000_000)
     sim.backend.sync()  # type: ignore[union-attr]
     fell = measured(sim, elbow)
-    angle = math.degrees(ROBOT.angle(elbow, fell))
+    angle = math.degrees(ROBOT.motion_angle(elbow, fell))
     assert abs(angle) < 15.0  # the forearm hangs down (joint angle near 0)
     # the host reads the position reported at the last output period (the ICS reply)
     assert abs(math.degrees(sim.world.servo_angle(elbow)) - angle) < 1.0

@@ -26,14 +26,16 @@ def test_a_khr3hv_stands_and_its_freed_elbow_drops() -> None:
     PhysicsBackend(board, world)
     elbow = robot.servo_for_joint("l_elbow_pitch")
     assert elbow is not None
-    board.feed(RunSingleServo(elbow.index, 20, robot.value(elbow.index, -math.pi / 2)).encode())
+    board.feed(
+        RunSingleServo(elbow.index, 20, robot.motion_value(elbow.index, -math.pi / 2)).encode()
+    )
     board.run_for(1.0)
     held = board.servo_state(elbow.index)
     assert held is not None and held.torque
-    assert abs(math.degrees(robot.angle(elbow.index, held.position)) + 90) < 5
+    assert abs(math.degrees(robot.angle(elbow.index, held.position, 0)) + 90) < 5
     board.feed(RunSingleServo(elbow.index, 1, POSITION_FREE).encode())
     board.run_for(2.0)
     free = board.servo_state(elbow.index)
     assert free is not None and not free.torque
-    assert abs(math.degrees(robot.angle(elbow.index, free.position))) < 30
+    assert abs(math.degrees(robot.angle(elbow.index, free.position, 0))) < 30
     assert math.degrees(world.base().tilt) < 5

@@ -54,7 +54,7 @@ def test_fixture_motions_keep_knees_bending_forward(kxr_project_path: Path) -> N
             if not isinstance(cmd, RunConstFrameServo):
                 continue
             values = {i: v for i, v in cmd.positions if 3500 <= v <= 11500}
-            angles = model.angles(values)
+            angles = model.motion_angles(values)
             for side in ("l_", "r_"):
                 if side + "knee_pitch" in angles:
                     assert angles[side + "knee_pitch"] > math.radians(-11), motion.name
@@ -96,6 +96,13 @@ def test_value_angle_value_round_trip(name: str, data: st.DataObject) -> None:
     angle = model.angle(servo.index, value, trim)
     assert model.value(servo.index, angle, trim) == value
     assert model.angles({servo.index: value}, {servo.index: trim}) == {servo.joint: angle}
+    # motion space (before the board adds the trim): the trim does not enter
+    motion = value - trim
+    assert model.motion_angle(servo.index, motion) == angle
+    assert model.motion_value(servo.index, angle) == motion
+    assert model.motion_angles({servo.index: motion}) == {servo.joint: angle}
+    assert model.values({servo.joint: angle}, {servo.index: trim}) == {servo.index: value}
+    assert model.motion_values({servo.joint: angle}) == {servo.index: motion}
 
 
 def test_kxr_home_values_give_home_pose() -> None:
@@ -104,7 +111,7 @@ def test_kxr_home_values_give_home_pose() -> None:
     home = {2: 7900, 3: 7100, 4: 7500, 5: 7500, 6: 6300, 7: 6300, 8: 7500, 9: 7500,
             10: 7650, 11: 7650, 12: 7800, 13: 7800, 14: 7650, 15: 7650, 16: 7500,
             17: 7500, 18: 6850, 19: 6850}  # fmt: skip
-    angles = model.angles(home)
+    angles = model.motion_angles(home)
     for joint, a in model.home.items():
         assert angles[joint] == pytest.approx(a)
     frames = forward(model, angles)

@@ -106,7 +106,7 @@ def test_urdf_with_fixed_joint_and_inference(tmp_path: Path) -> None:
     # servo figures come from the URDF limits when the map gives none
     spec = model.servo(2).servo
     assert spec is not None and spec.stall_torque == 1.0
-    assert model.angle(2, 7500 + 12) == 0.0
+    assert model.motion_angle(2, 7500 + 12) == 0.0
 
 
 def test_joint_map_errors(tmp_path: Path) -> None:

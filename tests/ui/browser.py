@@ -8,6 +8,7 @@ import shutil
 import subprocess
 import sys
 import time
+import urllib.request
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -85,6 +86,26 @@ def require_browser() -> str:
     return path
 
 
+# How long a page may take to load: the dashboard's first load ships NiceGUI's Vue/Quasar and
+# three.js bundles, which takes seconds on a loaded two-core runner (the suite's own load).
+PAGE_LOAD_MS = 90_000
+
+
+def wait_until_serving(url: str, deadline: float) -> None:
+    """Poll ``url`` until the server answers HTTP: uvicorn prints its address before the
+    socket accepts, and a browser that comes too early gets ERR_CONNECTION_REFUSED."""
+    last: Exception | None = None
+    while time.monotonic() < deadline:
+        try:
+            with urllib.request.urlopen(url, timeout=5) as reply:
+                reply.read(1)
+            return
+        except OSError as e:  # refused, reset, or an HTTP error before the app is mounted
+            last = e
+            time.sleep(0.1)
+    raise AssertionError(f"rcb4hv ui printed {url} but never answered: {last}")
+
+
 @contextmanager
 def ui_server(board_url: str, *extra: str) -> Iterator[str]:
     """Run ``rcb4hv ui --port board_url --bind 127.0.0.1:0``; yield its http URL."""
@@ -119,6 +140,7 @@ def ui_server(board_url: str, *extra: str) -> Iterator[str]:
                 url = m.group(1)
                 break
         assert url is not None, "rcb4hv ui did not start:\n" + "".join(lines)
+        wait_until_serving(url, deadline)
         yield url
     finally:
         proc.terminate()

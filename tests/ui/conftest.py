@@ -10,7 +10,7 @@ import pytest
 
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, TcpServer
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
-from tests.ui.browser import LAUNCH_ARGS, SHOTS, require_browser, ui_server
+from tests.ui.browser import LAUNCH_ARGS, PAGE_LOAD_MS, SHOTS, require_browser, ui_server
 
 
 @pytest.fixture(scope="module")
@@ -50,8 +50,8 @@ def page(browser: Any, app_url: str) -> Iterator[Any]:
     context = browser.new_context(viewport={"width": 1400, "height": 900}, accept_downloads=True)
     pg = context.new_page()
     pg.set_default_timeout(15_000)
-    pg.goto(app_url)
-    pg.get_by_test_id("stop").wait_for()
+    pg.goto(app_url, timeout=PAGE_LOAD_MS)
+    pg.get_by_test_id("stop").wait_for(timeout=PAGE_LOAD_MS)
     yield pg
     context.close()
 

@@ -17,7 +17,7 @@ import pytest
 from rcb4hv import hth4
 from rcb4hv.project.image import build_project_image
 from rcb4hv.project.simulate import Simulator
-from tests.ui.browser import LAUNCH_ARGS
+from tests.ui.browser import LAUNCH_ARGS, PAGE_LOAD_MS
 from tests.ui.conftest import shot
 
 pytestmark = pytest.mark.slow
@@ -45,8 +45,8 @@ def gl_page(gl_browser: Any, app_url: str) -> Iterator[Any]:
     context = gl_browser.new_context(viewport={"width": 1500, "height": 1000})
     pg = context.new_page()
     pg.set_default_timeout(40_000)
-    pg.goto(app_url)
-    pg.get_by_test_id("stop").wait_for()
+    pg.goto(app_url, timeout=PAGE_LOAD_MS)
+    pg.get_by_test_id("stop").wait_for(timeout=PAGE_LOAD_MS)
     yield pg
     context.close()
 

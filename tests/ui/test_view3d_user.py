@@ -14,11 +14,12 @@ from nicegui.testing.user import User
 from rcb4hv.emulator import Board
 from rcb4hv.ui.context import UiContext
 from rcb4hv.ui.scene3d import RobotBody
-from tests.ui.test_user import one, output, run, until
+from tests.ui.test_user import one, output, run, until, word
 from tests.ui.toy_robot import toy_model
 
 MODEL = toy_model()
 L_ARM = [link.name for link in MODEL.links].index("l_arm")
+TRIM = -600  # counts: 20 degrees
 
 
 def body(user: User, marker: str) -> RobotBody:
@@ -50,14 +51,21 @@ def test_servo_table_and_sliders_name_the_joints() -> None:
 def test_the_live_view_follows_a_servo_on_both_pages() -> None:
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
         servos, remote = body(user, "servos-3d"), body(user, "remote-3d")
+        # a trim on ICS 2 (the block's base): the board reports position minus trim, so the
+        # view must not subtract it again
+        board.ram[word(board, 0x44 + 2 * 2) + 2 : word(board, 0x44 + 2 * 2) + 4] = TRIM.to_bytes(
+            2, "little", signed=True
+        )
         await until(lambda: len(ctx.session.state.servos) == 17)
+        await until(lambda: next(s for s in ctx.session.state.servos if s.ics == 2).trim == TRIM)
         before = arm(servos)
         one(user, "slider-2").set_value(60.0)  # the left shoulder forward by 60 degrees
         await until(lambda: output(board, 2) == ctx.session.robot.to_position(2, 60.0))
         await until(lambda: arm(servos) != before and arm(remote) == arm(servos))
         # rows of the arm's rotation: about +y by the joint angle of ICS 2's measured value
         st = next(s for s in ctx.session.state.servos if s.ics == 2)
-        a = MODEL.angle(2, st.measured, st.trim)
+        a = MODEL.motion_angle(2, st.measured)
+        assert st.trim == TRIM and a == pytest.approx(math.radians(60.0), abs=0.01)
         assert arm(servos)[0] == round(math.cos(a), 5) and arm(servos)[2] == round(math.sin(a), 5)
         sent = ctx.session.state.polls
         await until(lambda: ctx.session.state.polls > sent + 3)

@@ -147,7 +147,7 @@ def _physics_scene() -> tuple[Frame, ...]:
 
     model = load_builtin(SCENE_ROBOT)
     board = robot_board(model)
-    board.feed(RunConstFrameServo(1, sorted(model.values(model.home).items())).encode())
+    board.feed(RunConstFrameServo(1, sorted(model.motion_values(model.home).items())).encode())
     board.run_for(0.1)
     world = PhysicsWorld(model)
     world.place(model.home)
@@ -157,7 +157,7 @@ def _physics_scene() -> tuple[Frame, ...]:
     for seconds, angles in SCENE_POSES:
         pose = {**model.home, **angles}
         frames_n = max(1, round(seconds / board.output_period))
-        board.feed(RunConstFrameServo(frames_n, sorted(model.values(pose).items())).encode())
+        board.feed(RunConstFrameServo(frames_n, sorted(model.motion_values(pose).items())).encode())
         board.run_for(seconds + 0.3)
         backend.sync()
         frames.append(Frame(board.now, world.shapes()))

@@ -9,7 +9,7 @@ import click
 
 from rcb4hv.cli._util import handle_errors, print_json
 from rcb4hv.hth4 import load_project
-from rcb4hv.hth4.mirror import project_model
+from rcb4hv.hth4.robotpick import project_model
 
 __all__ = ["register"]
 
@@ -60,8 +60,7 @@ def mirror_command(
 
     session = EditSession.open(file)
     model = project_model(session.project, robot_name)
-    trims = {s.device_number: s.trim for s in session.project.servos}
-    checks = Checks(model, trims, force)
+    checks = Checks(model, force)
     session.apply(mirror_motion, slot, model, to=to, name=name, checks=checks)
     session.save(output)
     made = session.project.motion(to or slot)

@@ -44,7 +44,7 @@ def parse_sequence(text: str) -> list[int]:
 
 def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     """The robot model for ``file``: ``--robot`` or detected from the project's servo table."""
-    from rcb4hv.project.physics_sim import project_robot
+    from rcb4hv.hth4.robotpick import project_model, servo_table
     from rcb4hv.protocol.memory import NO_BLOCK, read_alloc
     from rcb4hv.rom import layout
 
@@ -52,8 +52,7 @@ def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     if file.suffix.lower() == ".h4p":
         from rcb4hv.hth4 import load_project
 
-        project = load_project(file)
-        names = {s.ics_number: s.name or "" for s in project.servos if s.in_use}
+        names = servo_table(load_project(file))
     used = [
         n
         for n in range(layout.SERVO_BLOCK_COPY_COUNT)
@@ -61,7 +60,7 @@ def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     ]
     if names is not None:
         used = [n for n in used if n in names]
-    return project_robot(robot, names, used)
+    return project_model(names, robot, used)
 
 
 def run_physics(

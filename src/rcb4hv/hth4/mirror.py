@@ -2,14 +2,15 @@
 
 For each servo the model maps, :meth:`RobotModel.mirror_angles` names the mirror joint and
 whether the angle changes sign (roll and yaw do, pitch and grip do not). Through each
-servo's sign and zero offset (:meth:`RobotModel.angle` / :meth:`RobotModel.value`) a motion
-value ``v`` of servo ``i`` becomes, on the mirror servo ``j``::
+servo's sign and zero offset (:meth:`RobotModel.motion_angle` /
+:meth:`~RobotModel.motion_value`) a motion value ``v`` of servo ``i`` becomes, on the mirror
+servo ``j``::
 
     v' = CENTER + offset_j + sign_j * f * sign_i * (v - CENTER - offset_i)      f = +1 or -1
 
-The trims cancel: a motion value is the output before the board adds the trim (spec 9), so
-its joint angle is ``model.angle(i, v + trim_i, trim_i)`` and the value that puts servo ``j``
-at an angle is ``model.value(j, angle, trim_j) - trim_j``. The formula is that round trip
+The trims do not enter: a motion value is the output before the board adds the trim (spec 9),
+so its joint angle is ``model.motion_angle(i, v)`` and the value that puts servo ``j`` at an
+angle is ``model.motion_value(j, angle)``. The formula is that round trip
 without the floating point: all integers, so mirroring twice gives back every value exactly
 (``f`` and the signs are ±1 and the joint map is an involution). Hold and free (7FFFh,
 8000h) move to the mirror servo unchanged; servos the model does not map keep their value.
@@ -21,7 +22,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from rcb4hv.errors import EditError, NoRobotModelError, ProtocolError
-from rcb4hv.hth4.model import Motion, Project
+from rcb4hv.hth4.model import Motion
 from rcb4hv.hth4.motioncode import split_frames
 from rcb4hv.hth4.poses import (
     DEFAULT_CHECKS,
@@ -35,27 +36,10 @@ from rcb4hv.protocol import SetSpeed, SetStretch, decode_command
 from rcb4hv.protocol.memory import CENTER
 from rcb4hv.robot.model import RobotModel
 
-__all__ = ["MirrorMap", "mirror_map", "mirror_motion_entries", "mirror_values", "project_model"]
+__all__ = ["MirrorMap", "mirror_map", "mirror_motion_entries", "mirror_values"]
 
 MirrorMap = Mapping[int, tuple[int, int]]
 """ICS number -> (mirror ICS number, counts factor ±1)."""
-
-
-def project_model(project: Project, name: str | None = None) -> RobotModel:
-    """The robot model named ``name`` (a built-in name or a URDF file), or the built-in one
-    whose joint map matches the project's servos in use
-    (:func:`~rcb4hv.robot.builtin.detect_robot`); NoRobotModelError when none does."""
-    from rcb4hv.robot.builtin import detect_robot, load_robot
-
-    if name is not None:
-        return load_robot(name)
-    used = {s.device_number: s.name or "" for s in project.servos if s.in_use}
-    found = detect_robot(used)
-    if found is None:
-        raise NoRobotModelError(
-            "no built-in robot model matches this project's servos: name one (--robot)"
-        )
-    return load_robot(found)
 
 
 def mirror_map(model: RobotModel | None) -> dict[int, tuple[int, int]]:

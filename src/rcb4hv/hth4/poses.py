@@ -15,14 +15,14 @@ start (its first byte, where the remote, the startup hook and CALLs enter) stays
 Value checks (:class:`Checks`): positions inside the documented 3500-11500 (or hold / free),
 speeds inside 1-255 (:mod:`rcb4hv.protocol.ranges`), and, given a robot model, joint angles
 inside the model's limits. A motion value ``v`` is the servo's output before the board adds
-the trim (spec 9: value sent = output + base), and :meth:`RobotModel.angle` takes the value
-sent, so the joint angle of ``v`` is ``model.angle(i, v + trim, trim)``.
+the trim (spec 9: value sent = output + base), so its joint angle is
+:meth:`RobotModel.motion_angle` ``(i, v)``, whatever the trim.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from rcb4hv.errors import EditError, ProtocolError
 from rcb4hv.hth4.model import Motion
@@ -40,7 +40,6 @@ __all__ = [
     "Pose",
     "delete_pose_entries",
     "insert_pose_entries",
-    "joint_angle",
     "motion_blocks",
     "motion_poses",
     "move_pose_entries",
@@ -135,17 +134,11 @@ def pose_entry(pose_positions: Mapping[int, int], speed: int, update: bool = Tru
     return RunConstFrameServo(speed, dict(sorted(pose_positions.items())), update).encode()
 
 
-def joint_angle(model: RobotModel, ics: int, value: int, trim: int) -> float:
-    """Joint angle (radians) of motion value ``value`` of servo ``ics`` (module docstring)."""
-    return model.angle(ics, value + trim, trim)
-
-
 @dataclass(frozen=True)
 class Checks:
     """What pose values must respect. ``force`` keeps out-of-range values (an override)."""
 
     model: RobotModel | None = None
-    trims: Mapping[int, int] = field(default_factory=dict)
     force: bool = False
 
     def problems(self, positions: Mapping[int, int], speed: int | None) -> list[str]:
@@ -158,7 +151,7 @@ class Checks:
                 out.append(f"ICS {ics}: {value} outside the documented 3500..11500")
             elif self.model is not None and ics in mapped and value not in SPECIAL_POSITIONS:
                 joint = self.model.joint(self.model.servo(ics).joint)
-                a = joint_angle(self.model, ics, value, self.trims.get(ics, 0))
+                a = self.model.motion_angle(ics, value)
                 if not joint.lower <= a <= joint.upper:
                     out.append(
                         f"ICS {ics} ({joint.name}): {value} is {_deg(a)} deg, outside the "

@@ -7,8 +7,8 @@ After every output period (the moment a real RCB-4 sends its servo frame on the 
    on a virtual clock: both advance by the same board microseconds);
 2. each mapped servo's state is read from its block: **free** (8000h, or 7FFFh where the
    board's config treats hold as free) goes limp, **hold** (7FFFh) keeps the angle it has,
-   any other value is a target angle, ``RobotModel.angle(index, sent, base)`` (the one
-   conversion; the block's base is the servo's trim);
+   any other value is a target angle, ``RobotModel.angle(index, sent, base)`` (the value
+   sent includes the block's base, the servo's trim: the model's one conversion rule);
 3. a target moves towards the command at most at the servo's speed cap (its SetSpeed value
    as a fraction of the no-load speed), and the servo's stiffness follows its SetStretch
    value (:func:`rcb4hv.robot.mjcf.stiffness`);
@@ -178,7 +178,7 @@ class PhysicsBackend:
             else:
                 if hold:
                     hold.pop(index, None)
-                goal = self._angle(index, outs.get(index, out), base)
+                goal = self._angle(index, outs.get(index, out + base), base)
             commanded[index] = goal
             prev = effective.get(index)
             if prev is None:

@@ -37,7 +37,7 @@ def robot_board(model: RobotModel) -> Board:
     for k, index in enumerate(indices):
         address = BLOCKS_AT + SERVO.SIZE * k
         table[index] = address
-        centre = model.value(index, 0.0)
+        centre = model.motion_value(index, 0.0)
         block = ServoBlock(ics_id=index // 2, measured=centre, output=centre, end=centre)
         _send(board, Move(Ram(address), Data(block.to_bytes())))
     _send(board, Move(Ram(ADDR.ICS_ALLOC), Data(pack_alloc(table))))

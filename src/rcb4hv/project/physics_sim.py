@@ -24,12 +24,11 @@ motion's :class:`PhysicsOutcome` says:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any, Final, Literal
 
 from rcb4hv.emulator import EmulatorConfig
-from rcb4hv.errors import RobotModelError
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
 from rcb4hv.project.check import Finding
 from rcb4hv.project.physicsresult import Frame, MotionRun, PhysicsOutcome, PhysicsRun, TrackPoint
@@ -55,7 +54,6 @@ __all__ = [
     "TrackPoint",
     "physics_findings",
     "play_physics",
-    "project_robot",
 ]
 
 SETTLE_S: Final = 1.0
@@ -312,29 +310,6 @@ def play_physics(
     if boot is None:
         raise ValueError("no motions to play")
     return PhysicsRun(boot, tuple(runs), virtual)
-
-
-def project_robot(
-    robot: str | None, servo_names: Mapping[int, str] | None, indices: Iterable[int]
-) -> RobotModel:
-    """The robot a project drives: ``robot`` (a built-in name or a URDF file) when given,
-    else detected from the project's servo table ``servo_names`` (ICS -> name of the slots
-    in use). ``indices`` are the servo indices the project uses; a model mapping one it lacks
-    is refused (:class:`~rcb4hv.errors.RobotModelError`)."""
-    from rcb4hv.robot.builtin import check_indices, detect_robot, load_robot
-
-    used = sorted(set(indices))
-    if robot is None:
-        found = detect_robot(servo_names, used) if servo_names else None
-        if found is None:
-            raise RobotModelError(
-                "cannot tell which robot this project drives from its servo table; "
-                "name it with --robot khr3hv|khr3hv-22|kxr-l2|kxr-l2-gripper|FILE"
-            )
-        robot = found
-    model = load_robot(robot)
-    check_indices(model, used)
-    return model
 
 
 def physics_findings(runs: Iterable[MotionRun]) -> list[Finding]:

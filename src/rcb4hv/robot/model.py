@@ -10,13 +10,25 @@ angles move both limbs the same way, while equal roll or yaw angles move them ap
 mirror image of a pose keeps each pitch angle and negates each roll and yaw angle (see
 :meth:`RobotModel.mirror_angles`).
 
-Servo values to joint angles (one place, :meth:`RobotModel.angle`)::
+Servo values to joint angles (one formula, :meth:`RobotModel.motion_angle`)::
 
-    angle = sign * (value - CENTER - trim - offset) / COUNTS_PER_DEGREE   (degrees)
+    angle = sign * (value - CENTER - offset) / COUNTS_PER_DEGREE   (degrees)
 
+where ``value`` is in **motion space**: a pose value of a motion, the board's servo-block
+output (+6) or measured position (+4). The board adds the servo's trim (the block's base,
++2) when it sends (spec 9: sent = output + base + mixing) and reports ``position - base``
+back, so motion-space values never include the trim and their angles do not depend on it.
+Only the value actually **sent** to (or reported by) the servo includes the trim; for those,
+:meth:`RobotModel.angle` / :meth:`RobotModel.value` (and the mapping forms
+:meth:`~RobotModel.angles` / :meth:`~RobotModel.values`) take the trim explicitly::
+
+    angle(index, sent, trim) == motion_angle(index, sent - trim)
+
+The rule for callers: a motion pose, a block's output or measured position, a slider value
+-> ``motion_angle(s)`` / ``motion_value(s)``; the board's ``servo_outputs()`` (what goes on
+the ICS bus) or a physical servo position -> ``angle(s)`` / ``value(s)`` with the trim.
 ``CENTER`` (7500) and ``COUNTS_PER_DEGREE`` (8000/270) come from the protocol's memory map;
-``trim`` is the board's per-servo trim, ``offset`` the joint map's extra zero offset in counts
-(0 for the built-in models).
+``offset`` is the joint map's extra zero offset in counts (0 for the built-in models).
 """
 
 from __future__ import annotations
@@ -198,41 +210,59 @@ class RobotModel:
 
     # ------------------------------------------------------------------ servo <-> joint
 
-    def angle(self, index: int, value: int, trim: int = 0) -> float:
-        """Joint angle (radians) of servo ``index`` at position ``value`` with ``trim``."""
+    def motion_angle(self, index: int, value: int) -> float:
+        """Joint angle (radians) of servo ``index`` at motion-space ``value`` (a motion's pose
+        value, a servo block's output or measured position: before the board adds the trim;
+        see the module docstring). The one conversion formula."""
         s = self.servo(index)
-        deg = s.sign * (value - CENTER - trim - s.offset) / COUNTS_PER_DEGREE
-        return math.radians(deg)
+        return math.radians(s.sign * (value - CENTER - s.offset) / COUNTS_PER_DEGREE)
 
-    def value(self, index: int, angle: float, trim: int = 0) -> int:
-        """Servo position that puts servo ``index``'s joint at ``angle`` (radians)."""
+    def motion_value(self, index: int, angle: float) -> int:
+        """Motion-space value that puts servo ``index``'s joint at ``angle`` (radians)."""
         s = self.servo(index)
-        return round(CENTER + trim + s.offset + s.sign * math.degrees(angle) * COUNTS_PER_DEGREE)
+        return round(CENTER + s.offset + s.sign * math.degrees(angle) * COUNTS_PER_DEGREE)
 
-    def angles(
-        self, values: Mapping[int, int], trims: Mapping[int, int] | None = None
-    ) -> dict[str, float]:
-        """Joint angles (radians) by joint name from servo values by index; indices the
-        model does not map are ignored."""
-        trims = trims or {}
-        mapped = {s.index for s in self.servos}
+    def angle(self, index: int, sent: int, trim: int) -> float:
+        """Joint angle (radians) of servo ``index`` at the value ``sent`` to the servo (motion
+        value + ``trim``, the block's base), e.g. from ``Board.servo_outputs()``."""
+        return self.motion_angle(index, sent - trim)
+
+    def value(self, index: int, angle: float, trim: int) -> int:
+        """The value to send (servo position) that puts servo ``index``'s joint at ``angle``
+        (radians) with ``trim``: the motion value plus the trim."""
+        return self.motion_value(index, angle) + trim
+
+    def motion_angles(self, values: Mapping[int, int]) -> dict[str, float]:
+        """Joint angles (radians) by joint name from motion-space values by index; indices
+        the model does not map are ignored."""
         return {
-            self.servo(i).joint: self.angle(i, v, trims.get(i, 0))
+            self.servo(i).joint: self.motion_angle(i, v)
             for i, v in values.items()
-            if i in mapped
+            if i in self._mapped
         }
 
-    def values(
-        self, angles: Mapping[str, float], trims: Mapping[int, int] | None = None
-    ) -> dict[int, int]:
-        """Servo values by index from joint angles by joint name (unmapped joints ignored)."""
-        trims = trims or {}
+    def motion_values(self, angles: Mapping[str, float]) -> dict[int, int]:
+        """Motion-space values by index from joint angles by joint name (unmapped joints
+        ignored)."""
         out: dict[int, int] = {}
         for name, a in angles.items():
             s = self.servo_for_joint(name)
             if s is not None:
-                out[s.index] = self.value(s.index, a, trims.get(s.index, 0))
+                out[s.index] = self.motion_value(s.index, a)
         return out
+
+    def angles(self, sent: Mapping[int, int], trims: Mapping[int, int]) -> dict[str, float]:
+        """Joint angles (radians) by joint name from the values ``sent`` to the servos and
+        their ``trims`` (by index; a missing trim is 0); unmapped indices are ignored."""
+        return self.motion_angles({i: v - trims.get(i, 0) for i, v in sent.items()})
+
+    def values(self, angles: Mapping[str, float], trims: Mapping[int, int]) -> dict[int, int]:
+        """The values to send by index from joint angles by joint name, with ``trims``."""
+        return {i: v + trims.get(i, 0) for i, v in self.motion_values(angles).items()}
+
+    @property
+    def _mapped(self) -> frozenset[int]:
+        return frozenset(s.index for s in self.servos)
 
     def mirror_angles(self, angles: Mapping[str, float]) -> dict[str, float]:
         """The left-right mirror image of a pose in joint space: each joint's angle moves to

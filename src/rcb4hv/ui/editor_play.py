@@ -14,33 +14,21 @@ from nicegui import ui
 from rcb4hv.client import Robot
 from rcb4hv.hth4 import Project
 from rcb4hv.project.upload import UploadResult, upload_image
-from rcb4hv.ui.context import UiContext, guarded, tid
-from rcb4hv.ui.project_actions import project_image
+from rcb4hv.ui.context import UiContext, guarded
+from rcb4hv.ui.project_actions import READY_TIMEOUT_S, built_image, confirm
 
 __all__ = ["play_on_board"]
-
-READY_TIMEOUT_S = 5.0
-"""How long the board may take to restart its ROM program after the write (its boot runs the
-startup motion; the fixture's takes well under a second)."""
 
 
 async def play_on_board(ctx: UiContext, project: Project, slot: int) -> UploadResult | None:
     """Ask, write the changed ROM pages of ``project``, play motion ``slot``."""
-    try:
-        image = project_image(project)
-    except ValueError as exc:
-        ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
-        return None
-    with ui.dialog() as dialog, ui.card():
-        ui.label(f"Write the edited project to the board at {ctx.session.url} and play {slot}?")
-        ui.label("The ROM pages that differ are replaced and read back to verify.")
-        with ui.row():
-            tid(
-                ui.button("Write and play", color="red", on_click=lambda: dialog.submit(True)),
-                "editor-play-confirm",
-            )
-            ui.button("Cancel", on_click=lambda: dialog.submit(False))
-    if not await dialog:
+    image = built_image(project)
+    if image is None or not await confirm(
+        f"Write the edited project to the board at {ctx.session.url} and play {slot}?",
+        "The ROM pages that differ are replaced and read back to verify.",
+        "Write and play",
+        "editor-play-confirm",
+    ):
         return None
 
     def job(robot: Robot) -> UploadResult:

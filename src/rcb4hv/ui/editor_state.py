@@ -2,8 +2,9 @@
 and pose, the joint rows of the sliders, and the files a save produces.
 
 Joint angles follow :mod:`rcb4hv.hth4.poses`: a motion value ``v`` of servo ``i`` is at
-``model.angle(i, v + trim, trim)`` (the board adds the trim to the output, spec 9), and the
-slider's angle goes back through :meth:`Editor.value_for` (its inverse, rounded to a count).
+``model.motion_angle(i, v)`` (the board adds the trim only when it sends, spec 9, so the trim
+does not enter), and the slider's angle goes back through :meth:`Editor.value_for`
+(``model.motion_value``, its inverse rounded to a count).
 """
 
 from __future__ import annotations
@@ -17,8 +18,8 @@ from typing import Concatenate, ParamSpec
 from rcb4hv.errors import EditError, Rcb4Error
 from rcb4hv.hth4 import Project, dump_motion_xml, parse_project
 from rcb4hv.hth4.keyframes import Keyframe, flowchart_from_keyframes
-from rcb4hv.hth4.mirror import project_model
-from rcb4hv.hth4.poses import Block, Checks, Pose, joint_angle, motion_blocks, motion_poses
+from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
+from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.hth4.session import EditSession
 from rcb4hv.protocol import SystemRegister
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
@@ -76,14 +77,15 @@ class Editor:
     # ------------------------------------------------------------------ opening
 
     def open(self, data: bytes, path: Path | None = None, model: RobotModel | None = None) -> None:
-        """Edit the project file ``data`` (read from ``path``, where Save writes)."""
+        """Edit the project file ``data`` (read from ``path``, where Save writes) with
+        ``model`` (``--robot``), else the model detected from it: the rule of
+        :mod:`rcb4hv.hth4.robotpick` (a model needing servos the project lacks is refused)."""
         self.session = EditSession(parse_project(data), path, data)
-        self.model, self.model_error = model, ""
-        if model is None:
-            try:
-                self.model = project_model(self.session.project)
-            except Rcb4Error as exc:
-                self.model_error = str(exc)
+        self.model, self.model_error = None, ""
+        try:
+            self.model = project_model(self.session.project, model)
+        except Rcb4Error as exc:
+            self.model_error = str(exc)
         used = self.project.used_motions
         self.select(used[0].slot if used else None)
 
@@ -94,12 +96,8 @@ class Editor:
         return self.session.project
 
     @property
-    def trims(self) -> dict[int, int]:
-        return {s.device_number: s.trim for s in self.project.servos}
-
-    @property
     def checks(self) -> Checks:
-        return Checks(self.model, self.trims, self.force)
+        return Checks(self.model, self.force)
 
     # ------------------------------------------------------------------ selection
 
@@ -140,14 +138,13 @@ class Editor:
         """The joint angle of motion value ``value`` in degrees (None: not a joint or special)."""
         if self.model is None or ics not in self.model.indices or not 3500 <= value <= 11500:
             return None
-        return math.degrees(joint_angle(self.model, ics, value, self.trims.get(ics, 0)))
+        return math.degrees(self.model.motion_angle(ics, value))
 
     def value_for(self, ics: int, degrees: float) -> int:
         """The motion value that puts servo ``ics``'s joint at ``degrees``."""
         if self.model is None or ics not in self.model.indices:
             return round(CENTER + degrees * COUNTS_PER_DEGREE)
-        trim = self.trims.get(ics, 0)
-        return self.model.value(ics, math.radians(degrees), trim) - trim
+        return self.model.motion_value(ics, math.radians(degrees))
 
     def joint_rows(self) -> list[JointRow]:
         pose = self.pose
@@ -172,7 +169,7 @@ class Editor:
         out = {}
         for ics, value in pose.positions:
             if ics in model.indices and 3500 <= value <= 11500:
-                out[model.servo(ics).joint] = joint_angle(model, ics, value, self.trims.get(ics, 0))
+                out[model.servo(ics).joint] = model.motion_angle(ics, value)
         return out
 
     # ------------------------------------------------------------------ editing

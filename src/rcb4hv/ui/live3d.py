@@ -1,8 +1,10 @@
 """The live 3D view of the Servos and Remote pages: the robot follows the board.
 
-Twice per poll period it takes the last polled servo positions (measured values and
-trims), turns them into joint angles through the model's joint map
-(:meth:`~rcb4hv.robot.RobotModel.angles`) and updates the :class:`~rcb4hv.ui.scene3d.RobotScene`
+Twice per poll period it takes the last polled servo positions (the measured values the board
+reports into the servo blocks: position minus base, so in motion space, without the trim),
+turns them into joint angles through the model's joint map
+(:meth:`~rcb4hv.robot.RobotModel.motion_angles`; adding the trims again would count them
+twice) and updates the :class:`~rcb4hv.ui.scene3d.RobotScene`
 (nothing is sent when the pose did not change). A servo that reports no position keeps its last
 angle. The view is rebuilt when the robot model changes (a project opened with another robot).
 """
@@ -20,15 +22,12 @@ from rcb4hv.ui.scene3d import RobotScene
 __all__ = ["LiveView", "live_view", "servo_pose"]
 
 
-def servo_pose(state: BoardState) -> tuple[dict[int, int], dict[int, int]]:
-    """(measured positions, trims) by ICS number of the servos that report a position."""
-    values: dict[int, int] = {}
-    trims: dict[int, int] = {}
-    for s in state.servos:
-        if s.measured not in (POSITION_FREE, POSITION_HOLD):
-            values[s.ics] = s.measured
-            trims[s.ics] = s.trim
-    return values, trims
+def servo_pose(state: BoardState) -> dict[int, int]:
+    """Measured positions (motion space: the board reports position minus trim) by ICS number
+    of the servos that report a position."""
+    return {
+        s.ics: s.measured for s in state.servos if s.measured not in (POSITION_FREE, POSITION_HOLD)
+    }
 
 
 class LiveView:
@@ -77,8 +76,7 @@ class LiveView:
         if self.view is None or st.polls == self._polls:
             return
         self._polls = st.polls
-        values, trims = servo_pose(st)
-        self._angles.update(self.view.model.angles(values, trims))
+        self._angles.update(self.view.model.motion_angles(servo_pose(st)))
         self.view.update(self._angles)
 
 

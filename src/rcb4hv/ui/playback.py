@@ -4,7 +4,9 @@ A :class:`Playback` is what a simulation of one motion produced: frames of (virt
 joint angles, base pose) and, from physics, when the robot fell. Two sources make them:
 
 * :func:`simulated_playback`: the plain simulator (:mod:`rcb4hv.project.simulate`): the
-  servo values the board sends each output period, through the model's joint map. It has no
+  servo values the board sends each output period (output + trim + mixing) less each
+  servo block's trim, through the model's joint map
+  (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). It has no
   base pose (the 3D view stands the robot on its feet) and cannot tell a fall.
 * :func:`physics_playback`: MuJoCo (:mod:`rcb4hv.physics`, the ``[sim]`` extra): measured
   joint angles, the base pose and the fall.
@@ -92,9 +94,14 @@ def board_trims(board: Board) -> dict[int, int]:
     return out
 
 
-def _frame(model: RobotModel, t: float, values: dict[int, int], trims: dict[int, int]) -> Frame:
-    held = {k: v for k, v in values.items() if v not in (POSITION_FREE, POSITION_HOLD)}
-    return Frame(round(t, 6), model.angles(held, trims))
+def _frame(model: RobotModel, t: float, sent: dict[int, int], trims: dict[int, int]) -> Frame:
+    """The pose of the values ``sent`` to the servos: each less its trim is the block's
+    output (motion space; free and hold are sent with the trim added too, spec 9), and free
+    or held servos are left out."""
+    # the board adds in 16-bit words (spec 9), so taking the trim off wraps the same way
+    motion = {k: (v - trims.get(k, 0)) & 0xFFFF for k, v in sent.items()}
+    held = {k: v for k, v in motion.items() if v not in (POSITION_FREE, POSITION_HOLD)}
+    return Frame(round(t, 6), model.motion_angles(held))
 
 
 def simulated_playback(

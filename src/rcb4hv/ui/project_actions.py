@@ -20,7 +20,20 @@ from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, position_to_degrees
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.plot import angle_chart, set_series
 
-__all__ = ["SimulationTrace", "build", "project_image", "run_motion", "simulate_motion"]
+__all__ = [
+    "READY_TIMEOUT_S",
+    "SimulationTrace",
+    "build",
+    "built_image",
+    "confirm",
+    "project_image",
+    "run_motion",
+    "simulate_motion",
+]
+
+READY_TIMEOUT_S = 5.0
+"""How long the board may take to restart its ROM program after a ROM write (its boot runs
+the startup motion; the fixture's takes well under a second)."""
 
 SAMPLE_EVERY = 2
 """Keep every 2nd output period of a simulation for the plot."""
@@ -29,6 +42,27 @@ SAMPLE_EVERY = 2
 def project_image(project: Project) -> bytes:
     """The ROM image of ``project`` in its own HeartToHeart4 layout."""
     return build_project_image(project, project_layout(project))
+
+
+def built_image(project: Project) -> bytes | None:
+    """:func:`project_image`, or None after telling the user why it cannot be built."""
+    try:
+        return project_image(project)
+    except ValueError as exc:
+        ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
+        return None
+
+
+async def confirm(question: str, detail: str, button: str, test_id: str) -> bool:
+    """Ask ``question`` in a dialog (``detail`` below it); True when ``button`` (red, marked
+    ``test_id``) is pressed, False on Cancel."""
+    with ui.dialog() as dialog, ui.card():
+        ui.label(question)
+        ui.label(detail)
+        with ui.row():
+            tid(ui.button(button, color="red", on_click=lambda: dialog.submit(True)), test_id)
+            ui.button("Cancel", on_click=lambda: dialog.submit(False))
+    return bool(await dialog)
 
 
 @dataclass
@@ -147,21 +181,13 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         if ctx.project is None:
             ui.notify("open a project first", type="warning")
             return
-        try:
-            image = project_image(ctx.project)
-        except ValueError as exc:
-            ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
-            return
-        with ui.dialog() as dialog, ui.card():
-            ui.label(f"Write the ROM of the board at {session.url}?")
-            ui.label("The program on the board is replaced. Each chunk is read back to verify.")
-            with ui.row():
-                tid(
-                    ui.button("Write ROM", color="red", on_click=lambda: dialog.submit(True)),
-                    "upload-confirm",
-                )
-                ui.button("Cancel", on_click=lambda: dialog.submit(False))
-        if not await dialog:
+        image = built_image(ctx.project)
+        if image is None or not await confirm(
+            f"Write the ROM of the board at {session.url}?",
+            "The program on the board is replaced. Each chunk is read back to verify.",
+            "Write ROM",
+            "upload-confirm",
+        ):
             return
         changed = bool(only_changed.value)
 
@@ -180,7 +206,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
                 progress=set_phase("writing + verifying"),
                 read_progress=set_phase("reading the board's ROM"),
             )
-            robot.wait_ready(timeout=5.0)
+            robot.wait_ready(timeout=READY_TIMEOUT_S)
             robot.discover_servos()
             return result
 
@@ -197,10 +223,8 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         if ctx.project is None:
             ui.notify("open a project first", type="warning")
             return
-        try:
-            image = project_image(ctx.project)
-        except ValueError as exc:
-            ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
+        image = built_image(ctx.project)
+        if image is None:
             return
         name = (ctx.project_name or "project").rsplit(".", 1)[0]
         ui.download.content(image, f"{name}.bin", "application/octet-stream")

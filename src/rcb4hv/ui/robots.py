@@ -2,9 +2,10 @@
 
 In this order:
 
-1. ``rcb4hv ui --robot NAME|FILE``: that model, always.
-2. An open project whose servo table names a built-in robot
-   (:func:`rcb4hv.robot.builtin.detect_robot`: names and indices).
+1. ``rcb4hv ui --robot NAME|FILE``: that model, always (the view may show a robot before any
+   project is open).
+2. An open project whose servo table names a built-in robot: the same rule as the CLI,
+   physics and the editor (:func:`rcb4hv.hth4.robotpick.project_model`).
 3. The board's own servo table: the built-in model that maps every servo the board has, with
    the fewest joints to spare. The default emulator board (17 servos: head, three per arm, five
    per leg, left on SIO1-4, see :mod:`rcb4hv.rom.default`) is a subset of the 22-axis KHR-3HV
@@ -17,21 +18,18 @@ from __future__ import annotations
 import logging
 from collections.abc import Iterable
 
+from rcb4hv.errors import NoRobotModelError
 from rcb4hv.hth4 import Project
+from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
-from rcb4hv.robot.builtin import BUILTIN, detect_robot, load_builtin, load_robot
+from rcb4hv.robot.builtin import BUILTIN, load_builtin
 
-__all__ = ["DEFAULT_ROBOT", "board_robot", "choose_robot", "project_robot"]
+__all__ = ["DEFAULT_ROBOT", "board_robot", "choose_robot"]
 
 log = logging.getLogger(__name__)
 
 DEFAULT_ROBOT = "khr3hv"
 """The robot the RCB-4HV ships in (Kondo's KHR-3HV kit), when nothing else tells."""
-
-
-def project_robot(project: Project) -> str | None:
-    """The built-in robot ``project``'s servo table names, or None when that is ambiguous."""
-    return detect_robot({s.device_number: s.name or "" for s in project.servos if s.in_use})
 
 
 def board_robot(indices: Iterable[int]) -> str | None:
@@ -56,11 +54,12 @@ def choose_robot(
     """(model, where it came from) by the rules of this module; ``spec`` is ``--robot``
     (raises :class:`~rcb4hv.errors.RobotModelError` when it names no robot)."""
     if spec is not None:
-        return load_robot(spec), f"--robot {spec}"
+        return project_model(None, spec), f"--robot {spec}"
     if project is not None:
-        name = project_robot(project)
-        if name is not None:
-            return load_builtin(name), "detected from the project"
+        try:
+            return project_model(project), "detected from the project"
+        except NoRobotModelError:
+            log.info("the open project names no built-in robot")
     name = board_robot(board_indices)
     if name is not None:
         return load_builtin(name), "matches the board's servos"

@@ -11,7 +11,7 @@ Usage (inside a NiceGUI page)::
 
     view = RobotScene(model)
     view.update({"left_knee_pitch": 0.5})          # joint angles in radians
-    view.update_servos({16: 8000}, {16: 0})        # or servo values and trims by ICS number
+    view.update_servos({16: 8000})                 # or motion-space servo values by ICS number
 """
 
 from __future__ import annotations
@@ -145,8 +145,7 @@ class RobotScene:
             self.updates += 1
         return self.stance
 
-    def update_servos(
-        self, values: Mapping[int, int], trims: Mapping[int, int] | None = None
-    ) -> Stance:
-        """Show the pose of servo ``values`` with ``trims`` (by ICS number; unmapped ignored)."""
-        return self.update(self.model.angles(values, trims))
+    def update_servos(self, values: Mapping[int, int]) -> Stance:
+        """Show the pose of motion-space servo ``values`` by ICS number (a motion's pose, the
+        board's block outputs or measured positions: before the trim; unmapped ignored)."""
+        return self.update(self.model.motion_angles(values))

@@ -1,0 +1,69 @@
+"""One rule picks a project's robot model for the CLI, physics, the editor and the dashboard."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from rcb4hv import hth4
+from rcb4hv.cli.project_physics import physics_robot
+from rcb4hv.errors import NoRobotModelError, RobotModelError
+from rcb4hv.hth4.robotpick import project_model, servo_table
+from rcb4hv.project.relocate import project_image
+from rcb4hv.rom.default import DEFAULT_ICS
+from rcb4hv.ui.robots import choose_robot
+
+
+@pytest.fixture
+def project(kxr_project_path: Path) -> hth4.Project:
+    return hth4.load_project(kxr_project_path)
+
+
+def test_detects_names_and_checks_the_project(project: hth4.Project) -> None:
+    assert project_model(project).name == "kxr-l2-gripper"
+    assert project_model(servo_table(project)).name == "kxr-l2-gripper"
+    assert project_model(project, "kxr-l2").name == "kxr-l2"  # a subset of its servos
+    with pytest.raises(RobotModelError, match=r"no servo at index 0 \(head_yaw\)"):
+        project_model(project, "khr3hv")
+    with pytest.raises(RobotModelError, match="unknown robot 'nao'"):
+        project_model(project, "nao")
+    assert project_model(None, "khr3hv").name == "khr3hv"  # nothing to check against
+
+
+def test_nothing_matching_is_a_clear_error(project: hth4.Project) -> None:
+    odd = replace(project, servos=tuple(s for s in project.servos if s.device_number != 19))
+    with pytest.raises(NoRobotModelError, match=r"matches this project's servos \[2, 3,") as e:
+        project_model(odd)
+    assert "--robot khr3hv|khr3hv-22|kxr-l2|kxr-l2-gripper|FILE" in str(e.value)
+    with pytest.raises(NoRobotModelError, match="no project servo table"):
+        project_model(None, indices=[2, 3])
+
+
+def test_every_caller_uses_the_same_rule(project: hth4.Project, kxr_project_path: Path) -> None:
+    # the dashboard: detected from the project, else the board's servos
+    model, why = choose_robot(None, project, DEFAULT_ICS)
+    assert (model.name, why) == ("kxr-l2-gripper", "detected from the project")
+    odd = replace(project, servos=tuple(s for s in project.servos if s.device_number != 19))
+    model, why = choose_robot(None, odd, DEFAULT_ICS)
+    assert (model.name, why) == ("khr3hv-22", "matches the board's servos")
+    # physics (`project simulate --physics`): a project file, or a bare ROM image (no names)
+    rom, _ = project_image(project, None)
+    assert physics_robot(kxr_project_path, rom, None).name == "kxr-l2-gripper"
+    with pytest.raises(NoRobotModelError, match="no project servo table"):
+        physics_robot(Path("robot.bin"), rom, None)
+    assert physics_robot(Path("robot.bin"), rom, "kxr-l2-gripper").name == "kxr-l2-gripper"
+
+
+def test_the_editor_refuses_a_named_model_the_project_cannot_drive(project: hth4.Project) -> None:
+    from rcb4hv.hth4 import dump_project
+    from rcb4hv.robot.builtin import load_builtin
+    from rcb4hv.ui.editor_state import Editor
+
+    ed = Editor()
+    ed.open(dump_project(project), None, load_builtin("khr3hv"))  # `rcb4hv ui --robot khr3hv`
+    assert ed.model is None and "no servo at index 0 (head_yaw)" in ed.model_error
+    ed.open(dump_project(project), None, load_builtin("kxr-l2"))
+    assert ed.model is not None and ed.model.name == "kxr-l2" and not ed.model_error
+    assert project_model(project, load_builtin("kxr-l2")) is load_builtin("kxr-l2")
