@@ -13,12 +13,20 @@ frames too.
 
 The pty server keeps its own slave fd open (raw mode), so a client can close and reopen the
 slave path any number of times, with any termios settings (even parity, any supported baud).
-A pty cannot store PARENB, and recent Linux kernels fail a ``tcsetattr`` that changes nothing
-it can apply with EINVAL - which is what a reopen with the same settings plus even parity
-is. The server therefore re-arms a sentinel speed (B50) on its slave fd whenever the client
-has been active (before answering it) and at least every :data:`PTY_REARM` seconds, so the next
-open always changes the speed and succeeds. Speed means nothing on a pty.
-Clients that reconfigure the port around every read need more: see
+A pty cannot store PARENB: the kernel's ``pty_set_termios`` (drivers/tty/pty.c) drops it and
+forces CS8 on every ``TCSETS``, and the ioctl succeeds. It is glibc's ``tcsetattr`` (Debian's
+and Fedora's build, a distribution patch "workaround for kernel pty bug") that reads the
+termios back after the ioctl and fails with EINVAL when PARENB or CSIZE was not applied *and*
+``c_cflag`` did not change either. A client that asks for even parity with the settings the
+slave already holds - a reopen, or pyserial's ``timeout`` setter - therefore always fails.
+The server keeps the slave *armed*: ``c_cflag`` carries CSTOPB (pyserial clears it in every
+reconfigure, 8E1 and 8N1 alike; its custom-baud ``TCSETS2`` keeps it) and a sentinel speed, so
+the client's next ``tcsetattr`` changes ``c_cflag`` and succeeds. Each arming writes the other
+of two sentinel speeds, so an arming that lands inside a client's ``tcsetattr`` (after its
+ioctl, before glibc's read-back) leaves a ``c_cflag`` that differs from the one glibc read
+before: the call still succeeds. The server re-arms whenever the client has been active
+(before answering it) and at least every :data:`PTY_REARM` seconds. Speed and stop bits mean
+nothing on a pty. Clients that reconfigure the port around every read need more: see
 :mod:`rcb4hv.emulator.ptywatch`.
 The TCP server serves one connection at a time; a new connection replaces the old one.
 
@@ -41,7 +49,7 @@ import threading
 import time
 import tty
 from collections import deque
-from typing import Final, Protocol
+from typing import Any, Final, Protocol
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.protocol.memory import SystemRegister, read_system
@@ -54,7 +62,10 @@ MIN_WAIT: Final = 0.001
 MAX_WAIT: Final = 1.0
 MAX_UNSENT: Final = 1 << 16
 PTY_REARM: Final = 0.2
-SENTINEL_SPEED: Final = termios.B50
+# Two speeds no client asks for (a pty ignores speed), written in turn: see the module docs.
+SENTINEL_SPEEDS: Final = (termios.B50, termios.B75)
+# One stop bit: every pyserial reconfigure clears CSTOPB (ICS and RCB-4 are 8E1), a pty keeps it.
+ARM_CFLAG: Final = termios.CSTOPB
 PR_SET_TIMERSLACK: Final = 29
 
 
@@ -278,6 +289,7 @@ class PtyServer(_Server):
 
     name = "rcb4hv-emulator-pty"
     _max_wait = PTY_REARM
+    _arm_lflag = 0  # local flags an armed slave carries too
 
     def __init__(self, board: Served) -> None:
         super().__init__(board)
@@ -286,28 +298,35 @@ class PtyServer(_Server):
         os.set_blocking(self._master, False)
         self.path = os.ttyname(self._slave)
         self._last_rearm = 0.0
+        self._sentinel = 0  # index of the sentinel speed written last
         self._rearm()
 
     def _armed(self) -> bool:
-        """Whether the slave carries the sentinel speed (no client open or reconfigure since)."""
+        """Whether the slave is armed (no client open or reconfigure since the last arming)."""
         try:
             attrs = termios.tcgetattr(self._slave)
         except (termios.error, OSError):
             return False
-        return bool(attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED)
+        return self._is_armed(attrs)
+
+    def _is_armed(self, attrs: list[Any]) -> bool:
+        return bool(attrs[2] & ARM_CFLAG) and (attrs[3] & self._arm_lflag) == self._arm_lflag
 
     def _rearm(self) -> None:
-        """Put the sentinel speed on the slave so the next client open changes something."""
+        """Arm the slave so the next client ``tcsetattr`` changes ``c_cflag`` (module docs)."""
         self._last_rearm = time.monotonic()
         try:
             attrs = termios.tcgetattr(self._slave)
-            if attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED:
+            if self._is_armed(attrs):
                 return
-            attrs[4] = attrs[5] = SENTINEL_SPEED
-            attrs[2] = (attrs[2] & ~termios.CBAUD) | SENTINEL_SPEED
+            self._sentinel = 1 - self._sentinel
+            speed = SENTINEL_SPEEDS[self._sentinel]
+            attrs[4] = attrs[5] = speed
+            attrs[2] = (attrs[2] & ~termios.CBAUD) | speed | ARM_CFLAG
+            attrs[3] |= self._arm_lflag
             termios.tcsetattr(self._slave, termios.TCSANOW, attrs)
         except (termios.error, OSError) as exc:
-            log.debug("could not re-arm the pty speed: %s", exc)
+            log.debug("could not arm the pty: %s", exc)
 
     def _housekeeping(self) -> None:
         now = time.monotonic()
