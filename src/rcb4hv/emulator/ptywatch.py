@@ -45,7 +45,7 @@ LEARNED_GATE_S: Final = 1.0
 # After this many gates in a row ran out with no reconfigure, the client is taken not to
 # reconfigure (our own client; pyserial with the timeout set once): its answers go at once.
 PLAIN_AFTER: Final = 2
-# The slave's output is never stopped longer than this (a client that went away mid-command).
+# Mid-command the slave's output is never stopped longer than this (a client that went away).
 FLOW_SAFETY_S: Final = 2.0
 
 
@@ -68,6 +68,10 @@ class WatchingPtyServer(PtyServer):
         self._stopped_until: float | None = None  # the slave's output is stopped until then
         fcntl.ioctl(self._master, termios.TIOCPKT, struct.pack("i", 1))
         self._rearm()
+        # Until the first client sets the port up (its open's tcsetattr) and that is re-armed,
+        # its first command waits: the first timeout change follows it by 2 ms only.
+        self._before_first = True  # no client has set the port up yet
+        self._flow(on=False, safety=False)
 
     def _prepare_thread(self) -> None:
         fine_timer_slack()
@@ -81,10 +85,15 @@ class WatchingPtyServer(PtyServer):
         if not packet:
             return False
         if packet[0] != TIOCPKT_DATA:  # a status packet: one byte, no data
-            if packet[0] & TIOCPKT_IOCTL and not self._armed():
-                self._reconfigures += 1  # the client's tcsetattr (ours leave it armed)
-                self.reconfiguring_client |= self._gate_until is not None
-                self._rearm()
+            if packet[0] & TIOCPKT_IOCTL and self._touched():  # not our own arming
+                first = self._before_first
+                self._before_first = False
+                if not self._armed():
+                    self._reconfigures += 1
+                    self.reconfiguring_client |= self._gate_until is not None
+                    self._rearm()
+                elif not first:
+                    return False  # still armed (a custom-baud TCSETS2 keeps CSTOPB)
                 if self._gate_until is None:
                     self._flow(on=True)
             return False
@@ -116,13 +125,13 @@ class WatchingPtyServer(PtyServer):
         self._schedule(out[: len(data)], received)
         self._held += out[len(data) :]
 
-    def _flow(self, *, on: bool) -> None:
+    def _flow(self, *, on: bool, safety: bool = True) -> None:
         """Start or stop the slave's output (what the client writes): stopped, a client's
         write waits, so its next command (and the tcsetattr after that) cannot overtake a
         re-arm that a busy machine delays."""
         if on:
             self._stopped_until = None
-        else:
+        elif safety:
             self._stopped_until = time.monotonic() + FLOW_SAFETY_S
         try:
             termios.tcflow(self._slave, termios.TCOON if on else termios.TCOOFF)

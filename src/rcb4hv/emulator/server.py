@@ -67,6 +67,8 @@ SENTINEL_SPEEDS: Final = (termios.B50, termios.B75)
 # One stop bit: every pyserial reconfigure clears CSTOPB (ICS and RCB-4 are 8E1), a pty keeps it.
 ARM_CFLAG: Final = termios.CSTOPB
 PR_SET_TIMERSLACK: Final = 29
+# start() waits this long at most for the thread to serve (as long as stop() waits for it)
+START_TIMEOUT_S: Final = 10.0
 
 
 def fine_timer_slack() -> None:
@@ -133,6 +135,7 @@ class _Server:
         self._rx_unanswered = 0  # request bytes received since the last reply was queued
         self._stop_r, self._stop_w = os.pipe()
         self._thread: threading.Thread | None = None
+        self._serving = threading.Event()
         self._lock = threading.Lock()
         self._closed = False
         self.error: BaseException | None = None
@@ -149,6 +152,8 @@ class _Server:
             raise RuntimeError("server already started")
         self._thread = threading.Thread(target=self._main, name=self.name, daemon=True)
         self._thread.start()
+        # return once the thread serves: a client told the path/address may act at once
+        self._serving.wait(timeout=START_TIMEOUT_S)
 
     def stop(self) -> None:
         """Stop the thread, join it and close every fd this server opened."""
@@ -158,7 +163,7 @@ class _Server:
         with contextlib.suppress(OSError):
             os.write(self._stop_w, b"x")
         if self._thread is not None:
-            self._thread.join(timeout=10)
+            self._thread.join(timeout=START_TIMEOUT_S)
         self._close_fds()
         for fd in (self._stop_r, self._stop_w):
             with contextlib.suppress(OSError):
@@ -242,6 +247,7 @@ class _Server:
         if self.board.config.pace_replies:
             fine_timer_slack()
         self._prepare_thread()
+        self._serving.set()
         try:
             self._loop()
         except BaseException as exc:  # pragma: no cover - logged, the thread ends
@@ -299,6 +305,7 @@ class PtyServer(_Server):
         self.path = os.ttyname(self._slave)
         self._last_rearm = 0.0
         self._sentinel = 0  # index of the sentinel speed written last
+        self._written: tuple[int, int] = (0, 0)  # c_cflag, c_lflag of the last arming
         self._rearm()
 
     def _armed(self) -> bool:
@@ -308,6 +315,14 @@ class PtyServer(_Server):
         except (termios.error, OSError):
             return False
         return self._is_armed(attrs)
+
+    def _touched(self) -> bool:
+        """Whether someone else set the slave's termios since the last arming."""
+        try:
+            attrs = termios.tcgetattr(self._slave)
+        except (termios.error, OSError):
+            return False
+        return (attrs[2], attrs[3]) != self._written
 
     def _is_armed(self, attrs: list[Any]) -> bool:
         return bool(attrs[2] & ARM_CFLAG) and (attrs[3] & self._arm_lflag) == self._arm_lflag
@@ -325,6 +340,7 @@ class PtyServer(_Server):
             attrs[2] = (attrs[2] & ~termios.CBAUD) | speed | ARM_CFLAG
             attrs[3] |= self._arm_lflag
             termios.tcsetattr(self._slave, termios.TCSANOW, attrs)
+            self._written = (attrs[2], attrs[3])
         except (termios.error, OSError) as exc:
             log.debug("could not arm the pty: %s", exc)
 
