@@ -13,21 +13,15 @@ frames too.
 
 The pty server keeps its own slave fd open (raw mode), so a client can close and reopen the
 slave path any number of times, with any termios settings (even parity, any supported baud).
-A pty cannot store PARENB: the kernel's ``pty_set_termios`` (drivers/tty/pty.c) drops it and
-forces CS8 on every ``TCSETS``, and the ioctl succeeds. It is glibc's ``tcsetattr`` (Debian's
-and Fedora's build, a distribution patch "workaround for kernel pty bug") that reads the
-termios back after the ioctl and fails with EINVAL when PARENB or CSIZE was not applied *and*
-``c_cflag`` did not change either. A client that asks for even parity with the settings the
-slave already holds - a reopen, or pyserial's ``timeout`` setter - therefore always fails.
-The server keeps the slave *armed*: ``c_cflag`` carries CSTOPB (pyserial clears it in every
-reconfigure, 8E1 and 8N1 alike; its custom-baud ``TCSETS2`` keeps it) and a sentinel speed, so
-the client's next ``tcsetattr`` changes ``c_cflag`` and succeeds. Each arming writes the other
-of two sentinel speeds, so an arming that lands inside a client's ``tcsetattr`` (after its
-ioctl, before glibc's read-back) leaves a ``c_cflag`` that differs from the one glibc read
-before: the call still succeeds. The server re-arms whenever the client has been active
-(before answering it) and at least every :data:`PTY_REARM` seconds. Speed and stop bits mean
-nothing on a pty. Clients that reconfigure the port around every read need more: see
-:mod:`rcb4hv.emulator.ptywatch`.
+A pty cannot store PARENB (the kernel's ``pty_set_termios`` drops it, and the ioctl succeeds);
+glibc's ``tcsetattr`` reads the termios back and fails with EINVAL when PARENB was not applied
+and ``c_cflag`` did not change either - a reopen, or pyserial's ``timeout`` setter. So the
+server keeps the slave *armed*: CSTOPB (pyserial clears it in every reconfigure; its
+custom-baud ``TCSETS2`` keeps it) and a sentinel speed, so the client's next ``tcsetattr``
+changes ``c_cflag``. Each arming writes the other of two sentinel speeds: one that lands inside
+a client's call (after its ioctl, before glibc's read-back) still leaves ``c_cflag`` changed.
+It re-arms when the client has been active (before answering) and every :data:`PTY_REARM`
+seconds. Clients that reconfigure around every read need more: :mod:`rcb4hv.emulator.ptywatch`.
 The TCP server serves one connection at a time; a new connection replaces the old one.
 
 Both serve any :class:`Served` device, not only a :class:`~rcb4hv.emulator.Board`: the ICS bus
