@@ -1,21 +1,23 @@
 """A pty server for clients that reconfigure the port around every read (``emulate-ics``).
 
-On Linux a ``tcsetattr`` that asks for even parity on a pty fails with EINVAL unless it also
-changes something else: a pty cannot store PARENB. :class:`~rcb4hv.emulator.server.PtyServer`
-therefore keeps a sentinel speed on its slave, so a client's *open* always changes the speed.
-iory/rcb4's ``ics.py`` goes further: it sets ``timeout`` before and after every read, two
-``tcsetattr`` calls per command, about 2 ms apart (the command's wire time + 2 ms). A sentinel
-re-armed only when the command's bytes arrive is too late for the first (a pty hands bytes
-to the master through a kernel work queue, which a busy machine delays), and nothing re-arms
-it between the two.
+Every ``tcsetattr`` that asks for even parity on a pty must change ``c_cflag`` or glibc fails
+it with EINVAL (see :mod:`rcb4hv.emulator.server`), so :class:`~rcb4hv.emulator.server.PtyServer`
+keeps its slave *armed*. iory/rcb4's ``ics.py`` sets ``timeout`` before and after every read:
+two ``tcsetattr`` calls per command, about 2 ms apart (the command's wire time + 2 ms), and the
+slave must be armed again before each. An arming done only when the command's bytes arrive is
+too late for the first (a pty hands bytes to the master through a kernel work queue, which a
+busy machine delays), and nothing arms it between the two.
 
 :class:`WatchingPtyServer` is told of every ``tcsetattr`` on the slave as it happens: the
 master runs in packet mode (``TIOCPKT``) and the slave carries ``EXTPROC``, with which the
 kernel's pty driver reports each termios change to the master as a ``TIOCPKT_IOCTL`` status
-packet. The server re-arms at once, and holds each reply until the client has reconfigured
-after sending its command (or for ``reply_gate_s``, for clients that never do), so the
-reconfigure that follows the read finds the sentinel armed too. Its thread asks for the
-lowest real-time priority where that is allowed, so re-arming does not wait for a CPU.
+packet. The server re-arms at once (safe even inside the client's call: each arming writes the
+other sentinel speed), and holds each reply until the client has reconfigured after sending its
+command (or for ``reply_gate_s``, for clients that never do), so the reconfigure that follows
+the read finds the slave armed; and it stops the slave's output from the reply until the
+reconfigure after the read has been re-armed, so the client's next command (and the
+reconfigure after it) waits for that. Its thread asks for the lowest real-time priority where
+that is allowed, so re-arming does not wait for a CPU.
 """
 
 from __future__ import annotations
@@ -37,20 +39,13 @@ log = logging.getLogger(__name__)
 EXTPROC: Final = 0o200000  # <asm-generic/termbits.h>; not exported by Python's termios
 TIOCPKT_DATA: Final = 0x00
 TIOCPKT_IOCTL: Final = 0x40
-# Re-arm this long after a client's tcsetattr is reported, not at once: the report is sent
-# from inside the client's call, before the kernel checks whether the call changed anything,
-# and a real-time server thread on the client's CPU would re-arm before that check (undoing
-# the change: the call fails). Half a millisecond lets the call finish; a reconfiguring
-# client's next call comes after its next command's wire time + 2 ms (rcb4) or after a held
-# reply is released, which waits for the re-arm.
-REARM_DELAY_S: Final = 0.0005
 # A client seen reconfiguring between command and reply always does (rcb4's synchronize):
 # hold its replies until it has, however long a busy machine makes it take.
 LEARNED_GATE_S: Final = 1.0
 # After this many gates in a row ran out with no reconfigure, the client is taken not to
 # reconfigure (our own client; pyserial with the timeout set once): its answers go at once.
 PLAIN_AFTER: Final = 2
-# The slave's output is never stopped longer than this (a client that went away mid-command).
+# Mid-command the slave's output is never stopped longer than this (a client that went away).
 FLOW_SAFETY_S: Final = 2.0
 
 
@@ -58,6 +53,7 @@ class WatchingPtyServer(PtyServer):
     """A :class:`PtyServer` that re-arms on every client ``tcsetattr`` and gates replies."""
 
     name = "rcb4hv-emulator-pty-watch"
+    _arm_lflag = EXTPROC  # makes the driver report termios changes to the master
 
     def __init__(self, board: Served, *, reply_gate_s: float) -> None:
         super().__init__(board)
@@ -66,13 +62,16 @@ class WatchingPtyServer(PtyServer):
         self._reconfigures = 0  # client tcsetattr calls seen
         self._at_read = 0  # ... when the last command's bytes were read
         self._at_flush = 0  # ... when the last reply left
-        self._rearm_at: float | None = None  # a client reconfigured: re-arm then
         self.reconfiguring_client = False  # learned: the client reconfigures before reading
         self._plain_streak = 0  # gates that ran out with no reconfigure, in a row
         self._held = bytearray()  # the servo's answer, waiting for the gate
         self._stopped_until: float | None = None  # the slave's output is stopped until then
         fcntl.ioctl(self._master, termios.TIOCPKT, struct.pack("i", 1))
         self._rearm()
+        # Until the first client sets the port up (its open's tcsetattr) and that is re-armed,
+        # its first command waits: the first timeout change follows it by 2 ms only.
+        self._before_first = True  # no client has set the port up yet
+        self._flow(on=False, safety=False)
 
     def _prepare_thread(self) -> None:
         fine_timer_slack()
@@ -81,29 +80,22 @@ class WatchingPtyServer(PtyServer):
         except (OSError, AttributeError) as exc:  # not root, no CAP_SYS_NICE, not Linux
             log.debug("no real-time priority for the pty server: %s", exc)
 
-    def _rearm(self) -> None:
-        """The sentinel speed and EXTPROC (which makes the driver report termios changes)."""
-        self._last_rearm = time.monotonic()
-        try:
-            attrs = termios.tcgetattr(self._slave)
-            if attrs[4] == attrs[5] == termios.B50 and attrs[3] & EXTPROC:
-                return
-            attrs[4] = attrs[5] = termios.B50
-            attrs[2] = (attrs[2] & ~termios.CBAUD) | termios.B50
-            attrs[3] |= EXTPROC
-            termios.tcsetattr(self._slave, termios.TCSANOW, attrs)
-        except (termios.error, OSError) as exc:
-            log.debug("could not re-arm the pty: %s", exc)
-
     def _on_readable(self, fd: int) -> bool:
         packet = self._read_master()
         if not packet:
             return False
         if packet[0] != TIOCPKT_DATA:  # a status packet: one byte, no data
-            if packet[0] & TIOCPKT_IOCTL and not self._armed() and self._rearm_at is None:
-                self._reconfigures += 1  # the client's tcsetattr (ours leave it armed)
-                self.reconfiguring_client |= self._gate_until is not None
-                self._rearm_at = time.monotonic() + REARM_DELAY_S
+            if packet[0] & TIOCPKT_IOCTL and self._touched():  # not our own arming
+                first = self._before_first
+                self._before_first = False
+                if not self._armed():
+                    self._reconfigures += 1
+                    self.reconfiguring_client |= self._gate_until is not None
+                    self._rearm()
+                elif not first:
+                    return False  # still armed (a custom-baud TCSETS2 keeps CSTOPB)
+                if self._gate_until is None:
+                    self._flow(on=True)
             return False
         data = packet[1:]
         if not data:
@@ -133,13 +125,13 @@ class WatchingPtyServer(PtyServer):
         self._schedule(out[: len(data)], received)
         self._held += out[len(data) :]
 
-    def _flow(self, *, on: bool) -> None:
+    def _flow(self, *, on: bool, safety: bool = True) -> None:
         """Start or stop the slave's output (what the client writes): stopped, a client's
         write waits, so its next command (and the tcsetattr after that) cannot overtake a
         re-arm that a busy machine delays."""
         if on:
             self._stopped_until = None
-        else:
+        elif safety:
             self._stopped_until = time.monotonic() + FLOW_SAFETY_S
         try:
             termios.tcflow(self._slave, termios.TCOON if on else termios.TCOOFF)
@@ -147,19 +139,13 @@ class WatchingPtyServer(PtyServer):
             log.debug("tcflow: %s", exc)
 
     def _housekeeping(self) -> None:
-        """Re-arm when due (no periodic re-arm: every client tcsetattr is reported, and one
-        at a random moment could land inside a client's call), then let the client write."""
-        now = time.monotonic()
-        if self._rearm_at is not None and now >= self._rearm_at:
-            self._rearm_at = None
-            self._rearm()
-            if self._gate_until is None:
-                self._flow(on=True)
-        if self._stopped_until is not None and now >= self._stopped_until:
+        """No periodic re-arm: every client ``tcsetattr`` is reported. Let a client that went
+        away mid-command write again."""
+        if self._stopped_until is not None and time.monotonic() >= self._stopped_until:
             self._flow(on=True)
 
     def _flush_due(self, now: float) -> None:
-        if self._gate_until is not None and self._rearm_at is None:
+        if self._gate_until is not None:
             reconfigured = self._reconfigures > self._at_read
             # a reconfiguring client whose command reached us after its first reconfigure
             # (the pty's work queue was late): twice since the last reply, after reading it
@@ -185,7 +171,7 @@ class WatchingPtyServer(PtyServer):
 
     def _timeout(self, now: float) -> float | None:
         wait = super()._timeout(now)
-        for t in (self._gate_until, self._rearm_at, self._stopped_until):
+        for t in (self._gate_until, self._stopped_until):
             if t is not None:
                 left = max(0.0, t - now)
                 wait = left if wait is None else min(wait, left)

@@ -13,13 +13,15 @@ frames too.
 
 The pty server keeps its own slave fd open (raw mode), so a client can close and reopen the
 slave path any number of times, with any termios settings (even parity, any supported baud).
-A pty cannot store PARENB, and recent Linux kernels fail a ``tcsetattr`` that changes nothing
-it can apply with EINVAL - which is what a reopen with the same settings plus even parity
-is. The server therefore re-arms a sentinel speed (B50) on its slave fd whenever the client
-has been active (before answering it) and at least every :data:`PTY_REARM` seconds, so the next
-open always changes the speed and succeeds. Speed means nothing on a pty.
-Clients that reconfigure the port around every read need more: see
-:mod:`rcb4hv.emulator.ptywatch`.
+A pty cannot store PARENB (the kernel's ``pty_set_termios`` drops it, and the ioctl succeeds);
+glibc's ``tcsetattr`` reads the termios back and fails with EINVAL when PARENB was not applied
+and ``c_cflag`` did not change either - a reopen, or pyserial's ``timeout`` setter. So the
+server keeps the slave *armed*: CSTOPB (pyserial clears it in every reconfigure; its
+custom-baud ``TCSETS2`` keeps it) and a sentinel speed, so the client's next ``tcsetattr``
+changes ``c_cflag``. Each arming writes the other of two sentinel speeds: one that lands inside
+a client's call (after its ioctl, before glibc's read-back) still leaves ``c_cflag`` changed.
+It re-arms when the client has been active (before answering) and every :data:`PTY_REARM`
+seconds. Clients that reconfigure around every read need more: :mod:`rcb4hv.emulator.ptywatch`.
 The TCP server serves one connection at a time; a new connection replaces the old one.
 
 Both serve any :class:`Served` device, not only a :class:`~rcb4hv.emulator.Board`: the ICS bus
@@ -41,7 +43,7 @@ import threading
 import time
 import tty
 from collections import deque
-from typing import Final, Protocol
+from typing import Any, Final, Protocol
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.protocol.memory import SystemRegister, read_system
@@ -54,8 +56,13 @@ MIN_WAIT: Final = 0.001
 MAX_WAIT: Final = 1.0
 MAX_UNSENT: Final = 1 << 16
 PTY_REARM: Final = 0.2
-SENTINEL_SPEED: Final = termios.B50
+# Two speeds no client asks for (a pty ignores speed), written in turn: see the module docs.
+SENTINEL_SPEEDS: Final = (termios.B50, termios.B75)
+# One stop bit: every pyserial reconfigure clears CSTOPB (ICS and RCB-4 are 8E1), a pty keeps it.
+ARM_CFLAG: Final = termios.CSTOPB
 PR_SET_TIMERSLACK: Final = 29
+# start() waits this long at most for the thread to serve (as long as stop() waits for it)
+START_TIMEOUT_S: Final = 10.0
 
 
 def fine_timer_slack() -> None:
@@ -122,6 +129,7 @@ class _Server:
         self._rx_unanswered = 0  # request bytes received since the last reply was queued
         self._stop_r, self._stop_w = os.pipe()
         self._thread: threading.Thread | None = None
+        self._serving = threading.Event()
         self._lock = threading.Lock()
         self._closed = False
         self.error: BaseException | None = None
@@ -138,6 +146,8 @@ class _Server:
             raise RuntimeError("server already started")
         self._thread = threading.Thread(target=self._main, name=self.name, daemon=True)
         self._thread.start()
+        # return once the thread serves: a client told the path/address may act at once
+        self._serving.wait(timeout=START_TIMEOUT_S)
 
     def stop(self) -> None:
         """Stop the thread, join it and close every fd this server opened."""
@@ -147,7 +157,7 @@ class _Server:
         with contextlib.suppress(OSError):
             os.write(self._stop_w, b"x")
         if self._thread is not None:
-            self._thread.join(timeout=10)
+            self._thread.join(timeout=START_TIMEOUT_S)
         self._close_fds()
         for fd in (self._stop_r, self._stop_w):
             with contextlib.suppress(OSError):
@@ -231,6 +241,7 @@ class _Server:
         if self.board.config.pace_replies:
             fine_timer_slack()
         self._prepare_thread()
+        self._serving.set()
         try:
             self._loop()
         except BaseException as exc:  # pragma: no cover - logged, the thread ends
@@ -278,6 +289,7 @@ class PtyServer(_Server):
 
     name = "rcb4hv-emulator-pty"
     _max_wait = PTY_REARM
+    _arm_lflag = 0  # local flags an armed slave carries too
 
     def __init__(self, board: Served) -> None:
         super().__init__(board)
@@ -286,28 +298,45 @@ class PtyServer(_Server):
         os.set_blocking(self._master, False)
         self.path = os.ttyname(self._slave)
         self._last_rearm = 0.0
+        self._sentinel = 0  # index of the sentinel speed written last
+        self._written: tuple[int, int] = (0, 0)  # c_cflag, c_lflag of the last arming
         self._rearm()
 
     def _armed(self) -> bool:
-        """Whether the slave carries the sentinel speed (no client open or reconfigure since)."""
+        """Whether the slave is armed (no client open or reconfigure since the last arming)."""
         try:
             attrs = termios.tcgetattr(self._slave)
         except (termios.error, OSError):
             return False
-        return bool(attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED)
+        return self._is_armed(attrs)
+
+    def _touched(self) -> bool:
+        """Whether someone else set the slave's termios since the last arming."""
+        try:
+            attrs = termios.tcgetattr(self._slave)
+        except (termios.error, OSError):
+            return False
+        return (attrs[2], attrs[3]) != self._written
+
+    def _is_armed(self, attrs: list[Any]) -> bool:
+        return bool(attrs[2] & ARM_CFLAG) and (attrs[3] & self._arm_lflag) == self._arm_lflag
 
     def _rearm(self) -> None:
-        """Put the sentinel speed on the slave so the next client open changes something."""
+        """Arm the slave so the next client ``tcsetattr`` changes ``c_cflag`` (module docs)."""
         self._last_rearm = time.monotonic()
         try:
             attrs = termios.tcgetattr(self._slave)
-            if attrs[4] == SENTINEL_SPEED and attrs[5] == SENTINEL_SPEED:
+            if self._is_armed(attrs):
                 return
-            attrs[4] = attrs[5] = SENTINEL_SPEED
-            attrs[2] = (attrs[2] & ~termios.CBAUD) | SENTINEL_SPEED
+            self._sentinel = 1 - self._sentinel
+            speed = SENTINEL_SPEEDS[self._sentinel]
+            attrs[4] = attrs[5] = speed
+            attrs[2] = (attrs[2] & ~termios.CBAUD) | speed | ARM_CFLAG
+            attrs[3] |= self._arm_lflag
             termios.tcsetattr(self._slave, termios.TCSANOW, attrs)
+            self._written = (attrs[2], attrs[3])
         except (termios.error, OSError) as exc:
-            log.debug("could not re-arm the pty speed: %s", exc)
+            log.debug("could not arm the pty: %s", exc)
 
     def _housekeeping(self) -> None:
         now = time.monotonic()
