@@ -85,7 +85,9 @@ def test_concurrent_tasks_are_serialised(url: str) -> None:
             assert await robot.variable(n) == i * (n + 1)
 
     async def main() -> None:
-        async with await AsyncRobot.open(url) as robot:
+        # what is tested is the order of 180 exchanges, not their speed: a timeout that a busy
+        # two-core runner cannot miss (the pty link's 0.5 s default did, at load 12)
+        async with await AsyncRobot.open(url, timeout=5.0) as robot:
             await asyncio.gather(*(worker(robot, n) for n in range(6)))
             assert [await robot.variable(n) for n in range(6)] == [14 * (n + 1) for n in range(6)]
 

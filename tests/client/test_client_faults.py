@@ -16,10 +16,11 @@ from tests.client.conftest import SYNC_TRANSPORTS, Rig, make_board, make_rig
 
 TIMEOUT = 0.15
 """The faulted call's timeout when the fault makes it time out (nothing, or too little, comes)."""
-SLACK = 1.0
+SLACK = 5.0
 """How far past its deadline a call may end: scheduling on a loaded 2-core machine (0.41 s
-was seen once at load 3; a second holds at load 4, what CI runners see). A hang would take
-far longer: the calls run with no limit of their own but the timeout."""
+was seen once at load 3; 2.95 s once at load 12: two `stress` workers beside a second full
+test run). A hang would take for ever: the calls run with no limit of their own but the
+timeout."""
 
 CALM_TIMEOUT = 2.0
 """Every call that should succeed or fail otherwise: on a loaded machine a good reply can take
