@@ -158,6 +158,8 @@ class EmulatedCommandError(Rcb4Error):
 class EmulatedReset(Rcb4Error):
     """Inside the emulator: the command resets the board (configuration
     ``series_servo="reset"``); the board model powers on again."""
+
+
 class RobotModelError(Rcb4Error, ValueError):
     """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
     malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo

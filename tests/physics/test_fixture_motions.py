@@ -32,6 +32,7 @@ WALK_FORWARD, TURN_LEFT, TURN_RIGHT = 9, 13, 14  # XL2G_109, XL2G_113, XL2G_114
 GREETING = 21  # XL2G_201_挨拶: a bow
 SLOW_FORWARD, SLOW_BACK, SLOW_RIGHT = 5, 6, 8  # XL2G_105/106/108: five slow steps
 SIDE_LEFT, SIDE_RIGHT = 11, 12  # XL2G_111/112: a fast side step left / right
+GET_UP_BACK = 15  # XL2G_115: get up from lying on the back
 
 
 def play(*slots: int, sequence: bool = False) -> list[PhysicsOutcome]:
@@ -93,6 +94,18 @@ def test_the_fixture_greeting_bows_upright_and_in_place() -> None:
     assert not out.fell and out.end_pose == "upright"
     assert math.hypot(out.dx_m, out.dy_m) < 0.02
     assert abs(out.dyaw_deg) < 3.0
+
+
+def test_the_get_up_from_the_back_stands_the_robot_up() -> None:
+    # with MuJoCo's elliptic friction cone; with its pyramidal one the feet crept away while
+    # the arms pushed, the robot sat on its heels and fell back onto its back
+    run = play_physics(
+        IMAGE, KXR, [GET_UP_BACK], NAMES, motion_layout=LAYOUT, sequence=False, start="on_back"
+    )
+    out = run.motions[0].outcome
+    assert out.max_tilt_deg > 85.0  # it started lying
+    assert out.end_pose == "upright"
+    assert abs(out.dyaw_deg) < 10.0
 
 
 def test_a_sequence_plays_on_without_a_reset() -> None:

@@ -38,6 +38,7 @@ __all__ = [
     "DEFAULT_STRETCH",
     "FLOOR_FRICTION",
     "FREE_DAMPING_FRACTION",
+    "FRICTION_CONE",
     "FULL_TORQUE_ERROR_DEG",
     "IMU_SITE",
     "MOTOR_TIME_CONSTANT",
@@ -97,6 +98,13 @@ friction tables); chosen in the middle."""
 TORSIONAL_FRICTION = 0.005
 ROLLING_FRICTION = 0.0001
 """Spin (m) and rolling (m) friction of a contact: MuJoCo's defaults."""
+
+FRICTION_CONE = "elliptic"
+"""MuJoCo's friction cone: Coulomb's circle of ``|tangential| <= mu * normal``. MuJoCo's
+default, the pyramidal cone, is a linearised approximation that lets loaded contacts creep;
+its XML reference says "elliptic cones are a better model of the physical reality" and its
+computation chapter names them the first cure for contact slip. With the pyramidal cone the
+KXR's feet crept: single steps turned it ~15° and the get-up from the back fell back."""
 
 DEFAULT_SERVO = ServoSpec(
     "KRS-3304R2",
@@ -261,7 +269,8 @@ def to_mjcf(
     lines = [
         f"<mujoco model={quoteattr(model.name)}>",
         '  <compiler angle="radian" eulerseq="XYZ" autolimits="true"/>',
-        f'  <option timestep="{_f(timestep)}" integrator="implicitfast" gravity="0 0 -9.81"/>',
+        f'  <option timestep="{_f(timestep)}" integrator="implicitfast" '
+        f'cone="{FRICTION_CONE}" gravity="0 0 -9.81"/>',
         "  <default>",
         f'    <geom contype="{_ROBOT_CONTYPE}" conaffinity="{_ROBOT_AFFINITY}" '
         f'condim="4" friction="{friction}"/>',

@@ -493,4 +493,3 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
         priority_motions=tuple(priority),
         motions=tuple(motions),
     )
-
