@@ -15,14 +15,12 @@ write by reading the EEPROM back. Writes return what changed.
 
 from __future__ import annotations
 
-import errno
 import logging
-import time
 from collections.abc import Iterable, Mapping
 from types import TracebackType
 from typing import Final
 
-from rcb4hv.errors import IcsError, IcsNoReply, TransportError
+from rcb4hv.errors import IcsError, IcsNoReply
 from rcb4hv.ics.codec import (
     BAUD_RATES,
     MAX_ID,
@@ -52,20 +50,6 @@ log = logging.getLogger(__name__)
 # values with a live read/write sub-command (the others live in the EEPROM only)
 LIVE: Final = {"stretch": Sc.STRETCH, "speed": Sc.SPEED}
 DEFAULT_BAUD: Final = 115200  # what Kondo's servos ship with (EEPROM baud code 10)
-# Linux refuses (EINVAL) a tcsetattr asking a pty for even parity that changes nothing else;
-# the ICS emulator's pty re-arms within a millisecond or so of any client's call, so an
-# open that lands before that is simply tried again.
-OPEN_ATTEMPTS: Final = 5
-OPEN_RETRY_S: Final = 0.01
-
-
-def _refused_parity(exc: BaseException) -> bool:
-    """Whether ``exc`` came from an EINVAL of the port's setup (``termios.error``/OSError)."""
-    cause = exc.__cause__
-    code = getattr(cause, "errno", None)
-    if code is None and cause is not None and cause.args:
-        code = cause.args[0]
-    return code == errno.EINVAL
 
 
 class IcsServo:
@@ -211,15 +195,7 @@ class IcsBus:
         at ``baud`` (115200, 625000, 1250000), 8E1."""
         if baud not in BAUD_RATES:
             raise ValueError(f"ICS baud rate {baud} is not one of {BAUD_RATES}")
-        for attempt in range(OPEN_ATTEMPTS):
-            try:
-                return cls(SerialIcsLink(SerialTransport.open(url, baud)))
-            except TransportError as exc:
-                if attempt == OPEN_ATTEMPTS - 1 or not _refused_parity(exc):
-                    raise
-                log.debug("%s refused even parity (a pty not re-armed yet): again", url)
-                time.sleep(OPEN_RETRY_S)
-        raise AssertionError("unreachable")
+        return cls(SerialIcsLink(SerialTransport.open(url, baud)))
 
     def close(self) -> None:
         self.link.close()
