@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import pairwise
+from typing import Literal
 
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.memmap import (
@@ -49,11 +50,25 @@ from rcb4hv.emulator.memmap import (
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
 
-__all__ = ["ServoState", "Servos", "ramp"]
+__all__ = ["ServoMode", "ServoState", "Servos", "output_mode", "ramp"]
 
 ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
 _u16 = U16.unpack_from
 _s16 = S16.unpack_from
+
+ServoMode = Literal["free", "hold", "angle"]
+"""What a servo does with its block's output: goes limp, keeps the angle it has, or drives to
+the angle sent (output + trim + mixing, spec 9)."""
+
+
+def output_mode(output: int, hold_is_free: bool) -> ServoMode:
+    """The mode of a block's output word (motion space: the trim is not in it): 8000h frees the
+    servo, 7FFFh holds it (frees it where the board's config says ``position_7fff="free"``:
+    ``hold_is_free``), anything else is an angle. The one rule; :meth:`Servos.mode`,
+    :meth:`Servos.report` and the physics backend use it."""
+    if output == FREE or (output == HOLD and hold_is_free):
+        return "free"
+    return "hold" if output == HOLD else "angle"
 
 
 @dataclass(frozen=True, slots=True)
@@ -316,10 +331,11 @@ class Servos:
         for ics, blk in pairs:
             out = _u16(r, blk + B_OUTPUT)[0]
             base = _s16(r, blk + B_BASE)[0]
-            if out == FREE or (out == HOLD and hold_is_free):
+            mode = output_mode(out, hold_is_free)
+            if mode == "free":
                 torque[ics] = False
                 p = physical[ics]
-            elif out == HOLD or external:
+            elif mode == "hold" or external:
                 torque[ics] = True
                 p = physical[ics]
             else:
@@ -350,6 +366,32 @@ class Servos:
             if blk is not None:
                 out[ics] = self.sent(blk)
         return out
+
+    def mode(self, ics: int) -> ServoMode | None:
+        """:func:`output_mode` of ICS ``ics``'s block under this board's config (None: no
+        type-0 block)."""
+        blk = self.block(ics)
+        if blk is None:
+            return None
+        return output_mode(_u16(self.ram, blk + B_OUTPUT)[0], self.config.position_7fff == "free")
+
+    def flag_wait(self, flags: int) -> int | None:
+        """Output periods until every update flag in ``flags`` has cleared: one more than the
+        longest remaining count of the flagged servos' moves (0: no flag set). None when a
+        flagged servo has no move in progress, so its flag never clears. The one rule for how
+        long the program waits on update flags: the accelerator skips these periods
+        (:func:`rcb4hv.emulator.accel.skip_periods`) and the simulator steps over them."""
+        r = self.ram
+        longest = 0
+        while flags:
+            low = flags & -flags
+            ics = low.bit_length() - 1
+            flags ^= low
+            blk = self.block(ics) if ics < ICS_COUNT else None
+            if blk is None or not r[blk + B_SPEED]:
+                return None
+            longest = max(longest, r[blk + B_REMAINING] + 1)
+        return longest
 
     def state(self, ics: int) -> ServoState | None:
         blk = self.block(ics)

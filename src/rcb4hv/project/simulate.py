@@ -63,7 +63,6 @@ from rcb4hv.project.instructions import boot_cause, input_names
 from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.project.simwatch import Watch, mixed_sensors, progress_state
 from rcb4hv.protocol import (
-    ICS_COUNT,
     Ack,
     Command,
     DataReply,
@@ -77,7 +76,6 @@ from rcb4hv.protocol import sequences as seq
 from rcb4hv.protocol.memory import (
     ADDR,
     NO_BLOCK,
-    SERVO,
     SYS,
     read_alloc,
     read_system,
@@ -220,24 +218,11 @@ class Simulator:
         return self.board.ram[ADDR.CALL_DEPTH]
 
     def _wait_periods(self) -> int | None:
-        """Output periods the program will wait at least (None: flags that never clear)."""
-        b = self.board
-        ram = b.ram
-        flags = self._flags()
-        longest = 0
-        for ics in range(ICS_COUNT):
-            if not flags >> ics & 1:
-                continue
-            blk = b.alloc(ics)
-            if (
-                blk == NO_BLOCK
-                or blk + SERVO.SIZE > len(ram)
-                or SERVO.F_TYPE.get(ram, blk) != 0
-                or not SERVO.F_SPEED.get(ram, blk)
-            ):
-                return None
-            longest = max(longest, SERVO.F_REMAINING.get(ram, blk))
-        return longest
+        """Output periods the program will wait at least (None: flags that never clear): the
+        board's own count (:meth:`~rcb4hv.emulator.Board.update_flag_wait`) less the period
+        that clears the last flag."""
+        k = self.board.update_flag_wait()
+        return None if k is None else max(0, k - 1)
 
     def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
         rom = self.board.rom
