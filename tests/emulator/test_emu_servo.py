@@ -231,6 +231,7 @@ def test_servo_mode_reads_the_output_without_the_trim() -> None:
         b.ram[BLK + 2 : BLK + 4] = (trim & 0xFFFF).to_bytes(2, "little")
         assert b.servo_mode(0) == "angle"
         assert b.sent_angles() == {0: 7500 + trim}
+        assert b.sent_angles(trim=False) == {0: 7500}
         x(b, RunSingleServo(0, 1, 0x8000))
         b.run_for(0.011)
         assert b.servo_outputs()[0] == 0x8000 + trim  # the sent value is not 8000h

@@ -12,8 +12,8 @@ from rcb4hv.emulator import Board
 from rcb4hv.hth4.diff import diff_projects
 from rcb4hv.hth4.edit import set_pose
 from rcb4hv.hth4.poses import motion_poses
+from rcb4hv.project.relocate import project_image
 from rcb4hv.ui.context import UiContext
-from rcb4hv.ui.project_actions import project_image
 from rcb4hv.ui.trim_panel import new_trim
 from tests.ui.test_user import one, output, run, until
 
@@ -133,6 +133,6 @@ def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_pa
         user.find(marker="editor-play-confirm").click()
         await until(lambda: output(board, 10) == 7700, 120)
         edited = set_pose(hth4.load_project(src), 39, 0, {10: 7700})
-        assert bytes(board.rom) == project_image(edited)  # the edit is in the board's ROM
+        assert bytes(board.rom) == project_image(edited)[0]  # the edit is in the board's ROM
 
     run(scenario)

@@ -55,6 +55,7 @@ from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
 from rcb4hv.protocol import FRAME_PERIODS_MS, FrameDecoder, Rom, decode_command, encode_reply
 from rcb4hv.protocol.memory import (
     PIO_MASK,
+    SERVO,
     pack_alloc,
     read_system,
     read_update_flags,
@@ -439,10 +440,21 @@ class Board:
         (:func:`rcb4hv.emulator.servos.output_mode`)."""
         return self._servos.mode(ics)
 
-    def sent_angles(self) -> dict[int, int | None]:
-        """:meth:`servo_outputs` with None for each servo that is free or holds (no angle)."""
+    def sent_angles(self, *, trim: bool = True) -> dict[int, int | None]:
+        """:meth:`servo_outputs` with None for each servo that is free or holds (no angle).
+        ``trim=False``: each value less its block's trim (output + mixing: the motion's own
+        value; 16-bit, as the board adds)."""
         servos = self._servos
-        return {k: v if servos.mode(k) == "angle" else None for k, v in servos.outputs().items()}
+        ram = self.ram
+        out: dict[int, int | None] = {}
+        for k, v in servos.outputs().items():
+            if servos.mode(k) != "angle":
+                out[k] = None
+            elif trim:
+                out[k] = v
+            else:
+                out[k] = (v - SERVO.F_BASE.get(ram, self.alloc(k))) & 0xFFFF
+        return out
 
     def update_flag_wait(self) -> int | None:
         """Output periods until the program's update flags have all cleared (0: none set;

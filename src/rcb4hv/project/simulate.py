@@ -53,7 +53,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from typing import Any, Final
 
 from rcb4hv.asm import format_command
@@ -201,8 +201,9 @@ class Simulator:
         """Virtual seconds since power-on."""
         return self._t_us / 1e6
 
-    def _run_us(self, dt_us: int) -> None:
-        """Advance the virtual clock by whole microseconds (no float drift) and tick."""
+    def run_us(self, dt_us: int) -> None:
+        """Advance the virtual clock by ``dt_us`` whole microseconds (at least one; no float
+        drift) and let the board catch up: the program runs, the servos move."""
         self._t_us += max(1, dt_us)
         # a quarter microsecond above the target: the board truncates to whole microseconds
         self.clock.set((self._t_us + 0.25) / 1e6)
@@ -317,7 +318,7 @@ class Simulator:
                 dt = max(STEP_US, n * period)
             else:
                 dt = (n + 1) * period
-        self._run_us(min(dt, max(1, cap_us)))
+        self.run_us(min(dt, max(1, cap_us)))
 
     def _ends_after_wait(self) -> bool:
         """True if the instruction the program waits to fetch returns into the main loop."""
@@ -436,15 +437,15 @@ class Simulator:
             if self._flags():
                 n = self._wait_periods()
                 if n is None:
-                    self._run_us(end - self._t_us)
+                    self.run_us(end - self._t_us)
                     break
-                self._run_us(min(end - self._t_us, max(half, n * self._period_us())))
+                self.run_us(min(end - self._t_us, max(half, n * self._period_us())))
                 while self._flags() and self._t_us < end:
-                    self._run_us(min(end - self._t_us, half))
+                    self.run_us(min(end - self._t_us, half))
                 continue
             pc = b.pc
             pcs[pc] = b.rom[pc]
-            self._run_us(min(end - self._t_us, half))
+            self.run_us(min(end - self._t_us, half))
         inputs: list[str] = []
         for pc in sorted(pcs):
             cmd, _ = self._instruction_at(pc)
@@ -460,30 +461,3 @@ class Simulator:
             return result("holding", entered_us, loop=loop, inputs=sensors, pc=b.pc)
         why = "endless loop" if pcs else "update flags that never clear"
         return result("stalled", entered_us, loop=loop, error=why, pc=b.pc)
-
-    def play_all(
-        self,
-        motions: Sequence[tuple[int, str]],
-        *,
-        limit: float | None = None,
-        hold: int = 0,
-        hold_for: float = 0.0,
-        progress: Callable[[MotionResult], None] | None = None,
-    ) -> list[MotionResult]:
-        """Play motion slots ``(slot, name)`` one after the other (boots first if needed)."""
-        if self.boot_result is None:
-            self.boot()
-        out = []
-        for slot, name in motions:
-            r = self.play(
-                self.layout.address(slot),
-                slot=slot,
-                name=name,
-                hold=hold,
-                hold_for=hold_for,
-                limit=limit,
-            )
-            out.append(r)
-            if progress is not None:
-                progress(r)
-        return out
