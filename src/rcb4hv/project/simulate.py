@@ -7,7 +7,8 @@ program (PC = the main loop, depth 0, update flags 0), CALL the motion, resume (
 VEC_F). The image's layout (main loop 044Bh or 003FDh, motion slots) is detected from it.
 While a button is held for the motion (``hold``) VEC_F is left clear at the resume, so the
 held button does not also fire the package bound to it at once; the main loop re-arms VEC_F
-when it runs.
+when it runs. Runs of motions (boot, then each motion, with or without physics) go through
+the one run API, :func:`rcb4hv.project.run.run_motions`.
 
 Each play ends in one of these states (:class:`MotionResult.status`):
 
@@ -46,7 +47,8 @@ A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause
 motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
 
 The kind of error is the board's own record of why the program stopped
-(:attr:`rcb4hv.emulator.Board.last_stop`), read in one place (``Simulator._error``).
+(:attr:`rcb4hv.emulator.Board.last_stop`), read in one place
+(:func:`rcb4hv.project.instructions.stop_reason`).
 """
 
 from __future__ import annotations
@@ -59,7 +61,7 @@ from typing import Any, Final
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError, SimulationError
-from rcb4hv.project.instructions import boot_cause, input_names
+from rcb4hv.project.instructions import boot_cause, input_names, instruction_at, stop_reason
 from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.project.simwatch import Watch, mixed_sensors, progress_state
 from rcb4hv.protocol import (
@@ -67,10 +69,8 @@ from rcb4hv.protocol import (
     Command,
     DataReply,
     Return,
-    decode_command,
     decode_reply,
     encode_command,
-    frame_at,
 )
 from rcb4hv.protocol import sequences as seq
 from rcb4hv.protocol.memory import (
@@ -98,9 +98,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-# Decoded instructions by their exact frame bytes (pure: the same bytes always decode alike).
-_DECODED: dict[bytes, tuple[Command | None, str]] = {}
-
 SampleListener = Callable[[float, dict[int, int]], None]
 
 DEFAULT_LIMIT: Final = 60.0
@@ -120,13 +117,6 @@ flags are stepped exactly). 2 ms is below the shortest output period (10 ms), so
 duration is within one step of the board's; 1 ms steps made simulation ~20% slower."""
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
-_STOP_WORDS: Final[dict[str, str]] = {
-    "romerr": "ROMERR (checksum error in ROM)",
-    "stack-underflow": "call-stack underflow (RETURN on an empty stack)",
-    "stack-overflow": "call-stack overflow (17th nested CALL)",
-    "suspended": "stopped by the host (ROM_F cleared)",
-}
-"""How :class:`MotionResult` names the board's stop kinds (:class:`rcb4hv.emulator.Stop`)."""
 
 
 class Simulator:
@@ -226,47 +216,12 @@ class Simulator:
         return None if k is None else max(0, k - 1)
 
     def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
-        rom = self.board.rom
-        try:
-            frame = frame_at(rom, pc)
-        except ProtocolError:
-            return None, f".byte {bytes(rom[pc : pc + 16]).hex(' ')}"
-        known = _DECODED.get(frame)
-        if known is not None:
-            return known
-        try:
-            cmd = decode_command(frame)
-        except ProtocolError:
-            result: tuple[Command | None, str] = (None, f".byte {frame[:16].hex(' ')}")
-        else:
-            result = (cmd, format_command(cmd))
-        if len(_DECODED) < 4096:
-            _DECODED[frame] = result
-        return result
+        return instruction_at(self.board.rom, pc)
 
     def _error(self) -> tuple[str, int, str]:
-        """(kind, PC, disassembly) of the instruction that stopped the program.
-
-        The one place the stop reason is read: the board's own record
-        (:attr:`rcb4hv.emulator.Board.last_stop`), in the simulator's words. A stop the board
-        did not record since the play began (the program cleared ROM_F itself) is a plain
-        "program stopped".
-        """
-        b = self.board
-        stop = b.last_stop
-        if stop is None or stop is self._stop_before or not stop.halted:
-            pc = b.pc
-            return "program stopped (ROM_F cleared)", pc, self._instruction_at(pc)[1]
-        pc = stop.where
-        text = self._instruction_at(pc)[1]
-        kind = _STOP_WORDS.get(stop.what)
-        if kind is not None:
-            return kind, pc, text
-        reason = stop.why
-        if stop.instruction is not None:
-            reason = reason.removesuffix(f": {stop.instruction}")
-            return f"command error: {reason}", pc, text
-        return f"invalid instruction ({reason})", pc, text
+        """(kind, PC, disassembly) of the instruction that stopped the program, from the
+        board's own record since the play began (:func:`stop_reason`)."""
+        return stop_reason(self.board, self._stop_before)
 
     # ------------------------------------------------------------------ running
 
