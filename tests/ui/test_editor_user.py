@@ -75,6 +75,11 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         user.find(marker="editor-preview").click()
         await until(lambda: one(user, "editor-preview-status").text.startswith("t = "), 30)
         assert one(user, "editor-scrubber").props["max"] > 0.5  # the turn lasts ~0.6 s
+        # the one preview player: at the motion's end it stops and shows Play again (the
+        # editor's own copy kept showing "Pause", its clock ticking on)
+        await until(lambda: one(user, "editor-play").text == "Play", 30)
+        status = one(user, "editor-preview-status").text  # "t = 0.63 / 0.63 s"
+        assert status.split(" / ")[0].removeprefix("t = ") == status.split(" / ")[1][:-2]
         one(user, "editor-path").set_value(str(out))
         user.find(marker="editor-save").click()
         await until(lambda: out.exists() and one(user, "editor-status").text.endswith(" - saved"))
