@@ -48,7 +48,7 @@ from rcb4hv.emulator.memmap import (
     write_u16,
 )
 from rcb4hv.emulator.romstore import RomStore
-from rcb4hv.emulator.servos import ServoMode, Servos, ServoState
+from rcb4hv.emulator.servos import Servos, ServoState
 from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, timers_idle
 from rcb4hv.emulator.vectors import Vectors
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
@@ -62,6 +62,7 @@ from rcb4hv.protocol.memory import (
     write_buttons,
     write_system,
 )
+from rcb4hv.protocol.servomode import ServoMode
 
 __all__ = ["Board", "ServoMode", "ServoState", "Stop"]
 
@@ -437,7 +438,7 @@ class Board:
         """Whether servo ``ics`` is ``"free"``, ``"hold"`` or at an ``"angle"``: its block's
         output (the trim is not in it) under the config's ``position_7fff``; None without a
         servo block. The one answer to that question
-        (:func:`rcb4hv.emulator.servos.output_mode`)."""
+        (:func:`rcb4hv.protocol.servomode.output_mode`)."""
         return self._servos.mode(ics)
 
     def sent_angles(self, *, trim: bool = True) -> dict[int, int | None]:

@@ -14,7 +14,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import pairwise
-from typing import Literal
 
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.memmap import (
@@ -49,26 +48,13 @@ from rcb4hv.emulator.memmap import (
 )
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
+from rcb4hv.protocol.servomode import ServoMode, output_mode
 
-__all__ = ["ServoMode", "ServoState", "Servos", "output_mode", "ramp"]
+__all__ = ["ServoState", "Servos", "ramp"]
 
 ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
 _u16 = U16.unpack_from
 _s16 = S16.unpack_from
-
-ServoMode = Literal["free", "hold", "angle"]
-"""What a servo does with its block's output: goes limp, keeps the angle it has, or drives to
-the angle sent (output + trim + mixing, spec 9)."""
-
-
-def output_mode(output: int, hold_is_free: bool) -> ServoMode:
-    """The mode of a block's output word (motion space: the trim is not in it): 8000h frees the
-    servo, 7FFFh holds it (frees it where the board's config says ``position_7fff="free"``:
-    ``hold_is_free``), anything else is an angle. The one rule; :meth:`Servos.mode`,
-    :meth:`Servos.report` and the physics backend use it."""
-    if output == FREE or (output == HOLD and hold_is_free):
-        return "free"
-    return "hold" if output == HOLD else "angle"
 
 
 @dataclass(frozen=True, slots=True)

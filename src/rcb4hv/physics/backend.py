@@ -27,10 +27,10 @@ from collections.abc import Callable
 from typing import Final
 
 from rcb4hv.emulator import Board
-from rcb4hv.emulator.servos import output_mode
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
+from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.robot.mjcf import speed_cap
 
 __all__ = ["PhysicsBackend"]
