@@ -194,7 +194,8 @@ def _print_plain(run: SimulationRun) -> None:
         ],
     )
     parts = ", ".join(f"{n} {s}" for s, n in sorted(run.summary().items()))
-    click.echo(f"{len(run.motions)} motions: {parts or 'none'}; {run.virtual_s:.3f} s virtual")
+    virtual = f"{run.virtual_s:.3f} s virtual (boot included)"
+    click.echo(f"{len(run.motions)} motions: {parts or 'none'}; {virtual}")
 
 
 def _plot(
