@@ -14,7 +14,7 @@ The servo model's figures (stall torque, speed, stretch, damping, friction) are 
 
 from rcb4hv.physics.backend import PhysicsBackend
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
-from rcb4hv.physics.world import BasePose, PhysicsWorld, require_mujoco
+from rcb4hv.physics.world import BasePose, PhysicsWorld, engine_version, require_mujoco
 
 __all__ = [
     "DEFAULT_SENSORS",
@@ -22,5 +22,6 @@ __all__ = [
     "PhysicsBackend",
     "PhysicsWorld",
     "SensorLayout",
+    "engine_version",
     "require_mujoco",
 ]
