@@ -26,7 +26,7 @@ from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, Vec3
 from rcb4hv.robot.servos import KRS_2552RHV
 from rcb4hv.robot.shapes import solid_many
 
-__all__ = ["KHR_LIMITS_DEG", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
+__all__ = ["KHR_LIMITS_DEG", "KHR_SAMPLE_DEG", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
 
 MM = 0.001
 SERVO_RANGE_DEG = 135.0  # ±135°: 3500..11500 counts around 7500 (FACTS.md)
@@ -59,9 +59,15 @@ KHR_SIGNS: dict[int, int] = {
     7: 1,
 }
 
-# servo index -> (lower, upper) servo degrees (robotlearn docs/limits.png; FACTS.md);
-# indices it omits (1, 6, 7, 10, 11) get the servo's ±135°
-KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {
+# Joint limits. Hard (refused, and where MuJoCo stops the joint): the servo's own travel,
+# +-135 deg around the joint's zero (3500..11500 counts; FACTS.md). No public drawing gives
+# the KHR-3HV's bracket stops, and Kondo's own sample motions reach the travel's ends (knee
+# 4000 counts = 135 deg in the handstand; the side punches command 4500 counts), so the
+# travel is the one mechanical limit a reader can check. Advisory (warn outside): robotlearn
+# /khr3hv docs/limits.png, a library's software limits (FACTS.md's correction), widened to
+# the extremes Kondo's own Hello_KHR3 sample motions use, which are valid by definition.
+# Both in servo degrees by servo index; a joint angle is sign x servo angle.
+KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {  # robotlearn docs/limits.png
     0: (-135, 135),
     2: (-90, 105),
     3: (-105, 90),
@@ -80,6 +86,28 @@ KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {
     20: (-25, 90),
     21: (-90, 25),
 }
+# the extremes of Kondo's KHR-3HV sample project (kxreus projects/Hello_khr3/Hello_KHR3
+# (V2.3).h4p, every pose of every motion), counts from 7500, in servo degrees
+KHR_SAMPLE_DEG: dict[int, tuple[float, float]] = {
+    0: (-67.5, 67.5),  # -2000..+2000 (BTC001 head shake)
+    2: (-84.4, 135.0),  # -2500 (get up from the front) .. +4000 (handstand)
+    3: (-135.0, 84.4),  # -4500 (frustrated; past the travel, so the travel's end) .. +2500
+    4: (-25.3, 135.0),  # -750 .. +4500 (side punch left; past the travel)
+    5: (-135.0, 25.3),  # -4500 (side punch right) .. +750
+    8: (-128.2, 0.0),  # -3800 (handstand) .. 0
+    9: (0.0, 128.2),
+    12: (-16.9, 28.7),  # -500 (handstand) .. +850 (side kick)
+    13: (-28.7, 20.2),  # -850 (frustrated) .. +600
+    14: (-67.5, 118.1),  # -2000 .. +3500 (handstand)
+    15: (-118.1, 101.2),
+    16: (-40.5, 135.0),  # -1200 (get up from the back) .. +4000 (handstand)
+    17: (-135.0, 40.5),
+    18: (-94.5, 118.1),  # -2800 (frustrated) .. +3500 (get up from the back)
+    19: (-118.1, 94.5),
+    20: (-10.1, 27.0),  # -300 (safety walk) .. +800 (side kick)
+    21: (-27.0, 13.5),
+}
+
 
 # joint name -> left/right (or centre) servo index (FACTS.md table)
 _JOINTS: dict[str, tuple[int, int | None]] = {
@@ -151,11 +179,31 @@ def _box(
     )
 
 
-def _limits(index: int) -> tuple[float, float]:
-    lo, hi = KHR_LIMITS_DEG.get(index, (-SERVO_RANGE_DEG, SERVO_RANGE_DEG))
+def _joint_range(index: int, servo_deg: tuple[float, float]) -> tuple[float, float]:
+    """A servo-degree range of servo ``index`` in joint radians (joint = sign x servo)."""
+    lo, hi = servo_deg
     if KHR_SIGNS[index] < 0:
         lo, hi = -hi, -lo
     return math.radians(lo), math.radians(hi)
+
+
+def _limits(
+    left: int, right: int | None, kind: JointKind
+) -> tuple[float, float, tuple[float, float] | None]:
+    """The left (or centre) joint's hard limits and advisory range (module comment). The
+    advisory range is the hull of robotlearn's and the sample's on both sides (the right
+    side's mirrored), so mirroring Kondo's own motions never warns."""
+    travel = (-SERVO_RANGE_DEG, SERVO_RANGE_DEG)
+    lower, upper = _joint_range(left, travel)
+    if left not in KHR_LIMITS_DEG:
+        return lower, upper, None
+    spans = [_joint_range(left, KHR_LIMITS_DEG[left]), _joint_range(left, KHR_SAMPLE_DEG[left])]
+    if right is not None:
+        for table in (KHR_LIMITS_DEG, KHR_SAMPLE_DEG):
+            lo, hi = _joint_range(right, table[right])
+            spans.append((lo, hi) if kind == "pitch" else (-hi, -lo))
+    advisory = (max(lower, min(a for a, _ in spans)), min(upper, max(b for _, b in spans)))
+    return lower, upper, advisory
 
 
 def _build(axes: int) -> RobotModel:
@@ -298,7 +346,7 @@ def _build(axes: int) -> RobotModel:
             continue
         left, right = _JOINTS[name]
         centre = right is None
-        lower, upper = _limits(left)
+        lower, upper, advisory = _limits(left, right, kind)
         specs.append(
             LimbJoint(
                 name,
@@ -312,6 +360,7 @@ def _build(axes: int) -> RobotModel:
                 geoms,
                 masses[link],
                 centre=centre,
+                advisory=advisory,
             )
         )
         if centre:
@@ -332,7 +381,8 @@ def _build(axes: int) -> RobotModel:
             "joint map": "FACTS.md: index = 2 x ICS ID + side, side 0 = left (kxreus "
             "rcb4robotconfig.l, robotlearn/khr3hv docs/ids.png, Meridian, KHRBan)",
             "signs": "kxreus rcb4robotconfig.l 'khr'/'khr20' (6, 7: chosen +1)",
-            "limits": "robotlearn/khr3hv docs/limits.png (servo degrees x sign)",
+            "limits": "hard: the servo's travel, +-135 deg (FACTS.md); advisory: robotlearn/"
+            "khr3hv docs/limits.png and the extremes of Kondo's Hello_KHR3 sample motions",
             "dimensions": "FACTS.md KHRBan CAD table; hip, ankle, arm, head and boxes from "
             "sunilgora/SIP2HumnWalking kondo/kondo_khr3hv.xml (Apache-2.0)",
             "mass": f"{total:.4f} kg: 1.493 kg (kxreus eusview khr3.json)"
