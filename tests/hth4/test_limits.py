@@ -55,12 +55,12 @@ def test_khr_hip_roll_past_robotlearn_is_neither_refused_nor_warned() -> None:
     angle = KHR.motion_angle(L_HIP_ROLL, 7400)
     assert math.degrees(angle) == pytest.approx(-3.375)  # past robotlearn's 0 deg: Kondo's own
     assert KHR.limit_check("l_hip_roll", angle) == "ok"
-    assert math.degrees(KHR.joint("l_hip_roll").lower) == pytest.approx(-135.0)  # the travel
+    assert math.degrees(KHR.joint("l_hip_roll").lower) == pytest.approx(-180.0)
     far = math.radians(-40.0)  # inward, past everything robotlearn and Kondo's samples use
     assert KHR.limit_check("l_hip_roll", far) == "advisory"
     assert KHR.within_limits({"l_hip_roll": far}) == []
     assert KHR.outside_advisory({"l_hip_roll": far, "r_hip_roll": 0.0}) == ["l_hip_roll"]
-    assert KHR.within_limits({"l_hip_roll": math.radians(-136.0)}) == ["l_hip_roll"]
+    assert KHR.within_limits({"l_hip_roll": math.radians(-181.0)}) == ["l_hip_roll"]
 
 
 def test_mirroring_a_walk_with_hip_roll_at_7400_works_and_warns(
@@ -82,7 +82,7 @@ def test_mirroring_a_walk_with_hip_roll_at_7400_works_and_warns(
 def test_a_value_beyond_the_hard_limit_is_refused_with_a_typed_error(
     project: hth4.Project,
 ) -> None:
-    # the KXR-L2's left shoulder roll stops at -30 deg (kxreus frame limit)
+    # the KXR-L2's left shoulder roll stops at -30 deg (kxreus frame limit: its bracket)
     s = KXR.servo_for_joint("l_shoulder_roll")
     assert s is not None
     beyond = KXR.motion_value(s.index, math.radians(-37.0))

@@ -62,13 +62,13 @@ def test_khr_joint_map_matches_facts() -> None:
             assert s.servo is not None and s.servo.name == "KRS-2552RHV"
 
 
-def test_khr_limits_hard_is_the_servo_travel_advisory_covers_robotlearn() -> None:
+def test_khr_limits_hard_is_generous_advisory_covers_robotlearn() -> None:
     for m in (_model("khr3hv"), _model("khr3hv-22")):
         for s in m.servos:
             j = m.joint(s.joint)
-            # hard: the servo's travel, +-135 deg (FACTS.md: 3500..11500)
-            assert math.degrees(j.lower) == pytest.approx(-135.0)
-            assert math.degrees(j.upper) == pytest.approx(135.0)
+            # hard: no public bracket stops, so a generous +-180 deg
+            assert math.degrees(j.lower) == pytest.approx(-180.0)
+            assert math.degrees(j.upper) == pytest.approx(180.0)
             if s.index not in KHR_LIMITS_DEG:
                 assert j.advisory is None
                 continue
@@ -76,7 +76,7 @@ def test_khr_limits_hard_is_the_servo_travel_advisory_covers_robotlearn() -> Non
             # Kondo's own sample motions use
             lo, hi = sorted(s.sign * a for a in KHR_LIMITS_DEG[s.index])
             a_lo, a_hi = (math.degrees(a) for a in j.advisory_range)
-            assert a_lo <= max(lo, -135.0) + 1e-9 and a_hi >= min(hi, 135.0) - 1e-9
+            assert a_lo <= lo + 1e-9 and a_hi >= hi - 1e-9
     # the hip roll: robotlearn stops it at 0 deg inward; Kondo's walks go 2-4 deg past that
     lo, hi = _model("khr3hv").joint("l_hip_roll").advisory_range
     assert math.degrees(lo) < -3.4 and math.degrees(hi) == pytest.approx(30.0)

@@ -12,12 +12,13 @@ addresses for every JUMP / CALL in the project. The rule: a branch keeps pointin
 instruction it pointed at; a branch to a deleted pose goes to what followed it; the motion's
 start (its first byte, where the remote, the startup hook and CALLs enter) stays its start.
 
-Value checks (:class:`Checks`): positions inside the documented 3500-11500 (or hold / free),
-speeds inside 1-255 (:mod:`rcb4hv.protocol.ranges`), and, given a robot model, joint angles
-inside the joints' hard (mechanical) limits; an angle outside a joint's narrower advisory
-range only warns. A motion value ``v`` is the servo's output before the board adds
-the trim (spec 9: value sent = output + base), so its joint angle is
-:meth:`RobotModel.motion_angle` ``(i, v)``, whatever the trim.
+Value checks (:class:`Checks`): speeds inside 1-255 (:mod:`rcb4hv.protocol.ranges`),
+positions the ICS wire carries and, given a robot model, joint angles inside the joints' hard
+(mechanical) limits are required; a position outside the documented 3500-11500 or an angle
+outside a joint's narrower advisory range only warns (the robot maker's own motions use
+both). A motion value ``v`` is the servo's output before the board adds the trim (spec 9:
+value sent = output + base), so its joint angle is :meth:`RobotModel.motion_angle` ``(i, v)``,
+whatever the trim.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from dataclasses import dataclass
 from rcb4hv.errors import EditError, JointLimitError, ProtocolError
 from rcb4hv.hth4.model import Motion
 from rcb4hv.hth4.motioncode import branch_target, split_frames
+from rcb4hv.ics.codec import WIRE_MAX
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, RunConstFrameServo, decode_command
 from rcb4hv.protocol.describe import describe_command
 from rcb4hv.protocol.ranges import documented_position, documented_servo_speed
@@ -144,24 +146,26 @@ class Checks:
     """What pose values must respect. ``force`` keeps refused values (an override).
 
     Refused (:class:`EditError`; :class:`JointLimitError` when a joint's hard limit is
-    among the reasons): positions outside 3500..11500, frame counts outside 1..255, and, given
-    a robot model, joint angles beyond the joint's hard (mechanical) limits. Only warned
-    (:meth:`advisories`, logged by :meth:`check`): angles inside the hard limits but outside
-    the joint's advisory range, which the robot maker's own motions may use
-    (:meth:`RobotModel.limit_check`)."""
+    among the reasons): frame counts outside 1..255, positions the ICS wire cannot carry
+    (above 3FFFh, besides hold and free) and, given a robot model, joint angles beyond the
+    joint's hard (mechanical) limits. Only warned (:meth:`advisories`, logged by
+    :meth:`check`): positions outside the documented 3500..11500 (the servo stops at the end
+    of its travel; Kondo's own motions command 2100 or 12700 to push a joint to its end) and
+    joint angles inside the hard limits but outside the joint's advisory range
+    (:meth:`RobotModel.limit_check`). The robot maker's own motions are never refused."""
 
     model: RobotModel | None = None
     force: bool = False
 
     def _angles(self, positions: Mapping[int, int]) -> list[tuple[int, int, str, float]]:
-        """(ics, value, joint, angle) of every mapped servo with a documented position."""
+        """(ics, value, joint, angle) of every mapped servo at a position (not hold/free)."""
         if self.model is None:
             return []
         mapped = set(self.model.indices)
         return [
             (ics, v, self.model.servo(ics).joint, self.model.motion_angle(ics, v))
             for ics, v in sorted(positions.items())
-            if ics in mapped and v not in SPECIAL_POSITIONS and documented_position(v)
+            if ics in mapped and v not in SPECIAL_POSITIONS and 0 <= v <= WIRE_MAX
         ]
 
     def _limit_text(self, ics: int, value: int, joint: str, angle: float, hard: bool) -> str:
@@ -180,8 +184,8 @@ class Checks:
         if speed is not None and not documented_servo_speed(speed):
             out.append(f"frame count {speed} outside the documented 1..255")
         for ics, value in sorted(positions.items()):
-            if not documented_position(value):
-                out.append(f"ICS {ics}: {value} outside the documented 3500..11500")
+            if value not in SPECIAL_POSITIONS and not 0 <= value <= WIRE_MAX:
+                out.append(f"ICS {ics}: {value} is no ICS position (0..{WIRE_MAX})")
         for ics, value, joint, angle in self._angles(positions):
             assert self.model is not None
             if self.model.limit_check(joint, angle) == "hard":
@@ -189,8 +193,15 @@ class Checks:
         return out
 
     def advisories(self, positions: Mapping[int, int]) -> list[str]:
-        """What only warns: angles outside a joint's advisory range, inside its hard limits."""
+        """What only warns: positions outside the documented range, angles outside a joint's
+        advisory range (inside its hard limits)."""
         out: list[str] = []
+        for ics, value in sorted(positions.items()):
+            if not documented_position(value) and 0 <= value <= WIRE_MAX:
+                out.append(
+                    f"ICS {ics}: {value} outside the documented 3500..11500 (the servo stops "
+                    "at the end of its travel)"
+                )
         for ics, value, joint, angle in self._angles(positions):
             assert self.model is not None
             if self.model.limit_check(joint, angle) == "advisory":
@@ -208,7 +219,7 @@ class Checks:
             raise EditError(text)
         advisories = self.advisories(positions)
         for line in advisories:
-            _log.warning("%s: %s (kept: the limit is advisory)", what, line)
+            _log.warning("%s: %s (kept: only a warning)", what, line)
         return advisories
 
 

@@ -2,10 +2,12 @@
 
 Every figure has its source (see docs/robots.md for the tables):
 
-* joint map (servo index, sign) and joint limits: shared/robots/FACTS.md — index = 2 × ICS ID
-  + side, side 0 (SIO1-4) the robot's LEFT; signs from kxreus ``rcb4robotconfig.l`` "khr" /
-  "khr20"; limits (servo degrees) from robotlearn/khr3hv ``docs/limits.png``. A joint angle is
-  ``sign × servo angle``, so a joint's limits are the servo limits times its sign.
+* joint map (servo index, sign): shared/robots/FACTS.md — index = 2 × ICS ID + side, side 0
+  (SIO1-4) the robot's LEFT (Kondo's own sample names servo 2 左肩 = left shoulder); signs from
+  kxreus ``rcb4robotconfig.l`` "khr" / "khr20", checked against Kondo's sample motions
+  (docs/robots.md). A joint angle is ``sign × servo angle``.
+* limits: hard +-180° (no public bracket stops); advisory: robotlearn/khr3hv
+  ``docs/limits.png`` (software limits) widened to Kondo's sample motions (see HARD_DEG).
 * distances (mm): FACTS.md's KHRBan CAD table for the shoulder span (97.8), hip span (43.4),
   shoulder-to-hip height (87.5), thigh (65.0) and shin (65.0). Hip yaw → roll (22.35),
   roll → pitch (38.7), ankle pitch → roll (37.0), the sole (26.5 below the ankle-roll axis),
@@ -21,15 +23,15 @@ from __future__ import annotations
 
 import math
 
+from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, Vec3
 from rcb4hv.robot.servos import KRS_2552RHV
 from rcb4hv.robot.shapes import solid_many
 
-__all__ = ["KHR_LIMITS_DEG", "KHR_SAMPLE_DEG", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
+__all__ = ["KHR_LIMITS_DEG", "KHR_SAMPLE_COUNTS", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
 
 MM = 0.001
-SERVO_RANGE_DEG = 135.0  # ±135°: 3500..11500 counts around 7500 (FACTS.md)
 
 # servo index -> sign (kxreus "khr" and "khr20"; FACTS.md)
 KHR_SIGNS: dict[int, int] = {
@@ -59,15 +61,19 @@ KHR_SIGNS: dict[int, int] = {
     7: 1,
 }
 
-# Joint limits. Hard (refused, and where MuJoCo stops the joint): the servo's own travel,
-# +-135 deg around the joint's zero (3500..11500 counts; FACTS.md). No public drawing gives
-# the KHR-3HV's bracket stops, and Kondo's own sample motions reach the travel's ends (knee
-# 4000 counts = 135 deg in the handstand; the side punches command 4500 counts), so the
-# travel is the one mechanical limit a reader can check. Advisory (warn outside): robotlearn
-# /khr3hv docs/limits.png, a library's software limits (FACTS.md's correction), widened to
-# the extremes Kondo's own Hello_KHR3 sample motions use, which are valid by definition.
-# Both in servo degrees by servo index; a joint angle is sign x servo angle.
-KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {  # robotlearn docs/limits.png
+# Joint limits (docs/robots.md, "Hard limits and advisory ranges"), by servo index in servo
+# degrees (a joint angle is sign x servo angle).
+#
+# Hard (refused, and where MuJoCo stops the joint): where the brackets collide. No public
+# drawing gives the KHR-3HV's bracket stops, so the hard range is a generous +-180 deg (the
+# links fold onto each other there): nothing a servo can reach with any trim is refused. The
+# servo's own travel (+-135 deg about its centre, 3500..11500 sent) is no refusal either: a
+# servo commanded past it stops at its end (the physics clamps the value sent), and Kondo's
+# KXR samples command 2100 or 12900 on purpose.
+HARD_DEG = 180.0
+# Advisory (warn outside): robotlearn/khr3hv docs/limits.png, a library's software limits
+# (FACTS.md's correction) ...
+KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {
     0: (-135, 135),
     2: (-90, 105),
     3: (-105, 90),
@@ -86,26 +92,27 @@ KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {  # robotlearn docs/limits.png
     20: (-25, 90),
     21: (-90, 25),
 }
-# the extremes of Kondo's KHR-3HV sample project (kxreus projects/Hello_khr3/Hello_KHR3
-# (V2.3).h4p, every pose of every motion), counts from 7500, in servo degrees
-KHR_SAMPLE_DEG: dict[int, tuple[float, float]] = {
-    0: (-67.5, 67.5),  # -2000..+2000 (BTC001 head shake)
-    2: (-84.4, 135.0),  # -2500 (get up from the front) .. +4000 (handstand)
-    3: (-135.0, 84.4),  # -4500 (frustrated; past the travel, so the travel's end) .. +2500
-    4: (-25.3, 135.0),  # -750 .. +4500 (side punch left; past the travel)
-    5: (-135.0, 25.3),  # -4500 (side punch right) .. +750
-    8: (-128.2, 0.0),  # -3800 (handstand) .. 0
-    9: (0.0, 128.2),
-    12: (-16.9, 28.7),  # -500 (handstand) .. +850 (side kick)
-    13: (-28.7, 20.2),  # -850 (frustrated) .. +600
-    14: (-67.5, 118.1),  # -2000 .. +3500 (handstand)
-    15: (-118.1, 101.2),
-    16: (-40.5, 135.0),  # -1200 (get up from the back) .. +4000 (handstand)
-    17: (-135.0, 40.5),
-    18: (-94.5, 118.1),  # -2800 (frustrated) .. +3500 (get up from the back)
-    19: (-118.1, 94.5),
-    20: (-10.1, 27.0),  # -300 (safety walk) .. +800 (side kick)
-    21: (-27.0, 13.5),
+# ... widened to the extremes of Kondo's own KHR-3HV sample project (kxreus projects/
+# Hello_khr3/Hello_KHR3(V2.3).h4p, every pose of every motion), which are valid by definition:
+# counts from 7500 (motion values, before the trim)
+KHR_SAMPLE_COUNTS: dict[int, tuple[int, int]] = {
+    0: (-2000, 2000),  # BTC001 head shake
+    2: (-2500, 4000),  # get up from the front .. handstand
+    3: (-4500, 2500),  # frustrated (3000) .. get up from the front
+    4: (-750, 4500),  # .. side punch left (12000)
+    5: (-4500, 750),  # side punch right (3000) ..
+    8: (-3800, 0),  # handstand
+    9: (0, 3800),
+    12: (-500, 850),  # handstand .. side kick (left leg)
+    13: (-850, 600),  # frustrated .. cheer
+    14: (-2000, 3500),  # frustrated .. handstand
+    15: (-3500, 3000),
+    16: (-1200, 4000),  # get up from the back (knee 40.5 deg past straight) .. handstand
+    17: (-4000, 1200),
+    18: (-2800, 3500),  # frustrated .. get up from the back
+    19: (-3500, 2800),
+    20: (-300, 800),  # safety walk .. side kick
+    21: (-800, 400),
 }
 
 
@@ -187,20 +194,24 @@ def _joint_range(index: int, servo_deg: tuple[float, float]) -> tuple[float, flo
     return math.radians(lo), math.radians(hi)
 
 
+def _sample_deg(index: int) -> tuple[float, float]:
+    lo, hi = KHR_SAMPLE_COUNTS[index]
+    return lo / COUNTS_PER_DEGREE, hi / COUNTS_PER_DEGREE
+
+
 def _limits(
     left: int, right: int | None, kind: JointKind
 ) -> tuple[float, float, tuple[float, float] | None]:
-    """The left (or centre) joint's hard limits and advisory range (module comment). The
-    advisory range is the hull of robotlearn's and the sample's on both sides (the right
-    side's mirrored), so mirroring Kondo's own motions never warns."""
-    travel = (-SERVO_RANGE_DEG, SERVO_RANGE_DEG)
-    lower, upper = _joint_range(left, travel)
+    """The left (or centre) joint's hard limits and advisory range (the comment at
+    HARD_DEG). The advisory range is the hull of robotlearn's and the sample's on both sides
+    (the right side's mirrored), so mirroring Kondo's own motions never warns."""
+    lower, upper = math.radians(-HARD_DEG), math.radians(HARD_DEG)
     if left not in KHR_LIMITS_DEG:
         return lower, upper, None
-    spans = [_joint_range(left, KHR_LIMITS_DEG[left]), _joint_range(left, KHR_SAMPLE_DEG[left])]
+    spans = [_joint_range(left, KHR_LIMITS_DEG[left]), _joint_range(left, _sample_deg(left))]
     if right is not None:
-        for table in (KHR_LIMITS_DEG, KHR_SAMPLE_DEG):
-            lo, hi = _joint_range(right, table[right])
+        for deg in (KHR_LIMITS_DEG[right], _sample_deg(right)):
+            lo, hi = _joint_range(right, deg)
             spans.append((lo, hi) if kind == "pitch" else (-hi, -lo))
     advisory = (max(lower, min(a for a, _ in spans)), min(upper, max(b for _, b in spans)))
     return lower, upper, advisory
@@ -381,8 +392,8 @@ def _build(axes: int) -> RobotModel:
             "joint map": "FACTS.md: index = 2 x ICS ID + side, side 0 = left (kxreus "
             "rcb4robotconfig.l, robotlearn/khr3hv docs/ids.png, Meridian, KHRBan)",
             "signs": "kxreus rcb4robotconfig.l 'khr'/'khr20' (6, 7: chosen +1)",
-            "limits": "hard: the servo's travel, +-135 deg (FACTS.md); advisory: robotlearn/"
-            "khr3hv docs/limits.png and the extremes of Kondo's Hello_KHR3 sample motions",
+            "limits": "hard: +-180 deg (no public bracket stops); advisory: robotlearn/khr3hv "
+            "docs/limits.png and the extremes of Kondo's Hello_KHR3 sample motions",
             "dimensions": "FACTS.md KHRBan CAD table; hip, ankle, arm, head and boxes from "
             "sunilgora/SIP2HumnWalking kondo/kondo_khr3hv.xml (Apache-2.0)",
             "mass": f"{total:.4f} kg: 1.493 kg (kxreus eusview khr3.json)"
