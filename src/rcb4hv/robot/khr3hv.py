@@ -159,10 +159,18 @@ ARM_YAW_TO_ELBOW = 11.7 * MM
 FOREARM = 106.0 * MM
 HEAD_ABOVE_SHOULDER = 14.3 * MM
 MASS_17 = 1.493  # kg, kxreus eusview khr3.json
+# the leg's sideways offsets (SIP's kondo_khr3hv.xml body positions): the hip-roll axis sits
+# 4.55 mm inward of the hip-yaw axis, the pitch chain (hip pitch, knee, ankle pitch) 11.3 mm
+# outward of the hip-roll axis, the ankle-roll axis 11.25 mm inward of the pitch chain again,
+# and the sole 11.25 mm outward of the ankle-roll axis (under the pitch chain)
+HIP_ROLL_INWARD = 4.55 * MM
+PITCH_CHAIN_OUTWARD = 11.3 * MM
+ANKLE_ROLL_INWARD = 11.25 * MM
 # sole: SIP's foot contact corners, x -30..+40 mm and y -5..+30 mm around the ankle, plus
 # their 4 mm contact radius: 78 x 43 mm, 16.5 mm thick
 SOLE = (78.0 * MM, 43.0 * MM, 16.5 * MM)
 SOLE_X = 5.0 * MM
+SOLE_Y = ANKLE_ROLL_INWARD
 
 _Y, _X, _Z = (0.0, 1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
 _DARK, _LIGHT = (0.25, 0.25, 0.28, 1.0), (0.85, 0.85, 0.88, 1.0)
@@ -223,7 +231,7 @@ def _build(axes: int) -> RobotModel:
     chest = "chest" if full else "torso"
     pelvis_geom = _box((50.5, 76.0, 36.0), 18.0)
     chest_geom = _box((80.5, 89.0, 60.5), 66.4, rgba=_LIGHT)
-    sole = Geom("box", SOLE, (SOLE_X, 0.0, -SOLE_BELOW_ANKLE_ROLL + SOLE[2] / 2), rgba=_LIGHT)
+    sole = Geom("box", SOLE, (SOLE_X, SOLE_Y, -SOLE_BELOW_ANKLE_ROLL + SOLE[2] / 2), rgba=_LIGHT)
     rows: list[_Row] = [
         (
             "head_yaw",
@@ -299,17 +307,17 @@ def _build(axes: int) -> RobotModel:
             "hip_roll",
             "hip",
             "hip_bracket" if full else "torso",
-            (0.0, 0.0 if full else HIP_Y, -HIP_YAW_TO_ROLL),
+            (0.0, (0.0 if full else HIP_Y) - HIP_ROLL_INWARD, -HIP_YAW_TO_ROLL),
             _X,
             "roll",
-            (_box((32.0, 42.5, 38.7), -19.35),),
+            (_box((32.0, 42.5, 38.7), -19.35, y_mm=PITCH_CHAIN_OUTWARD / MM / 2),),
             1,
         ),
         (
             "hip_pitch",
             "thigh",
             "hip",
-            (0.0, 0.0, -HIP_ROLL_TO_PITCH),
+            (0.0, PITCH_CHAIN_OUTWARD, -HIP_ROLL_TO_PITCH),
             _Y,
             "pitch",
             (_box((32.0, 42.0, THIGH / MM), -THIGH / MM / 2, rgba=_LIGHT),),
@@ -332,10 +340,25 @@ def _build(axes: int) -> RobotModel:
             (0.0, 0.0, -SHIN),
             _Y,
             "pitch",
-            (_box((32.0, 42.5, ANKLE_PITCH_TO_ROLL / MM), -ANKLE_PITCH_TO_ROLL / MM / 2),),
+            (
+                _box(
+                    (32.0, 42.5, ANKLE_PITCH_TO_ROLL / MM),
+                    -ANKLE_PITCH_TO_ROLL / MM / 2,
+                    y_mm=-ANKLE_ROLL_INWARD / MM / 2,
+                ),
+            ),
             1,
         ),
-        ("ankle_roll", "foot", "ankle", (0.0, 0.0, -ANKLE_PITCH_TO_ROLL), _X, "roll", (sole,), 0),
+        (
+            "ankle_roll",
+            "foot",
+            "ankle",
+            (0.0, -ANKLE_ROLL_INWARD, -ANKLE_PITCH_TO_ROLL),
+            _X,
+            "roll",
+            (sole,),
+            0,
+        ),
     ]
     root_name = "pelvis" if full else "torso"
     root_geoms = (pelvis_geom,) if full else (pelvis_geom, chest_geom)
