@@ -50,6 +50,7 @@ __all__ = [
     "Hth4FormatError",
     "IcsError",
     "IcsNoReply",
+    "JointLimitError",
     "LayoutError",
     "NakError",
     "NoRobotModelError",
@@ -169,6 +170,11 @@ class RobotModelError(Rcb4Error, ValueError):
 class EditError(Rcb4Error, ValueError):
     """A project edit that is refused: a value outside the documented range or the joint's
     limits (without the override), a slot in use, a block that is not a pose."""
+
+
+class JointLimitError(EditError):
+    """A pose value beyond a joint's hard (mechanical) limits, without the override. A value
+    only outside the joint's advisory range is never refused: it warns."""
 
 
 class NoRobotModelError(EditError, RobotModelError):

@@ -131,7 +131,8 @@ def test_cli_list_show_export(tmp_path: Path) -> None:
     data = json.loads(out.output)
     assert data["servos"] == 17 and data["mass_kg"] == pytest.approx(1.493)
     knee = next(j for j in data["joints"] if j["joint"] == "l_knee_pitch")
-    assert (knee["index"], knee["sign"], knee["lower_deg"], knee["upper_deg"]) == (16, 1, -60, 135)
+    assert (knee["index"], knee["sign"], knee["lower_deg"], knee["upper_deg"]) == (16, 1, -180, 180)
+    assert knee["advisory_deg"] == [-60, 135]  # robotlearn's software limits
     out = runner.invoke(cli, ["robot", "show", "kxr-l2-gripper"])
     assert out.exit_code == 0 and "r_gripper" in out.output
     urdf, jmap = tmp_path / "k.urdf", tmp_path / "k.toml"

@@ -75,7 +75,7 @@ def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
 @click.option(
     "--robot",
     metavar="NAME|FILE",
-    help="Robot for --physics [default: detected from the servo table].",
+    help="Robot for the joint limits and --physics [default: detected from the servo table].",
 )
 @handle_errors
 def check(file: Path, as_json: bool, physics: bool, robot: str | None) -> None:
@@ -84,16 +84,24 @@ def check(file: Path, as_json: bool, physics: bool, robot: str | None) -> None:
     Reports targets (startup, priority, low-power, buttons, JUMP/CALL) in empty slots or
     outside motions, positions outside 3500-11500, 12h values outside 1-127, speeds of 0,
     motions without a final RETURN, ICS numbers missing from the servo table, unreachable
-    code and buttons bound twice. With --physics each motion is also played on the robot
-    in MuJoCo (from standing, as ``project simulate --physics``): "motion N makes the robot
-    fall at t s" and "joint X saturates" are warnings. Exit status 0 when clean or only
+    code and buttons bound twice; with a robot model (--robot, or detected), joint angles
+    beyond a joint's hard (mechanical) limits or outside its advisory range (warnings).
+    With --physics each motion is also played on the robot in MuJoCo (from standing, as
+    ``project simulate --physics``): "motion N makes the robot fall at t s" and "joint X
+    saturates" are warnings. Exit status 0 when clean or only
     warnings, 1 on errors.
     """
+    from rcb4hv.errors import NoRobotModelError
     from rcb4hv.hth4 import load_project
+    from rcb4hv.hth4.robotpick import project_model
     from rcb4hv.project.check import check_project
 
     project = load_project(file)
-    findings = check_project(project)
+    try:  # joint limits need the robot: --robot, or detected from the servo table
+        model = project_model(project, robot)
+    except NoRobotModelError:
+        model = None
+    findings = check_project(project, model)
     if physics:
         findings += _physics_findings(file, robot)
     errors = sum(f.severity == "error" for f in findings)

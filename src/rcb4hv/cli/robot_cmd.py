@@ -20,7 +20,8 @@ from rcb4hv.robot.urdf import to_urdf
 
 
 def model_summary(model: RobotModel) -> dict[str, Any]:
-    """The model as JSON-ready data: joints (servo index, sign, limits in degrees), mass."""
+    """The model as JSON-ready data: joints (servo index, sign, hard limits and advisory range
+    in degrees), mass."""
     joints = []
     for j in model.joints:
         s = model.servo_for_joint(j.name)
@@ -35,6 +36,7 @@ def model_summary(model: RobotModel) -> dict[str, Any]:
                 "mirror": j.mirror,
                 "lower_deg": round(math.degrees(j.lower), 2),
                 "upper_deg": round(math.degrees(j.upper), 2),
+                "advisory_deg": [round(math.degrees(a), 2) for a in j.advisory_range],
                 "servo": s.servo.name if s and s.servo else None,
             }
         )
@@ -101,11 +103,12 @@ def show(name: str, as_json: bool) -> None:
             j["sign"] if j["sign"] is not None else "-",
             j["lower_deg"],
             j["upper_deg"],
+            "{:g}..{:g}".format(*j["advisory_deg"]),
             j["mirror"] or "-",
         ]
         for j in sorted(data["joints"], key=lambda j: (j["index"] is None, j["index"] or 0))
     ]
-    print_table(["index", "joint", "kind", "sign", "lower°", "upper°", "mirror"], rows)
+    print_table(["index", "joint", "kind", "sign", "lower°", "upper°", "advisory°", "mirror"], rows)
     for key, text in data["sources"].items():
         click.echo(f"  {key}: {text}")
 

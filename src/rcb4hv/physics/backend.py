@@ -8,7 +8,9 @@ After every output period (the moment a real RCB-4 sends its servo frame on the 
 2. each mapped servo's state is read from its block: **free** (8000h, or 7FFFh where the
    board's config treats hold as free) goes limp, **hold** (7FFFh) keeps the angle it has,
    any other value is a target angle, ``RobotModel.angle(index, sent, base)`` (the value
-   sent includes the block's base, the servo's trim: the model's one conversion rule);
+   sent includes the block's base, the servo's trim: the model's one conversion rule); a
+   value past the servo's travel (3500..11500 sent, +-135 deg) stops at its end, as the
+   servo does (Kondo's own motions command 2100 or 12700 to push a joint to its end);
 3. a target moves towards the command at most at the servo's speed cap (its SetSpeed value
    as a fraction of the no-load speed), and the servo's stiffness follows its SetStretch
    value (:func:`rcb4hv.robot.mjcf.stiffness`);
@@ -29,6 +31,7 @@ from typing import Final
 from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
 from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.robot.mjcf import speed_cap
@@ -135,7 +138,8 @@ class PhysicsBackend:
         if a is None:
             if len(self._angles) > _ANGLES_KEPT:
                 self._angles.clear()
-            a = self._angles[key] = self.world.model.angle(index, sent, base)
+            travel = max(POSITION_MIN, min(POSITION_MAX, sent))  # the servo's own end stops
+            a = self._angles[key] = self.world.model.angle(index, travel, base)
         return a
 
     def _gain(self, index: int, stretch: int | None) -> float:

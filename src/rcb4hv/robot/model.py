@@ -46,6 +46,7 @@ __all__ = [
     "Inertial",
     "Joint",
     "JointKind",
+    "LimitVerdict",
     "Link",
     "RobotModel",
     "ServoJoint",
@@ -59,6 +60,7 @@ Vec3 = tuple[float, float, float]
 JointKind = Literal["pitch", "roll", "yaw", "grip"]
 Side = Literal["left", "right", "centre"]
 GeomShape = Literal["box", "cylinder", "sphere"]
+LimitVerdict = Literal["ok", "advisory", "hard"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,8 +100,17 @@ class Joint:
     """A revolute joint from ``parent`` to ``child``.
 
     ``xyz``/``rpy``: the child frame's origin in the parent frame at angle 0 (URDF
-    ``<origin>``); ``axis`` in the child frame; ``lower``/``upper`` in radians. ``mirror`` names
-    the joint on the other side (None for a centre joint, which mirrors onto itself).
+    ``<origin>``); ``axis`` in the child frame. ``mirror`` names the joint on the other side
+    (None for a centre joint, which mirrors onto itself).
+
+    Two ranges, radians (see :meth:`RobotModel.limit_check`):
+
+    * ``lower``/``upper``, the **hard** limits: mechanical only, where the brackets collide or
+      the servo's own travel ends. A value beyond them is refused (and MuJoCo stops the
+      joint there).
+    * ``advisory``, a narrower **advisory** range (e.g. a library's software limits): a value
+      outside it only warns, because the robot maker's own motions may use it. None: the
+      hard range.
     """
 
     name: str
@@ -113,6 +124,15 @@ class Joint:
     kind: JointKind
     side: Side = "centre"
     mirror: str | None = None
+    advisory: tuple[float, float] | None = None
+
+    @property
+    def advisory_range(self) -> tuple[float, float]:
+        """The advisory range (radians), inside the hard limits; the hard range when the joint
+        has none."""
+        if self.advisory is None:
+            return self.lower, self.upper
+        return max(self.lower, self.advisory[0]), min(self.upper, self.advisory[1])
 
 
 @dataclass(frozen=True, slots=True)
@@ -162,6 +182,13 @@ class RobotModel:
                 raise RobotModelError(f"{self.name}: joint {j.name!r} links an unknown link")
             if j.mirror is not None and j.mirror not in joints:
                 raise RobotModelError(f"{self.name}: joint {j.name!r} mirrors unknown {j.mirror!r}")
+            if j.lower > j.upper or (
+                j.advisory is not None and not j.lower <= j.advisory[0] <= j.advisory[1] <= j.upper
+            ):
+                raise RobotModelError(
+                    f"{self.name}: joint {j.name!r} needs lower <= upper and its advisory range "
+                    "inside them"
+                )
         seen: set[int] = set()
         for s in self.servos:
             if s.joint not in joints:
@@ -275,8 +302,24 @@ class RobotModel:
         return out
 
     def within_limits(self, angles: Mapping[str, float]) -> list[str]:
-        """Names of the joints whose angle lies outside the model's limits."""
-        return [n for n, a in angles.items() if not self.joint(n).lower <= a <= self.joint(n).upper]
+        """Names of the joints whose angle lies outside their hard (mechanical) limits."""
+        return [n for n, a in angles.items() if self.limit_check(n, a) == "hard"]
+
+    def outside_advisory(self, angles: Mapping[str, float]) -> list[str]:
+        """Names of the joints whose angle lies inside the hard limits but outside the
+        advisory range (a warning, never a refusal)."""
+        return [n for n, a in angles.items() if self.limit_check(n, a) == "advisory"]
+
+    def limit_check(self, joint: str, angle: float) -> LimitVerdict:
+        """Where ``angle`` (radians) of ``joint`` lies: ``"ok"`` inside the advisory range,
+        ``"advisory"`` outside it but inside the hard limits (warn), ``"hard"`` beyond the
+        hard (mechanical) limits (refuse). The one rule for the editor, the mirror and
+        ``project check``."""
+        j = self.joint(joint)
+        if not j.lower <= angle <= j.upper:
+            return "hard"
+        lo, hi = j.advisory_range
+        return "ok" if lo <= angle <= hi else "advisory"
 
 
 def chain(joints: Iterable[Joint], root: str) -> list[Joint]:

@@ -380,7 +380,10 @@ class EditorPage:
                         ).classes("w-64")  # fmt: skip
                         tid(slider, f"editor-joint-{row.ics}")
                         slider.on("change", lambda e, ics=row.ics: self.set_degrees(ics, e.args))
-                        ui.label(f"{row.degrees:.1f}°").classes("w-14 text-xs")
+                        mark = ui.label(f"{row.degrees:.1f}°" + (" ⚠" if row.advisory else ""))
+                        mark.classes("w-14 text-xs")
+                        if row.advisory:
+                            mark.tooltip(row.advisory)
                     raw = tid(
                         ui.number(value=row.value, format="%d").props("dense").classes("w-24"),
                         f"editor-raw-{row.ics}",

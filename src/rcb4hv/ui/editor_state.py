@@ -39,6 +39,8 @@ class JointRow:
     degrees: float
     lower: float
     upper: float
+    advisory: str = ""
+    """Non-empty when the value lies outside the joint's advisory range (kept: a warning)."""
 
 
 class Editor:
@@ -132,11 +134,15 @@ class Editor:
         for ics, value in pose.positions:
             deg = self.degrees(ics, value)
             label, lo, hi = f"ICS {ics}", -135.0, 135.0  # an ICS servo turns +-135 deg
+            note = ""
             if self.model is not None and ics in self.model.indices:
                 joint = self.model.joint(self.model.servo(ics).joint)
                 label = f"{joint.name} (ICS {ics})"
                 lo, hi = math.degrees(joint.lower), math.degrees(joint.upper)
-            rows.append(JointRow(ics, label, value, deg if deg is not None else math.nan, lo, hi))
+                note = "; ".join(self.checks.advisories({ics: value}))
+            rows.append(
+                JointRow(ics, label, value, deg if deg is not None else math.nan, lo, hi, note)
+            )
         return rows
 
     def pose_angles(self) -> dict[str, float]:
