@@ -19,8 +19,8 @@ from rcb4hv.hth4.edit import mirror_motion
 from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes
 from rcb4hv.hth4.poses import Checks
 from rcb4hv.robot.builtin import load_builtin
+from rcb4hv.robot.geometry import stance
 from rcb4hv.robot.kinematics import apply
-from rcb4hv.ui.stance import stance
 from tests.physics.conftest import PROJECT
 
 KHR = load_builtin("khr3hv")
