@@ -48,6 +48,7 @@ __all__ = [
     "limb",
     "solve",
     "solve_feet",
+    "solve_linear",
 ]
 
 Orient = Literal["auto", "full", "normal", "none"]
@@ -174,7 +175,7 @@ def _col(t: Transform, k: int) -> Vec3:
     return (t[0][k], t[1][k], t[2][k])
 
 
-def _solve_linear(a: list[list[float]], b: list[float]) -> list[float]:
+def solve_linear(a: list[list[float]], b: list[float]) -> list[float]:
     """``a x = b`` by Gaussian elimination with partial pivoting (``a`` is small, SPD)."""
     n = len(b)
     m = [[*row, b[i]] for i, row in enumerate(a)]
@@ -258,7 +259,7 @@ def _step(
                for c in range(rows)] for r in range(rows)]  # fmt: skip
         for r in range(rows):
             jj[r][r] += lam2
-        y = _solve_linear(jj, e)
+        y = solve_linear(jj, e)
         dq = [0.0 if k in frozen else sum(cols[k][r] * y[r] for r in range(rows)) for k in range(n)]
         push = {
             k
