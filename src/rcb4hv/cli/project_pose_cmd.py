@@ -62,6 +62,56 @@ def poses_command(file: Path, slot: int, robot_name: str | None, as_json: bool) 
     print_table(["pose", "stands", "margin mm", "touching", "most loaded servo"], rows)
 
 
+@click.command("ease")
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--motion", "slot", type=click.IntRange(1, 999), required=True, help="Slot.")
+@click.option(
+    "--pose", "pose", type=click.IntRange(2, None), required=True, help="Pose (1 = first)."
+)
+@click.option("--over", type=click.IntRange(2, None), required=True, help="Poses to split it into.")
+@click.option(
+    "--curve",
+    type=click.Choice(["in-out", "in", "out"]),
+    default="in-out",
+    show_default=True,
+    help="Ease in and out, in only (start slowly) or out only (stop slowly).",
+)
+@ROBOT_OPTION
+@click.option("--force", is_flag=True, help="Keep values outside ranges or joint limits.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@handle_errors
+def ease_command(
+    file: Path,
+    slot: int,
+    pose: int,
+    over: int,
+    curve: str,
+    robot_name: str | None,
+    force: bool,
+    output: Path,
+) -> None:
+    """Ease the move into pose --pose of motion --motion over --over poses and write -o.
+
+    The board moves linearly from pose to pose; the move into --pose is split into --over
+    moves along an easing curve (same total frames, same end pose), so the servos start and
+    stop gently."""
+    from rcb4hv.errors import NoRobotModelError
+    from rcb4hv.hth4.ease import ease_pose
+    from rcb4hv.hth4.poses import Checks
+    from rcb4hv.hth4.robotpick import project_model
+    from rcb4hv.hth4.session import EditSession
+
+    session = EditSession.open(file)
+    try:
+        model = project_model(session.project, robot_name)
+    except NoRobotModelError:
+        model = None  # no joint limits to check: the documented ranges still are
+    session.apply(ease_pose, slot, pose - 1, over, curve, Checks(model, force))  # type: ignore[arg-type]
+    session.save(output)
+    click.echo(f"{output}: motion {slot} pose {pose} eased ({curve}) over {over} poses")
+
+
 def register(project: click.Group) -> None:
-    """Add ``poses`` to the ``project`` group."""
+    """Add ``poses`` and ``ease`` to the ``project`` group."""
     project.add_command(poses_command)
+    project.add_command(ease_command)
