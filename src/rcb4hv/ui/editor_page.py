@@ -41,6 +41,7 @@ from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
 from rcb4hv.ui.playback import physics_available
+from rcb4hv.ui.pose_aids import EditorAids
 from rcb4hv.ui.preview import FRAME_PERIOD_S, Player, make_playback
 from rcb4hv.ui.scene3d import RobotScene
 
@@ -119,6 +120,7 @@ def build(ctx: UiContext) -> None:
             scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "editor-scrubber")
             scrubber.classes("w-96")
             preview_status = tid(ui.label(""), "editor-preview-status").classes("text-xs")
+            aids = EditorAids(ed, edit)  # IK handles, balance, easing (rcb4hv.ui.pose_aids)
         with ui.column().classes("grow"):
             frames_in = tid(ui.number("Frames (output periods)", min=1, max=255), "editor-frames")
             frames_in.on_value_change(lambda e: set_frames(e.value))
@@ -324,12 +326,14 @@ def build(ctx: UiContext) -> None:
         view[0] = None
         if ed.model is None:
             caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
+            aids.attach(None)
             return
         caption.text = ed.model.title
         with holder:
             scene = RobotScene(ed.model, width=420, height=420)
             tid(scene.scene, "editor-3d")
         view[0] = scene
+        aids.attach(scene)
         player.append(Player(scene, preview_status, scrubber))
 
     def draw_joints() -> None:
@@ -386,6 +390,7 @@ def build(ctx: UiContext) -> None:
                 play.text = "Play"
             if scene is not None:
                 scene.update(ed.pose_angles())
+                aids.refresh()
             if ed.dirty != guard[0]:
                 guard[0] = ed.dirty
                 client.run_javascript(LEAVE_GUARD.format(on="true" if ed.dirty else "false"))
