@@ -17,12 +17,14 @@ from rcb4hv.robot import ik
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 from rcb4hv.robot.kinematics import (
     apply,
+    center_of_mass,
     forward,
     link_pose,
     position,
     translation,
 )
 from rcb4hv.robot.model import RobotModel
+from rcb4hv.robot.wholebody import solve_balanced
 
 
 def _limb_angles(draw: st.DrawFn, model: RobotModel, link: str, spread: float) -> dict[str, float]:
@@ -152,3 +154,52 @@ def test_cli_ik_warns_out_of_reach_and_refuses_an_unknown_link() -> None:
     bad = runner.invoke(cli, ["robot", "fk", "kxr-l2", "--link", "nope"])
     assert bad.exit_code == 1
     assert "has no link 'nope'" in bad.stderr
+
+
+def _over_feet(model: RobotModel, angles: dict[str, float]) -> float:
+    """Horizontal distance (m) of the CoM from the feet's centre, the soles' normal as up."""
+    frames = forward(model, angles)
+    com = center_of_mass(model, frames)
+    feet = [frames["l_foot"], frames["r_foot"]]
+    up = (feet[0][0][2], feet[0][1][2], feet[0][2][2])
+    d = [com[k] - (feet[0][k][3] + feet[1][k][3]) / 2 for k in range(3)]
+    along = sum(d[k] * up[k] for k in range(3))
+    return math.sqrt(sum((d[k] - along * up[k]) ** 2 for k in range(3)))
+
+
+@pytest.mark.parametrize("name", ["kxr-l2", "khr3hv"])
+def test_solve_balanced_keeps_the_com_over_the_feet_while_a_hand_reaches(name: str) -> None:
+    model = load_builtin(name)
+    point = ik.effector_point(model, "r_forearm")
+    home = forward(model, model.home)
+    hand = apply(home["r_forearm"], point)
+    target = (hand[0] + 0.09, hand[1], hand[2] + 0.08)  # forward and up
+    plain = ik.solve(model, "r_forearm", target, model.home, point=point)
+    kept = solve_balanced(model, "r_forearm", target, model.home, point=point)
+    assert plain.reached and kept.reached, kept.message
+    assert _over_feet(model, kept.angles) < min(0.0005, _over_feet(model, plain.angles) / 2)
+    before, after = forward(model, model.home), forward(model, kept.angles)
+    # the feet keep their places relative to each other, soles flat: they did not move
+    gap = [position(before["l_foot"])[k] - position(before["r_foot"])[k] for k in range(3)]
+    gap2 = [position(after["l_foot"])[k] - position(after["r_foot"])[k] for k in range(3)]
+    assert math.dist(gap, gap2) < 0.001
+    assert after["l_foot"][2][2] > math.cos(math.radians(0.5))
+    # the hand reached its target in the world: relative to the feet it moved as asked
+    moved = [apply(after["r_forearm"], point)[k] - position(after["r_foot"])[k] for k in range(3)]
+    wanted = [target[k] - position(before["r_foot"])[k] for k in range(3)]
+    assert math.dist(moved, wanted) < 0.001
+
+
+def test_cli_ik_balance_lifts_a_foot_over_the_other() -> None:
+    model = load_builtin("kxr-l2")
+    foot = position(link_pose(model, "r_foot", model.home))
+    target = [f"{foot[0]:.5f}", f"{foot[1]:.5f}", f"{foot[2] + 0.02:.5f}"]  # lifted 2 cm
+    out = CliRunner().invoke(
+        cli, ["robot", "ik", "kxr-l2", "--link", "r_foot", "--pos", *target, "--balance", "--json"]
+    )
+    assert out.exit_code == 0, out.output
+    data = json.loads(out.stdout)
+    assert data["reached"] is True
+    frames = forward(model, data["angles"])
+    com, left = center_of_mass(model, frames), position(frames["l_foot"])
+    assert math.hypot(com[0] - left[0], com[1] - left[1]) < 0.002  # over the standing foot

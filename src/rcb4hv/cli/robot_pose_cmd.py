@@ -15,6 +15,7 @@ from rcb4hv.robot.builtin import load_robot
 from rcb4hv.robot.ik import Orient, solve
 from rcb4hv.robot.kinematics import from_xyz_rpy, link_pose, position
 from rcb4hv.robot.model import RobotModel
+from rcb4hv.robot.wholebody import solve_balanced
 
 
 def read_angles(model: RobotModel, path: Path) -> dict[str, float]:
@@ -92,6 +93,11 @@ def fk(name: str, link: str, angles_file: Path | None, as_json: bool) -> None:
     type=_ANGLES_FILE,
     help="JSON joint angles to start from (default: home pose).",
 )
+@click.option(
+    "--balance",
+    is_flag=True,
+    help="Keep the other feet in place and the centre of mass over them (the body shifts).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 @handle_errors
 def ik(
@@ -101,6 +107,7 @@ def ik(
     rpy: tuple[float, float, float] | None,
     orient: Orient,
     angles_file: Path | None,
+    balance: bool,
     as_json: bool,
 ) -> None:
     """Joint angles that put LINK's origin at --pos; an unreachable target gives the nearest
@@ -108,7 +115,12 @@ def ik(
     model = load_robot(name)
     seed = dict(model.home) if angles_file is None else read_angles(model, angles_file)
     target = pos if rpy is None else from_xyz_rpy(pos, tuple(math.radians(a) for a in rpy))  # type: ignore[arg-type]
-    result = solve(model, link, target, seed, orient=orient)
+    if balance:
+        if rpy is not None:
+            raise click.UsageError("--balance takes a position target (--pos), not --rpy")
+        result = solve_balanced(model, link, pos, seed, orient=orient)
+    else:
+        result = solve(model, link, target, seed, orient=orient)
     got = _rounded(position(link_pose(model, link, result.angles)))
     if not result.reached:
         click.echo(f"warning: {link}: {result.message}", err=True)

@@ -8,6 +8,8 @@ kinematics, the pose's balance and servo loads, and easing previewed before it i
   foot dragged 2 cm moves 2 cm relative to the torso in the pose saved. The page gets the new
   joint angles as one edit (one undo step for the whole drag). A target out of reach gives the
   nearest pose and a warning.
+  With "keep balance" the feet stay and the body shifts over them
+  (:func:`rcb4hv.robot.wholebody.solve_balanced`).
 * :func:`balance_text` is the line under the view: whether the pose stands still
   (:func:`rcb4hv.robot.balance.pose_balance`), its margin, and the servos it loads beyond their
   stall torque. The view itself draws the centre of mass over the support polygon.
@@ -29,6 +31,7 @@ from rcb4hv.robot.balance import pose_balance
 from rcb4hv.robot.ik import IKResult, effector_point, effectors, solve
 from rcb4hv.robot.kinematics import apply, forward, invert
 from rcb4hv.robot.model import RobotModel
+from rcb4hv.robot.wholebody import solve_balanced
 from rcb4hv.ui.scene3d import RobotScene
 
 __all__ = ["HANDLE_RADIUS_M", "PoseHandles", "balance_text", "ease_preview"]
@@ -65,6 +68,7 @@ class PoseHandles:
         self.points = {link: effector_point(self.model, link) for link in self.kinds}
         self.drawn = {link: self._drawn_at(link) for link in self.kinds}
         self.angles: dict[str, float] = {}
+        self.keep_balance = False  # move the body over the feet as the limb moves
         self.last: IKResult | None = None
         self.spheres: dict[str, Any] = {}
         with view.scene:
@@ -105,6 +109,8 @@ class PoseHandles:
         point = apply(frames[link], self.points[link])
         goal = tuple(p + w - s for p, w, s in zip(point, world, start, strict=True))
         target = apply(invert(frames[self.model.root]), (goal[0], goal[1], goal[2]))
+        if self.keep_balance:
+            return solve_balanced(self.model, link, target, self.angles, point=self.points[link])
         return solve(self.model, link, target, self.angles, point=self.points[link])
 
     def _dropped(self, e: Any) -> None:
@@ -143,6 +149,10 @@ class EditorAids:
         self.handles: PoseHandles | None = None
         self.balance = tid(ui.label(""), "editor-balance").classes("text-xs w-96")
         self.reach = tid(ui.label(""), "editor-reach").classes("text-xs w-96")
+        self.keep = tid(
+            ui.checkbox("keep balance (feet stay, body shifts over them)"), "editor-keep-balance"
+        )
+        self.keep.on_value_change(lambda e: self._keep(bool(e.value)))
         with ui.row().classes("items-center"):
             self.over = tid(ui.number("Ease over", value=4, min=2, max=255), "editor-ease-over")
             self.over.classes("w-24")
@@ -154,8 +164,14 @@ class EditorAids:
             )
             tid(ui.button("Ease").props("dense"), "editor-ease").on_click(self.apply_ease)
 
+    def _keep(self, on: bool) -> None:
+        if self.handles is not None:
+            self.handles.keep_balance = on
+
     def attach(self, view: RobotScene | None) -> None:
         self.handles = None if view is None else PoseHandles(view, self._on_pose)
+        if self.handles is not None:
+            self.handles.keep_balance = bool(self.keep.value)
 
     def refresh(self) -> None:
         ed, handles = self.ed, self.handles
