@@ -1,6 +1,6 @@
 """The Editor page's posing aids in headless Chromium: a foot handle dragged 2 cm with the
 mouse moves that foot 2 cm (in the torso frame) in the pose saved; undo takes the whole drag
-back; the balance line reads the pose."""
+back; the balance line reads the pose; easing is previewed."""
 
 from __future__ import annotations
 
@@ -28,6 +28,7 @@ from tests.ui.test_editor_browser import (  # noqa: F401 - the fixtures are used
 pytestmark = pytest.mark.slow
 
 HOME = 39  # XL2G_291_ホームポジション: one pose, the robot standing
+SIDE_STEP = 11  # XL2G_111_高速歩行左: pose 2 stands on the right foot, its CoM outside it
 DRAG_M = 0.02
 
 # screen points of the handle ``name`` and of the point DRAG_M above it on the screen
@@ -102,6 +103,16 @@ def test_a_foot_dragged_2cm_moves_2cm_in_the_pose_saved(
     _input(page, "editor-path").fill(str(out))
     page.get_by_test_id("editor-save").click()
     _wait_text(page, "editor-status", f"{out} - 1 edits - saved")
+    # a pose on one foot: the balance line warns; easing the move into it previews in 3D
+    _choose(page, "editor-motion", f"M{SIDE_STEP:03d} XL2G_111")
+    _chart_of(page, 0x0B80 + (SIDE_STEP - 1) * 0x800)
+    page.locator("[data-testid=editor-flowchart] g[data-pose='1']").click()
+    _wait_text(page, "editor-balance", "cannot stand still")
+    assert "(r_foot)" in page.get_by_test_id("editor-balance").inner_text()
+    page.get_by_test_id("editor-ease-preview").click()
+    _wait_text(page, "editor-reach", "previewed 4 eased poses")
+    time.sleep(1.0)
+    shot(page, "posing-balance")
     before, after = _foot(src), _foot(out)
     foot = [b - a for a, b in zip(before, after, strict=True)]
     # the home pose stands upright: the view's frame and the torso's differ by no turn
