@@ -24,12 +24,12 @@ through each other, which keeps the contact count, and so the cost, low.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Iterable
 from xml.sax.saxutils import quoteattr
 
-from rcb4hv.robot.kinematics import apply, compose, forward, from_xyz_rpy
+from rcb4hv.robot.geometry import geom_lowest_z
+from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.model import Geom, Joint, Link, RobotModel, ServoSpec, Vec3, chain
 
 __all__ = [
@@ -222,19 +222,9 @@ def _hinge(model: RobotModel, j: Joint) -> str:
 def lowest_point(model: RobotModel) -> float:
     """The lowest z (m) of the model's shapes in its zero pose, root link at the origin."""
     frames = forward(model, {})
-    low = 0.0
-    for link in model.links:
-        for g in link.geoms:
-            t = compose(frames[link.name], from_xyz_rpy(g.pos, g.rpy))
-            if g.shape == "box":
-                half = (g.size[0] / 2, g.size[1] / 2, g.size[2] / 2)
-            elif g.shape == "cylinder":
-                half = (g.size[0], g.size[0], g.size[1] / 2)
-            else:
-                half = (g.size[0], g.size[0], g.size[0])
-            for corner in itertools.product(*((-h, h) for h in half)):
-                low = min(low, apply(t, (corner[0], corner[1], corner[2]))[2])
-    return low
+    return min(
+        [0.0, *(geom_lowest_z(g, frames[link.name]) for link in model.links for g in link.geoms)]
+    )
 
 
 def _body(model: RobotModel, link: Link, indent: str, lines: list[str]) -> None:
