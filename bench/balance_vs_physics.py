@@ -25,7 +25,8 @@ from rcb4hv.hth4 import load_project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.project.posebalance import motion_pose_angles
-from rcb4hv.robot.balance import MAX_TIP_DEG, convex_hull, pose_balance, signed_margin
+from rcb4hv.robot.balance import MAX_TIP_DEG, pose_balance, signed_margin
+from rcb4hv.robot.geometry import convex_hull
 from rcb4hv.robot.kinematics import Transform
 from rcb4hv.robot.model import RobotModel
 

@@ -14,12 +14,12 @@ from rcb4hv.cli.main import cli
 from rcb4hv.robot.balance import (
     GRAVITY,
     PoseBalance,
-    convex_hull,
     pose_balance,
     rigid_balance,
     signed_margin,
 )
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
+from rcb4hv.robot.geometry import convex_hull
 from rcb4hv.robot.ik import limb
 from rcb4hv.robot.kinematics import apply, forward
 from rcb4hv.robot.model import RobotModel
@@ -36,7 +36,7 @@ def lean(model: RobotModel, degrees: float) -> dict[str, float]:
 
 def test_hull_and_margin() -> None:
     square = convex_hull([(0, 0), (1, 0), (1, 1), (0, 1), (0.5, 0.5), (0.5, 0)])
-    assert square == ((0, 0), (1, 0), (1, 1), (0, 1))
+    assert square == [(0, 0), (1, 0), (1, 1), (0, 1)]
     assert signed_margin(square, (0.5, 0.5)) == pytest.approx(0.5)
     assert signed_margin(square, (0.5, 0.9)) == pytest.approx(0.1)
     assert signed_margin(square, (1.5, 0.5)) == pytest.approx(-0.5)

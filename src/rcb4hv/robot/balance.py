@@ -27,6 +27,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
+from rcb4hv.robot.geometry import convex_hull, geom_points
 from rcb4hv.robot.ik import effectors, solve_linear
 from rcb4hv.robot.kinematics import (
     IDENTITY,
@@ -34,11 +35,10 @@ from rcb4hv.robot.kinematics import (
     apply,
     compose,
     forward,
-    from_xyz_rpy,
     rotation_about,
 )
 from rcb4hv.robot.mjcf import DEFAULT_SERVO, stiffness
-from rcb4hv.robot.model import Geom, RobotModel, Vec3
+from rcb4hv.robot.model import RobotModel, Vec3
 
 __all__ = [
     "CONTACT_TOL",
@@ -47,7 +47,6 @@ __all__ = [
     "PARALLEL_SOLES_DEG",
     "STABILITY_RESERVE_M",
     "PoseBalance",
-    "convex_hull",
     "ground_frame",
     "pose_balance",
     "rigid_balance",
@@ -116,26 +115,6 @@ class PoseBalance:
         }
 
 
-def _corners(g: Geom) -> list[Vec3]:
-    """Points on ``g``'s surface (its frame) that can be its lowest: a box's 8 corners, a
-    cylinder's two end rims (12 points each), a sphere's 6 poles."""
-    t = from_xyz_rpy(g.pos, g.rpy)
-    if g.shape == "box":
-        hx, hy, hz = (s / 2.0 for s in g.size)
-        local = [(sx * hx, sy * hy, sz * hz) for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
-    elif g.shape == "cylinder":
-        r, h = g.size[0], g.size[1] / 2.0
-        local = [
-            (r * math.cos(k * math.pi / 6), r * math.sin(k * math.pi / 6), z)
-            for k in range(12)
-            for z in (-h, h)
-        ]
-    else:
-        r = g.size[0]
-        local = [(r, 0, 0), (-r, 0, 0), (0, r, 0), (0, -r, 0), (0, 0, r), (0, 0, -r)]
-    return [apply(t, p) for p in local]
-
-
 def _rotation_to_up(up: Vec3) -> Transform:
     """The smallest rotation taking unit vector ``up`` to +z (Rodrigues)."""
     x, y, z = up
@@ -145,13 +124,19 @@ def _rotation_to_up(up: Vec3) -> Transform:
     return rotation_about((y, -x, 0.0), math.atan2(s, z))  # about up × z
 
 
+def _points(model: RobotModel, frames: Mapping[str, Transform]) -> dict[str, list[Vec3]]:
+    """Every link's shape corners (:func:`rcb4hv.robot.geometry.geom_points`) in the root's
+    frame."""
+    return {
+        link.name: [p for g in link.geoms for p in geom_points(g, frames[link.name])]
+        for link in model.links
+    }
+
+
 def ground_frame(model: RobotModel, frames: Mapping[str, Transform]) -> Transform:
     """The transform from the root's frame to the ground frame (module docstring): up is
     the down-touching sole's normal, or the root's z; the lowest point at z = 0."""
-    points = {
-        link.name: [apply(frames[link.name], p) for g in link.geoms for p in _corners(g)]
-        for link in model.links
-    }
+    points = _points(model, frames)
     lowest = {name: min(p[2] for p in pts) for name, pts in points.items() if pts}
     feet = [n for n, kind in effectors(model).items() if kind == "foot" and n in lowest]
     up: Vec3 = (0.0, 0.0, 1.0)
@@ -180,29 +165,6 @@ def ground_frame(model: RobotModel, frames: Mapping[str, Transform]) -> Transfor
 
 def _column(t: Transform, k: int) -> Vec3:
     return (t[0][k], t[1][k], t[2][k])
-
-
-def convex_hull(points: Sequence[Point2]) -> tuple[Point2, ...]:
-    """The convex hull, counter-clockwise, without collinear points (Andrew's monotone
-    chain)."""
-    pts = sorted(set(points))
-    if len(pts) <= 2:
-        return tuple(pts)
-
-    def turn(o: Point2, a: Point2, b: Point2) -> float:
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower: list[Point2] = []
-    for p in pts:
-        while len(lower) >= 2 and turn(lower[-2], lower[-1], p) <= 1e-12:
-            lower.pop()
-        lower.append(p)
-    upper: list[Point2] = []
-    for p in reversed(pts):
-        while len(upper) >= 2 and turn(upper[-2], upper[-1], p) <= 1e-12:
-            upper.pop()
-        upper.append(p)
-    return tuple(lower[:-1] + upper[:-1])
 
 
 def _segment_distance(p: Point2, a: Point2, b: Point2) -> float:
@@ -382,10 +344,7 @@ def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance
     the settled one), one that needs more, or has nothing to tip onto, does not (its margin
     is the one before tipping)."""
     frames = forward(model, angles)
-    points = {
-        link.name: [apply(frames[link.name], p) for g in link.geoms for p in _corners(g)]
-        for link in model.links
-    }
+    points = _points(model, frames)
     total = model.mass
     com_root = [0.0, 0.0, 0.0]
     for link in model.links:
@@ -398,7 +357,7 @@ def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance
     while True:
         touching, every = _contacts(points, ground)
         com = apply(ground, (com_root[0], com_root[1], com_root[2]))
-        support = convex_hull([(p[0], p[1]) for pts in touching.values() for p in pts])
+        support = tuple(convex_hull([(p[0], p[1]) for pts in touching.values() for p in pts]))
         margin = signed_margin(support, (com[0], com[1]))
         first = margin if first is None else first
         if margin > 0.0:
