@@ -58,10 +58,11 @@ bench: $(VENV)/.installed-bench
 screenshots: $(VENV)/.installed-dev
 	rm -rf build/screenshots
 	tools/ensure-browser $(BIN)/python
-	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py
+	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py tests/ui/test_posing_browser.py
 	mkdir -p docs
 	cp build/screenshots/servos.png build/screenshots/remote.png build/screenshots/project.png docs/
 	cp build/screenshots/3d-view.png build/screenshots/3d-preview.png docs/
+	cp build/screenshots/posing-handles.png build/screenshots/posing-balance.png docs/
 
 fuzz: $(VENV)/.installed-dev
 	HYPOTHESIS_PROFILE=fuzz RCB4HV_FUZZ_EXAMPLES=20000 $(BIN)/pytest -q tests/reliability -k fuzz --timeout=0

@@ -46,6 +46,7 @@ from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
 from rcb4hv.ui.playback import physics_available
+from rcb4hv.ui.pose_aids import EditorAids
 from rcb4hv.ui.preview import PreviewPlayer, make_playback
 from rcb4hv.ui.scene3d import RobotScene
 
@@ -135,6 +136,7 @@ class EditorPage:
                 self.preview_status = tid(ui.label(""), "editor-preview-status")
                 self.preview_status.classes("text-xs")
                 self.player = PreviewPlayer(play, scrubber, self.preview_status)
+                self.aids = EditorAids(ed, self.edit)  # IK handles, balance, easing
             with ui.column().classes("grow"):
                 self.frames_in = tid(
                     ui.number("Frames (output periods)", min=1, max=255), "editor-frames"
@@ -360,12 +362,14 @@ class EditorPage:
         if ed.model is None:
             self.caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
             self.player.show(None)
+            self.aids.attach(None)
             return
         self.caption.text = ed.model.title
         with self.holder:
             self.scene = RobotScene(ed.model, width=420, height=420)
             tid(self.scene.scene, "editor-3d")
         self.player.show(self.scene)
+        self.aids.attach(self.scene)
 
     def draw_joints(self) -> None:
         self.joints.clear()
@@ -424,6 +428,7 @@ class EditorPage:
             self.player.stop()  # the view shows the edited pose, not the preview
             if self.scene is not None:
                 self.scene.update(ed.pose_angles())
+                self.aids.refresh()
             if ed.dirty != self.guard:
                 self.guard = ed.dirty
                 on = "true" if ed.dirty else "false"
