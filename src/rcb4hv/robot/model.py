@@ -56,7 +56,7 @@ __all__ = [
 ]
 
 Vec3 = tuple[float, float, float]
-JointKind = Literal["pitch", "roll", "yaw", "grip"]
+JointKind = Literal["pitch", "roll", "yaw", "grip", "wheel"]
 Side = Literal["left", "right", "centre"]
 GeomShape = Literal["box", "cylinder", "sphere"]
 

@@ -1,0 +1,228 @@
+"""A project's kit model from its own evidence: the title's kit code and the servo names.
+
+1. The servo names give each servo's role (:mod:`~rcb4hv.robot.kit.names`); spares are left
+   out. Every family whose frame takes all named servos and has its core joints is a
+   candidate (:mod:`~rcb4hv.robot.kit.mapping`).
+2. The title's kit code (:mod:`~rcb4hv.robot.kit.code`) picks among them; when the code names
+   a family the servos do not fit, the servo names win and the evidence says so.
+3. No code and several candidates: :class:`~rcb4hv.errors.AmbiguousRobotError` lists them
+   (``--robot kxr:CODE`` picks one); none: :class:`~rcb4hv.errors.NoRobotModelError`.
+4. Signs come from the kit's assembly convention, then the project's home pose is checked:
+   left and right symmetric (a pair that is symmetric only with the left sign turned is
+   turned, and the evidence says so), and for a biped the soles level with the torso.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+
+from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
+from rcb4hv.robot.kinematics import forward
+from rcb4hv.robot.kit.build import canonical_code, is_centre, kit_model, kit_signs
+from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
+from rcb4hv.robot.kit.mapping import Placement, map_roles
+from rcb4hv.robot.kit.names import Role, parse_servo_name
+from rcb4hv.robot.model import RobotModel
+
+__all__ = ["SYMMETRY_TOLERANCE_DEG", "Detection", "detect_kit"]
+
+SYMMETRY_TOLERANCE_DEG = 5.0
+"""A home pose is left-right symmetric when mirrored joint angles agree within this (deg):
+Kondo's trims leave a few degrees between the sides (chosen)."""
+_SIGNIFICANT = 100  # counts: a home value this far from centre tells a joint's direction
+_LEVEL_DEG = 10.0  # a biped's soles are level within this of the torso at home (chosen)
+
+
+@dataclass(frozen=True)
+class Detection:
+    """The chosen model and the evidence for it."""
+
+    model: RobotModel
+    title: str
+    code: KitCode | None
+    servos: tuple[tuple[int, str, str | None, int | None], ...]  # (index, name, joint, sign)
+    notes: tuple[str, ...] = ()
+    checks: tuple[tuple[str, bool, str], ...] = ()
+    candidates: tuple[str, ...] = field(default=())
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "model": self.model.name,
+            "title": self.model.title,
+            "project_title": self.title,
+            "kit_code": self.code.code if self.code else None,
+            "family": self.code.family if self.code else None,
+            "candidates": list(self.candidates),
+            "servos": [
+                {"index": i, "name": n, "joint": j, "sign": s} for i, n, j, s in self.servos
+            ],
+            "notes": list(self.notes),
+            "checks": [{"check": c, "ok": ok, "detail": d} for c, ok, d in self.checks],
+        }
+
+
+def _roles(names: Mapping[int, str]) -> tuple[dict[int, tuple[str, Role]], list[int]]:
+    roles: dict[int, tuple[str, Role]] = {}
+    spare: list[int] = []
+    for index, name in names.items():
+        role = parse_servo_name(name)
+        if role is None:
+            spare.append(index)
+        else:
+            roles[index] = (name, role)
+    return roles, spare
+
+
+def _humanoid_code(base: KitCode | None, p: Placement) -> KitCode:
+    bases = p.bases
+    probe = KitCode("humanoid", "", width=base.width if base else "standard")
+    text = canonical_code(probe, sorted(bases))
+    parsed = parse_kit_code("kxr:" + text)
+    assert parsed is not None
+    return replace(parsed, width=probe.width)
+
+
+def _conflicts(code: KitCode, names: KitCode) -> list[str]:
+    """What the title's code claims that the servo names contradict."""
+    out = []
+    for what in ("legs", "arms", "head"):
+        said, found = getattr(code, what), getattr(names, what)
+        if said is not None and said != found:
+            out.append(f"the title says {what} {said}, the servo names {found}: names win")
+    for what in ("gripper", "wheels"):
+        if getattr(code, what) and not getattr(names, what):
+            out.append(f"the title says {what}, the servo names have none: names win")
+    return out
+
+
+def _candidates(roles: Mapping[int, tuple[str, Role]]) -> dict[Family, Placement]:
+    out: dict[Family, Placement] = {}
+    for family in FAMILIES:
+        p = map_roles(family, roles)
+        if p.fits:
+            out[family] = p
+    return out
+
+
+def _joint_map(code: KitCode, p: Placement) -> dict[str, tuple[int, int]]:
+    signs = kit_signs(code)
+    out: dict[str, tuple[int, int]] = {}
+    for joint, index in p.joints.items():
+        base = joint[2:] if joint[:2] in ("l_", "r_") else joint
+        right, left = signs[base]
+        out[joint] = (
+            index,
+            left if joint.startswith("l_") and not is_centre(code, base) else right,
+        )
+    return out
+
+
+def _symmetry(
+    code: KitCode, jm: dict[str, tuple[int, int]], home: Mapping[int, int]
+) -> tuple[list[str], list[tuple[str, bool, str]]]:
+    """Turn left signs the home pose shows reversed; the notes and the check rows."""
+    notes: list[str] = []
+    bad: list[str] = []
+    probe = kit_model(code, jm)
+    for joint, (index, sign) in sorted(jm.items()):
+        if not joint.startswith("l_") or "r_" + joint[2:] not in jm:
+            continue
+        other, osign = jm["r_" + joint[2:]]
+        if index not in home or other not in home or joint.endswith("wheel"):
+            continue
+        cl, cr = home[index] - CENTER, home[other] - CENTER
+        if min(abs(cl), abs(cr)) < _SIGNIFICANT:
+            continue
+        kind = probe.joint(joint).kind
+        mirror = -1 if kind in ("roll", "yaw") else 1
+        left, right = sign * cl / COUNTS_PER_DEGREE, osign * cr / COUNTS_PER_DEGREE
+        if abs(mirror * left - right) <= SYMMETRY_TOLERANCE_DEG:
+            continue
+        if abs(-mirror * left - right) <= SYMMETRY_TOLERANCE_DEG:
+            jm[joint] = (index, -sign)
+            notes.append(f"{joint}: sign turned to {-sign:+d}: the home pose is symmetric so")
+        else:
+            bad.append(f"{joint[2:]} ({left:+.0f}° / {right:+.0f}°)")
+    row = ("home pose left-right symmetric", not bad, ", ".join(bad) or "all pairs agree")
+    return notes, [row]
+
+
+def _level(model: RobotModel) -> list[tuple[str, bool, str]]:
+    """A biped's soles level with its torso at home (feet flat, upright)."""
+    feet = [f"{s}_ankle_roll_link" for s in ("l", "r")]
+    if not all(any(link.name == f for link in model.links) for f in feet):
+        return []
+    frames = forward(model, dict(model.home))
+    worst = 0.0
+    for f in feet:
+        zz = frames[f][2][2]  # the sole's z axis against the torso's (root frame)
+        worst = max(worst, math.degrees(math.acos(max(-1.0, min(1.0, zz)))))
+    ok = worst <= _LEVEL_DEG
+    return [("home pose feet flat", ok, f"soles tilt {worst:.1f}° from the torso")]
+
+
+def detect_kit(
+    title: str | None,
+    names: Mapping[int, str],
+    home: Mapping[int, int] | None = None,
+    *,
+    force: KitCode | None = None,
+) -> Detection:
+    """The kit model of a project (see the module docstring). ``names``: ICS number -> servo
+    name of the slots in use; ``home``: the home pose's motion values by ICS number; ``force``:
+    the kit code ``--robot kxr:CODE`` gives (its family wins over the names)."""
+    roles, spare = _roles(names)
+    code = force or parse_kit_code(title)
+    notes: list[str] = []
+    if spare:
+        notes.append(f"no joint in the name of servo(s) {sorted(spare)}: left out")
+    cands = _candidates(roles)
+    family: Family
+    if code is not None and code.family in cands:
+        family = code.family
+    elif force is not None:
+        raise NoRobotModelError(
+            f"the servo names do not fit a KXR-{force.code}: "
+            + "; ".join(why for _, why in map_roles(force.family, roles).unplaced)
+        )
+    elif len(cands) == 1:
+        family = next(iter(cands))
+        if code is not None:
+            notes.append(f"the title says {code.family}, the servo names a {family}: names win")
+    elif cands:
+        names_ = tuple(f"kxr:{f}" for f in cands)
+        raise AmbiguousRobotError(
+            f"the servo names fit {', '.join(names_)}: pick one with --robot", names_
+        )
+    else:
+        raise NoRobotModelError("the servo names describe no KXR kit")
+    placement = cands[family]
+    if family == "humanoid":
+        effective = _humanoid_code(code, placement)
+        if code is not None and code.family == "humanoid":
+            notes += _conflicts(code, effective)
+    else:
+        effective = code if code is not None and code.family == family else KitCode(family, family)
+    jm = _joint_map(effective, placement)
+    checks: list[tuple[str, bool, str]] = []
+    if home:
+        sym_notes, rows = _symmetry(effective, jm, home)
+        notes += sym_notes
+        checks += rows
+    counts = {j: home[i] - CENTER for j, (i, _) in jm.items() if home and i in home}
+    model = kit_model(
+        effective,
+        jm,
+        home_counts=counts,
+        sources={"joint map": "the project's servo names (右/左, part, axis, limb)"},
+    )
+    checks += _level(model)
+    servos = tuple(
+        (i, names[i], model.servo(i).joint if i in model.indices else None,
+         model.servo(i).sign if i in model.indices else None)
+        for i in sorted(names)
+    )  # fmt: skip
+    return Detection(model, title or "", code, servos, tuple(notes), tuple(checks), ())

@@ -1,0 +1,191 @@
+"""The KXR kit builder and project -> model detection, on synthetic servo tables."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import pytest
+
+from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
+from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes
+from rcb4hv.hth4.project import load_project
+from rcb4hv.hth4.robotpick import detect_project, project_model
+from rcb4hv.robot.builtin import load_robot
+from rcb4hv.robot.kit import detect_kit, parse_kit_code, parse_servo_name
+from rcb4hv.robot.kit.figures import FIGURES, SOURCES
+from tests.robot.kit_names import home_values, names_for, stock
+
+
+@pytest.mark.parametrize(
+    ("title", "family", "legs", "arms", "head", "gripper", "wheels"),
+    [
+        ("Hello_KXR-L2GH(V1.0)", "humanoid", None, None, 2, True, False),
+        ("Hello_KXR-L2W2L6A4H2", "humanoid", 6, 4, 2, False, True),
+        ("Hello_KXR-L4D(V1.0)", "L4D", None, None, None, False, False),
+        ("Hello_KXR-L4R(V1.1)", "L4R", None, None, None, False, False),
+        ("Hello_KXR-L4T(V1.1)", "L4T", None, None, None, False, False),
+        ("Hello_KXR-L6(V1.0)", "L6", None, None, None, False, False),
+        ("KXR-R4LL(V1.2)", "R4LL", None, None, None, False, False),
+        ("kxr:l2gl6a7h2w", "humanoid", 6, 7, 2, True, False),
+        ("Hello_kxra6g", "humanoid", 2, 6, None, True, False),
+    ],
+)
+def test_kit_codes_in_titles(
+    title: str, family: str, legs: int | None, arms: int | None, head: int | None,
+    gripper: bool, wheels: bool,
+) -> None:  # fmt: skip
+    code = parse_kit_code(title)
+    assert code is not None
+    assert (code.family, code.legs, code.arms, code.head, code.gripper, code.wheels) == (
+        family, legs, arms, head, gripper, wheels,
+    )  # fmt: skip
+    assert parse_kit_code("Hello_KHR3(V2.3)") is None
+    assert parse_kit_code("HAC-KXR") is None
+
+
+@pytest.mark.parametrize(
+    ("name", "side", "part", "axis", "position", "segment"),
+    [
+        ("右肩（ピッチ）", "right", "shoulder", "pitch", None, None),
+        ("左膝", "left", "knee", None, None, None),
+        ("首ヨー", "centre", "neck", "yaw", None, None),
+        ("右前脚（ロール）", "right", "leg", "roll", "front", None),
+        ("右後足車輪", "right", "wheel", None, "rear", None),
+        ("右中脚（先）", "right", "leg", None, "middle", "tip"),
+        ("左前足 元", "left", "leg", None, "front", "root"),
+        ("R shoulder pitch", "right", "shoulder", "pitch", None, None),
+        ("left knee", "left", "knee", None, None, None),
+        ("neck yaw", "centre", "neck", "yaw", None, None),
+        ("right front leg roll", "right", "leg", "roll", "front", None),
+        ("right rear wheel", "right", "wheel", None, "rear", None),
+        ("right middle leg tip", "right", "leg", None, "middle", "tip"),
+    ],
+)
+def test_servo_names(
+    name: str, side: str, part: str, axis: str | None, position: str | None, segment: str | None
+) -> None:
+    role = parse_servo_name(name)
+    assert role is not None
+    assert (role.side, role.part, role.axis, role.position, role.segment) == (
+        side, part, axis, position, segment,
+    )  # fmt: skip
+
+
+def test_spares_carry_no_joint() -> None:
+    assert parse_servo_name("右拡張3") is None
+    assert parse_servo_name("spare 2") is None
+    assert parse_servo_name("") is None
+
+
+# home poses (degrees) that stand each legged family on its feet or wheels
+STAND = {
+    "kxr:L6": {f"{s}_{p}_knee": d for s in "lr" for p, d in (("front", 70), ("rear", -70))}
+    | {"r_middle_knee": 70, "l_middle_knee": -70},
+    "kxr:L4T": {"r_front_roll": 60, "l_front_roll": -60, "r_rear_roll": 60, "l_rear_roll": -60},
+    "kxr:L4N": {"r_front_roll": 60, "l_front_roll": -60, "r_rear_roll": 60, "l_rear_roll": -60},
+}
+CODES = ["kxr:L2GH", "kxr:L2W2L6A4H2", "kxr:A6G", "kxr:L2GL6A7H2W", "kxr:L6", "kxr:L4T",
+         "kxr:L4N", "kxr:L4R", "kxr:L4D", "kxr:R4LL"]  # fmt: skip
+
+
+@pytest.mark.parametrize("text", CODES)
+def test_each_family_is_detected_from_its_names_and_stands_at_home(text: str) -> None:
+    pytest.importorskip("mujoco")
+    from rcb4hv.physics.world import PhysicsWorld
+
+    code, model = stock(text)
+    names = names_for(model)
+    home = home_values(model, STAND.get(text, {}))
+    det = detect_kit(f"Hello_KXR-{code.code}(V1.0)", names, home)
+    assert det.model.name == model.name
+    assert {(s.index, s.joint, s.sign) for s in det.model.servos} == {
+        (s.index, s.joint, s.sign) for s in model.servos
+    }
+    assert all(ok for _, ok, _ in det.checks), det.checks
+    world = PhysicsWorld(det.model)
+    world.place(dict(det.model.home))
+    for index, servo in world.servos.items():
+        world.drive(index, det.model.home.get(servo.joint, 0.0), world.stiffness(index, None))
+    torso_bottom = min(g.pos[2] - g.size[2] / 2 for g in det.model.link("torso").geoms)
+    world.step(500)  # 1 s
+    base = world.base()
+    assert base.tilt < math.radians(10)
+    assert base.z + torso_bottom > 0.005  # the torso is off the floor
+
+
+def test_a_six_legged_project_is_never_the_l2_with_grippers(kxr_project_path: Path) -> None:
+    project = load_project(kxr_project_path)
+    _, l6 = stock("kxr:L6")
+    names = names_for(l6)
+    servos = tuple(
+        dataclasses.replace(s, name=names[s.device_number]) if s.device_number in names else s
+        for s in project.servos
+    )
+    six = dataclasses.replace(project, servos=servos, project_title="")
+    assert sorted(names) == sorted(load_robot("kxr-l2-gripper").indices)  # same ICS numbers
+    assert project_model(six).name == "kxr:L6"
+    titled = dataclasses.replace(six, project_title="Hello_KXR-L6(V1.0)")
+    model, det = detect_project(titled)
+    assert model.name == "kxr:L6" and det is not None
+    assert det.servos[0][2:] == ("r_front_yaw", -1)
+
+
+def test_the_fixture_keeps_its_builtin_model_with_a_kit_title(kxr_project_path: Path) -> None:
+    project = load_project(kxr_project_path)
+    assert project_model(project).name == "kxr-l2-gripper"
+    titled = dataclasses.replace(project, project_title="Hello_KXR-L2G(V1.0)")
+    model, det = detect_project(titled)
+    assert model.name == "kxr-l2-gripper" and det is not None
+    assert [c for c, ok, _ in det.checks if not ok] == []
+
+
+def test_home_pose_symmetry_turns_a_reversed_left_sign(kxr_project_path: Path) -> None:
+    """A project whose left knee is mounted the other way: its home pose bends the left knee
+    with the opposite value, so detection turns the left sign and says so."""
+    project = load_project(kxr_project_path)
+    project = dataclasses.replace(  # the fixture's own home motion out of the way
+        project,
+        motions=tuple(
+            dataclasses.replace(m, name="old") if "ホーム" in (m.name or "") else m
+            for m in project.motions
+        ),
+    )
+    home = {13: 7200, 12: 7800, 10: 7650, 11: 7650, 14: 7650, 15: 7650}
+    motion = motion_from_keyframes([Keyframe(0.5, home)], slot=120, name="ホームポジション")
+    titled = add_motion(
+        dataclasses.replace(project, project_title="Hello_KXR-L2G(V1.0)"), motion,
+        replace_used=True,
+    )  # fmt: skip
+    model, det = detect_project(titled)
+    assert det is not None
+    assert model.servo(13).sign == -model.servo(12).sign
+    assert any("l_knee_pitch" in n for n in det.notes)
+
+
+def test_an_ambiguous_project_lists_candidates() -> None:
+    _, l4t = stock("kxr:L4T")
+    names = {i: n for i, n in names_for(l4t).items() if "首" not in n}  # legs only
+    with pytest.raises(AmbiguousRobotError) as err:
+        detect_kit("my turtle", names)
+    assert set(err.value.candidates) == {"kxr:L4T", "kxr:L4N"}
+    assert detect_kit("my turtle", names, force=parse_kit_code("kxr:L4N")).model.name == "kxr:L4N"
+    model, _ = detect_project(names, "kxr:L4T")
+    assert model.name == "kxr:L4T"
+    with pytest.raises(NoRobotModelError):
+        detect_kit("", {2: "servo 2", 3: "servo 3"})
+
+
+def test_title_and_names_disagree_names_win_and_say_so() -> None:
+    _, model = stock("kxr:L2L5A3H2G")
+    det = detect_kit("Hello_KXR-L2L6A4H2G", names_for(model))
+    assert det.model.name == "kxr:L2L5A3H2G"
+    assert any("legs 6" in n for n in det.notes) and any("arms 4" in n for n in det.notes)
+
+
+def test_every_figure_names_a_known_source() -> None:
+    assert FIGURES
+    for key, f in FIGURES.items():
+        assert f.source in SOURCES, key
+        assert f.where, key
