@@ -5,9 +5,9 @@
 with its limits (a ``wheel`` joint turns without limits), one servo actuator per mapped
 joint (a wheel's drives its speed, :data:`WHEEL_FULL_SCALE_DEG`) and an IMU site on the
 root link with a gyro and an accelerometer. The physics of :mod:`rcb4hv.physics` loads it
-and drives the actuators itself (stiffness from each servo's stretch, limp when free); exported on its own
-(``rcb4hv robot export NAME --format mjcf``) the actuators are plain position servos at the
-default stretch, ready for MuJoCo's viewer or a controller.
+and drives the actuators itself (stiffness from each servo's stretch, limp when free);
+exported on its own (``rcb4hv robot export NAME --format mjcf``) the actuators are plain
+position servos at the default stretch, ready for MuJoCo's viewer or a controller.
 
 Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q)`` clamped to the servo's
 stall torque, on a hinge with the servo's back-EMF damping ``stall_torque / no_load_speed`` and
