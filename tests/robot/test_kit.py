@@ -189,3 +189,44 @@ def test_every_figure_names_a_known_source() -> None:
     for key, f in FIGURES.items():
         assert f.source in SOURCES, key
         assert f.where, key
+
+
+def test_cli_detect_list_show(kxr_project_path: Path, tmp_path: Path) -> None:
+    import json
+
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+    from rcb4hv.hth4 import dump_project
+
+    project = load_project(kxr_project_path)
+    _, l6 = stock("kxr:L6")
+    names = names_for(l6)
+    servos = tuple(
+        dataclasses.replace(s, name=names[s.device_number]) if s.device_number in names else s
+        for s in project.servos
+    )
+    path = tmp_path / "six.h4p"
+    path.write_bytes(
+        dump_project(dataclasses.replace(project, servos=servos, project_title="Hello_KXR-L6"))
+    )
+    runner = CliRunner()
+    out = runner.invoke(cli, ["robot", "detect", str(path), "--json"])
+    assert out.exit_code == 0, out.output
+    data = json.loads(out.output)
+    assert data["model"] == "kxr:L6" and data["family"] == "L6"
+    assert {"index": 19, "name": "左後脚（先）", "joint": "l_rear_knee", "sign": -1} in data[
+        "servos"
+    ]
+    out = runner.invoke(cli, ["robot", "detect", str(path)])
+    assert out.exit_code == 0 and "kxr:L6" in out.output
+    out = runner.invoke(cli, ["robot", "list"])
+    assert out.exit_code == 0 and "kxr:L4T" in out.output and "R4LL" in out.output
+    out = runner.invoke(cli, ["robot", "show", "kxr:L2W2L6A4H2", "--json"])
+    assert out.exit_code == 0
+    shown = json.loads(out.output)
+    assert shown["name"] == "kxr:L2W2L6A4H2"
+    assert {j["joint"] for j in shown["joints"]} >= {"r_ankle_wheel", "l_hip_yaw", "neck_pitch"}
+    mjcf = tmp_path / "l6.xml"
+    out = runner.invoke(cli, ["robot", "export", "kxr:L6", "--format", "mjcf", "-o", str(mjcf)])
+    assert out.exit_code == 0 and "<mujoco" in mjcf.read_text()
