@@ -230,3 +230,14 @@ def test_cli_detect_list_show(kxr_project_path: Path, tmp_path: Path) -> None:
     mjcf = tmp_path / "l6.xml"
     out = runner.invoke(cli, ["robot", "export", "kxr:L6", "--format", "mjcf", "-o", str(mjcf)])
     assert out.exit_code == 0 and "<mujoco" in mjcf.read_text()
+
+
+def test_names_for_the_other_side_follow_the_wiring_and_say_so() -> None:
+    _, l4t = stock("kxr:L4T")
+    swapped = {
+        i: n.replace("右", "X").replace("左", "右").replace("X", "左")
+        for i, n in names_for(l4t).items()
+    }
+    det = detect_kit("Hello_KXR-L4T(V1.1)", swapped)
+    assert det.model.servo(2).joint == "r_front_yaw"  # even ICS = right, whatever the name
+    assert any("named for the other side" in n for n in det.notes)

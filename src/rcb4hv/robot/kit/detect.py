@@ -200,6 +200,12 @@ def detect_kit(
     else:
         raise NoRobotModelError("the servo names describe no KXR kit")
     placement = cands[family]
+    if placement.side_conflicts:
+        notes.append(
+            f"servo(s) {sorted(placement.side_conflicts)} are named for the other side: "
+            "the kit's wiring puts the right side on even ICS numbers, so they are taken "
+            "as wired (KXR-KITS.md §1.2)"
+        )
     if family == "humanoid":
         effective = _humanoid_code(code, placement)
         if code is not None and code.family == "humanoid":

@@ -3,7 +3,8 @@
 :func:`map_roles` places every named servo on a slot of a family: humanoid names by body part
 and axis (``右肩（ピッチ）`` -> ``r_shoulder_pitch``), legged names by limb position and
 segment, axis or order (``右中脚（先）`` -> ``r_middle_knee``). A servo name without a side
-(``腿ロール``) takes the side of its ICS number (even = right, KXR-KITS.md §1.2). The result
+(``腿ロール``) takes the side of its ICS number; so does every servo (the kit's wiring,
+:func:`_side_prefix`), and a name saying the other side is noted. The result
 says which servos found no slot, so a family that does not fit is visible.
 """
 
@@ -48,6 +49,7 @@ class Placement:
     family: Family
     joints: dict[str, int] = field(default_factory=dict)
     unplaced: list[tuple[int, str]] = field(default_factory=list)  # (index, why)
+    side_conflicts: list[int] = field(default_factory=list)  # names saying the other side
 
     @property
     def bases(self) -> set[str]:
@@ -59,10 +61,15 @@ class Placement:
         return not self.unplaced and _CORE[self.family] <= self.bases
 
 
-def _side_prefix(role: Role, index: int) -> str:
-    if role.side == "centre":
-        return "r_" if index % 2 == 0 else "l_"
-    return "r_" if role.side == "right" else "l_"
+def _side_prefix(p: Placement, role: Role, index: int) -> str:
+    """The kit's wiring decides the side: even ICS numbers (SIO1-4) are the robot's right in
+    every KXR build (KXR-KITS.md §1.2). A name that says the other side is noted: Kondo's own
+    KXR-L4T project names its even servos 左 (left), yet its walks go forward and its turns
+    the named way only with even = right (docs/robots.md, measured)."""
+    right = index % 2 == 0
+    if role.side != "centre" and (role.side == "right") != right:
+        p.side_conflicts.append(index)
+    return "r_" if right else "l_"
 
 
 def _humanoid_slot(role: Role) -> str | None:
@@ -106,7 +113,7 @@ def _humanoid(roles: Mapping[int, tuple[str, Role]]) -> Placement:
         if slot is None or role.position == "middle":
             p.unplaced.append((index, f"{name}: no humanoid joint"))
             continue
-        joint = slot if slot in _CENTRE_HUMANOID else _side_prefix(role, index) + slot
+        joint = slot if slot in _CENTRE_HUMANOID else _side_prefix(p, role, index) + slot
         _place(p, joint, index, name)
     return p
 
@@ -131,7 +138,7 @@ def _legged(family: Family, roles: Mapping[int, tuple[str, Role]]) -> Placement:
         if role.position not in limbs:
             p.unplaced.append((index, f"{name}: a {family} has no {role.position} limbs"))
             continue
-        groups.setdefault((_side_prefix(role, index), role.position), []).append(
+        groups.setdefault((_side_prefix(p, role, index), role.position), []).append(
             (index, name, role)
         )
     for (prefix, position), members in groups.items():
