@@ -78,14 +78,15 @@ def _builtin_twin(model: RobotModel) -> RobotModel:
 
 
 def detect_project(
-    project: Project | Mapping[int, str], name: str | None = None
+    project: Project | Mapping[int, str], name: str | None = None, title: str = ""
 ) -> tuple[RobotModel, Detection | None]:
-    """The model of ``project`` by rules 1-2 of the module docstring and its evidence (None
-    for a built-in found by its servo table or named by ``name``)."""
+    """The model of ``project`` (or of a servo table with its ``title``) by rules 1-2 of the
+    module docstring and its evidence (None for a built-in found by its servo table or named
+    by ``name``)."""
     if isinstance(project, Project):
         names, title, home = servo_table(project), project.project_title or "", home_pose(project)
     else:
-        names, title, home = dict(project), "", {}
+        names, home = dict(project), {}
     if name is not None:
         code = parse_kit_code(name) if name.lower().startswith("kxr:") else None
         if code is None or not names:

@@ -21,7 +21,13 @@ from dataclasses import dataclass, field, replace
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 from rcb4hv.robot.kinematics import forward
-from rcb4hv.robot.kit.build import canonical_code, is_centre, kit_model, kit_signs
+from rcb4hv.robot.kit.build import (
+    canonical_code,
+    is_centre,
+    kit_model,
+    kit_signs,
+    stock_joint_map,
+)
 from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
 from rcb4hv.robot.kit.mapping import Placement, map_roles
 from rcb4hv.robot.kit.names import Role, parse_servo_name
@@ -164,22 +170,27 @@ def _level(model: RobotModel) -> list[tuple[str, bool, str]]:
     return [("home pose feet flat", ok, f"soles tilt {worst:.1f}° from the torso")]
 
 
-def detect_kit(
-    title: str | None,
-    names: Mapping[int, str],
-    home: Mapping[int, int] | None = None,
-    *,
-    force: KitCode | None = None,
-) -> Detection:
-    """The kit model of a project (see the module docstring). ``names``: ICS number -> servo
-    name of the slots in use; ``home``: the home pose's motion values by ICS number; ``force``:
-    the kit code ``--robot kxr:CODE`` gives (its family wins over the names)."""
-    roles, spare = _roles(names)
-    code = force or parse_kit_code(title)
-    notes: list[str] = []
-    if spare:
-        notes.append(f"no joint in the name of servo(s) {sorted(spare)}: left out")
-    cands = _candidates(roles)
+def _choose(
+    code: KitCode | None,
+    force: KitCode | None,
+    roles: Mapping[int, tuple[str, Role]],
+    cands: Mapping[Family, Placement],
+    used: set[int],
+    notes: list[str],
+) -> tuple[KitCode, dict[str, tuple[int, int]], str]:
+    """The build (its code), its joint map and where the map came from (steps 1-3)."""
+    by_names = "the project's servo names (右/左, part, axis, limb)"
+    if code is not None and code.family not in cands:
+        stock = stock_joint_map(code)
+        limbs = {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
+        if limbs <= used <= {i for i, _ in stock.values()}:  # every limb; head optional
+            stock = {j: (i, s) for j, (i, s) in stock.items() if i in used}
+            why = "; ".join(w for _, w in map_roles(code.family, roles).unplaced) or "core joints"
+            notes.append(
+                f"the servo names do not fit a KXR-{code.code} ({why}), but the ICS numbers "
+                "are its stock build's: joints from the kit's stock map"
+            )
+            return code, stock, "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
     family: Family
     if code is not None and code.family in cands:
         family = code.family
@@ -212,7 +223,26 @@ def detect_kit(
             notes += _conflicts(code, effective)
     else:
         effective = code if code is not None and code.family == family else KitCode(family, family)
-    jm = _joint_map(effective, placement)
+    return effective, _joint_map(effective, placement), by_names
+
+
+def detect_kit(
+    title: str | None,
+    names: Mapping[int, str],
+    home: Mapping[int, int] | None = None,
+    *,
+    force: KitCode | None = None,
+) -> Detection:
+    """The kit model of a project (see the module docstring). ``names``: ICS number -> servo
+    name of the slots in use; ``home``: the home pose's motion values by ICS number; ``force``:
+    the kit code ``--robot kxr:CODE`` gives (its family wins over the names)."""
+    roles, spare = _roles(names)
+    code = force or parse_kit_code(title)
+    notes: list[str] = []
+    if spare:
+        notes.append(f"no joint in the name of servo(s) {sorted(spare)}: left out")
+    cands = _candidates(roles)
+    effective, jm, source = _choose(code, force, roles, cands, set(names), notes)
     checks: list[tuple[str, bool, str]] = []
     if home:
         sym_notes, rows = _symmetry(effective, jm, home)
@@ -223,7 +253,7 @@ def detect_kit(
         effective,
         jm,
         home_counts=counts,
-        sources={"joint map": "the project's servo names (右/左, part, axis, limb)"},
+        sources={"joint map": source},
     )
     checks += _level(model)
     servos = tuple(

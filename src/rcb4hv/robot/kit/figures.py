@@ -71,6 +71,14 @@ FIGURES: dict[str, Figure] = {
         "kxrmw4a6h2m.urdf wheels at x ±54 (§2.5); y, z chosen: axle on the "
         "short leg's foot, wheel below its sole",
     ),
+    "l2.foot_wheel": _f(
+        (54.0, 14.0, -3.5),
+        "mm",
+        "CHOSEN",
+        "base wheels under a long-legged biped's foot (the kxra6g projects "
+        "list them with full legs): the kxrmw4a6h2m wheel spacing (x ±54, RC), "
+        "tyre 3 mm below the sole",
+    ),
     "l2.ankle_wheel": _f(
         (-48.0, 14.0, 4.5),
         "mm",

@@ -32,9 +32,9 @@ _CORE: dict[Family, frozenset[str]] = {
 _CENTRE_LEGGED: dict[Family, tuple[tuple[str, str | None, str], ...]] = {
     # (part, axis, slot) in order: a second match takes the next free slot of the same part
     "L4T": (("neck", "yaw", "neck_yaw"), ("neck", "pitch", "neck_pitch"),
-            ("neck", None, "neck_yaw")),
+            ("neck", None, "neck_yaw"), ("neck", None, "neck_pitch")),
     "L4R": (("neck", "yaw", "neck_yaw"), ("neck", "pitch", "neck_pitch"),
-            ("neck", None, "neck_yaw")),
+            ("neck", None, "neck_yaw"), ("neck", None, "neck_pitch")),
     "L4N": (("neck", "yaw", "neck_yaw"), ("neck", "pitch", "neck_pitch"),
             ("neck", "pitch", "neck_pitch2"), ("neck", "pitch", "neck_pitch3"),
             ("neck", None, "neck_yaw"), ("gripper", None, "gripper"), ("jaw", None, "gripper")),

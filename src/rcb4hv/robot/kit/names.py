@@ -96,8 +96,9 @@ def parse_servo_name(name: str | None) -> Role | None:
         if re.search(pattern, n, re.I):
             part = p
             break
-    if part is None:
+    if part is None and _POSITION_JA.search(n) is None:
         return None
+    part = part or "leg"  # 右前（ヨー）: a limb position and an axis name a leg joint
     side: Side = "centre"
     if _RIGHT.search(n):
         side = "right"

@@ -135,6 +135,10 @@ def _sole(ankle: Vec3) -> tuple[Geom, ...]:
     return (*steps, box((38.0, 27.0, SOLE_TOP), _add(ankle, (0.0, 0.0, -SOLE_TOP / 2))))
 
 
+def _flip_x(v: Vec3) -> Vec3:
+    return (-v[0], v[1], v[2])
+
+
 def _leg(code: KitCode) -> list[Slot]:
     legs = code.legs or 5
     if legs <= 2:
@@ -153,7 +157,7 @@ def _leg(code: KitCode) -> list[Slot]:
                 (segment(roll, foot), box((60, 30, 10), _add(foot, (0, 0, 5)), True)),
             ),
             _wheel_slot("front_wheel", "hip_roll", _add(roll, wheel)),
-            _wheel_slot("rear_wheel", "hip_roll", _add(roll, (-wheel[0], wheel[1], wheel[2]))),
+            _wheel_slot("rear_wheel", "hip_roll", _add(roll, _flip_x(wheel))),
         ]
     if legs >= 6:
         yaw = vec("l2.hip_l6_wide" if code.width == "wide" else "l2.hip_l6")
@@ -187,6 +191,8 @@ def _leg(code: KitCode) -> list[Slot]:
         ),
         _slot("ankle_roll", "ankle_pitch", ankle, "roll", (-170, 170), _sole(ankle)),
         _wheel_slot("ankle_wheel", "ankle_pitch", _add(ankle, vec("l2.ankle_wheel"))),
+        _wheel_slot("front_wheel", "ankle_roll", _add(ankle, vec("l2.foot_wheel"))),
+        _wheel_slot("rear_wheel", "ankle_roll", _add(ankle, _flip_x(vec("l2.foot_wheel")))),
     ]
 
 
