@@ -241,3 +241,22 @@ def test_names_for_the_other_side_follow_the_wiring_and_say_so() -> None:
     det = detect_kit("Hello_KXR-L4T(V1.1)", swapped)
     assert det.model.servo(2).joint == "r_front_yaw"  # even ICS = right, whatever the name
     assert any("named for the other side" in n for n in det.notes)
+
+
+def test_the_editor_offers_the_candidates_of_an_ambiguous_project(kxr_project_path: Path) -> None:
+    from rcb4hv.hth4 import dump_project
+    from rcb4hv.ui.editor_state import Editor
+
+    project = load_project(kxr_project_path)
+    _, l4t = stock("kxr:L4T")
+    names = {i: n for i, n in names_for(l4t).items() if "首" not in n}  # legs only: L4T or L4N
+    servos = tuple(
+        dataclasses.replace(s, name=names.get(s.device_number, s.name or ""),
+                            mode="Normal" if s.device_number in names else "None")
+        for s in project.servos
+    )  # fmt: skip
+    ed = Editor()
+    ed.open(dump_project(dataclasses.replace(project, servos=servos, project_title="turtle")))
+    assert ed.model is None and set(ed.model_candidates) == {"kxr:L4T", "kxr:L4N"}
+    ed.pick_robot("kxr:L4T")
+    assert ed.model is not None and ed.model.name == "kxr:L4T" and ed.model_candidates == ()

@@ -31,7 +31,7 @@ import logging
 import re
 from collections.abc import Iterable, Mapping
 
-from rcb4hv.errors import NoRobotModelError
+from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.hth4.model import Project
 from rcb4hv.hth4.poses import motion_poses
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
@@ -97,8 +97,11 @@ def detect_project(
         det = detect_kit(title, names, home)
         return _builtin_twin(det.model), det
     legged: Detection | None = None
+    ambiguous: AmbiguousRobotError | None = None
     try:
         legged = detect_kit(None, names, home)
+    except AmbiguousRobotError as exc:
+        ambiguous = exc
     except NoRobotModelError as exc:
         log.debug("no kit from the servo names: %s", exc)
     found = detect_robot(names, sorted(names)) if names else None
@@ -108,6 +111,8 @@ def detect_project(
         return load_builtin(found), None
     if legged is not None and "KHR" not in title.upper():
         return _builtin_twin(legged.model), legged
+    if ambiguous is not None:
+        raise ambiguous
     used = sorted(names)
     why = (
         f"no built-in robot model matches this project's servos {used}"

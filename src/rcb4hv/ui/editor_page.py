@@ -106,6 +106,11 @@ def build(ctx: UiContext) -> None:
         )
         with ui.column().classes("items-center"):
             caption = tid(ui.label(""), "editor-3d-caption").classes("text-sm text-slate-600")
+            pick = tid(
+                ui.select([], label="robot", on_change=lambda e: pick_robot(e.value)),
+                "editor-robot-pick",
+            ).classes("min-w-[12rem]")
+            pick.set_visibility(False)
             holder = ui.column()
             with ui.row().classes("items-center"):
                 tid(
@@ -318,10 +323,24 @@ def build(ctx: UiContext) -> None:
         toggle()
 
     # ------------------------------------------------------------------ drawing
+    def pick_robot(name: str | None) -> None:
+        """The user picked one of the models an ambiguous project fits."""
+        if not name or name not in ed.model_candidates:
+            return
+        try:
+            ed.pick_robot(name)
+        except Rcb4Error as exc:
+            fail(exc)
+            return
+        rebuild_view()
+        redraw()
+
     def rebuild_view() -> None:
         holder.clear()
         player.clear()
         view[0] = None
+        pick.set_options(list(ed.model_candidates), value=None)
+        pick.set_visibility(bool(ed.model_candidates))
         if ed.model is None:
             caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
             return
