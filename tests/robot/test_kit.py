@@ -260,3 +260,10 @@ def test_the_editor_offers_the_candidates_of_an_ambiguous_project(kxr_project_pa
     assert ed.model is None and set(ed.model_candidates) == {"kxr:L4T", "kxr:L4N"}
     ed.pick_robot("kxr:L4T")
     assert ed.model is not None and ed.model.name == "kxr:L4T" and ed.model_candidates == ()
+
+
+def test_docs_render_the_provenance_table() -> None:
+    from rcb4hv.robot.kit.figures import provenance_markdown
+
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "robots.md").read_text("utf-8")
+    assert provenance_markdown() in docs

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["FIGURES", "MASS_SERVOS", "SOURCES", "Figure", "fig", "vec"]
+__all__ = ["FIGURES", "MASS_SERVOS", "SOURCES", "Figure", "fig", "provenance_markdown", "vec"]
 
 #: source key -> (what it is, licence)
 SOURCES: dict[str, tuple[str, str]] = {
@@ -186,3 +186,15 @@ def vec(key: str) -> tuple[float, float, float]:
     if not isinstance(v, tuple):
         raise TypeError(f"{key} is a scalar")
     return v
+
+
+def provenance_markdown() -> str:
+    """The provenance table as Markdown (docs/robots.md carries it; a test keeps them equal)."""
+    rows = ["| source | what | licence |", "|---|---|---|"]
+    rows += [f"| {k} | {what} | {lic} |" for k, (what, lic) in SOURCES.items()]
+    rows += ["", "| figure | value | unit | source | where |", "|---|---|---|---|---|"]
+    for key, f in FIGURES.items():
+        v = f.value
+        text = ", ".join(f"{x:g}" for x in v) if isinstance(v, tuple) else f"{v:g}"
+        rows.append(f"| `{key}` | {text} | {f.unit} | {f.source} | {f.where} |")
+    return "\n".join(rows) + "\n"
