@@ -16,7 +16,8 @@ HUMANOID = {
     "wrist_yaw": "手首（ヨー）", "gripper": "グリッパー", "hip_yaw": "腿（ヨー）",
     "hip_roll": "腿（ロール）", "hip_pitch": "腿（ピッチ）", "knee_pitch": "膝",
     "ankle_pitch": "足首（ピッチ）", "ankle_roll": "足首（ロール）", "ankle_wheel": "足車輪",
-    "front_wheel": "前車輪", "rear_wheel": "後車輪",
+    "front_wheel": "前車輪", "rear_wheel": "後車輪", "arm_roll": "肩ロール",
+    "arm_elbow": "肘ロール",
 }  # fmt: skip
 CENTRE = {
     "neck_yaw": "首（ヨー）",

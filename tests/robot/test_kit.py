@@ -85,9 +85,10 @@ STAND = {
     | {"r_middle_knee": 70, "l_middle_knee": -70},
     "kxr:L4T": {"r_front_roll": 60, "l_front_roll": -60, "r_rear_roll": 60, "l_rear_roll": -60},
     "kxr:L4N": {"r_front_roll": 60, "l_front_roll": -60, "r_rear_roll": 60, "l_rear_roll": -60},
+    "kxr:L4R2A3G": {"r_arm_roll": 15, "l_arm_roll": -15},
 }
 CODES = ["kxr:L2GH", "kxr:L2W2L6A4H2", "kxr:A6G", "kxr:L2GL6A7H2W", "kxr:L6", "kxr:L4T",
-         "kxr:L4N", "kxr:L4R", "kxr:L4D", "kxr:R4LL"]  # fmt: skip
+         "kxr:L4N", "kxr:L4R", "kxr:L4R2A3G", "kxr:L4D", "kxr:R4LL"]  # fmt: skip
 
 
 @pytest.mark.parametrize("text", CODES)

@@ -63,6 +63,9 @@ class Slot:
     limits: tuple[float, float]  # degrees, left joint
     geoms: tuple[Geom, ...]  # mm, robot frame
     centre: bool = False
+    #: an accessory (wheel, gripper finger, arm on a wheeled body) that is not there when its
+    #: servo is not: its shapes are dropped instead of joining the parent's link
+    optional: bool = False
 
 
 @dataclass(frozen=True)
@@ -116,7 +119,11 @@ def assemble(
         return slot
 
     shapes: dict[str | None, list[Geom]] = {None: list(template.torso)}
+    dropped: set[str] = set()
     for s in template.slots:
+        if s.name not in keep and (s.optional or (s.parent in dropped)):
+            dropped.add(s.name)
+            continue
         shapes.setdefault(owner(s.name), []).extend(s.geoms)
     for s in template.slots:  # a joint whose part is its servo alone (cross joints)
         if s.name in keep and not shapes.get(s.name):

@@ -35,8 +35,15 @@ _CENTRE = frozenset(
 
 def code_joints(code: KitCode) -> list[str]:
     """The base joint names the code implies (its stock build)."""
+    if code.family == "L4R" and code.arms:  # L4R2A3(G): arms in front, wheels behind
+        out = ["front_yaw", "arm_roll", "arm_elbow", "rear_yaw", "rear_wheel", "neck_yaw"]
+        return out + (["gripper"] if code.gripper else [])
     if code.family != "humanoid":
-        out = [s.name for s in template(code).slots if not s.centre]
+        out = [
+            s.name
+            for s in template(code).slots
+            if not s.centre and (not s.optional or s.kind == "wheel")
+        ]
         extra = {
             "L4T": ["neck_yaw"],
             "L4R": ["neck_yaw", "neck_pitch"],
@@ -92,6 +99,8 @@ def stock_joint_map(code: KitCode) -> dict[str, tuple[int, int]]:
 
 def canonical_code(code: KitCode, joints: list[str]) -> str:
     """The code of the build whose base joints are ``joints`` (``L2W2L6A4H2G``, ``L6``)."""
+    if code.family == "L4R" and "arm_roll" in joints:
+        return "L4R2A3" + ("G" if "gripper" in joints else "")
     if code.family != "humanoid":
         return code.family + ("H4" if code.family == "L4N" and "neck_pitch3" in joints else "")
     have = set(joints)

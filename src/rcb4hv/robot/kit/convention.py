@@ -77,6 +77,9 @@ SIGNS: dict[Family, dict[str, tuple[int, int]]] = {
         "gripper": (1, 1),
     },
     "L4R": {
+        "arm_roll": (1, 1),
+        "arm_elbow": (-1, -1),
+        "gripper": (-1, -1),
         "front_yaw": (-1, -1),
         "front_wheel": (-1, 1),
         "rear_yaw": (-1, -1),
@@ -163,6 +166,9 @@ STOCK: dict[Family, dict[str, int]] = {
         "gripper": 15,
     },
     "L4R": {
+        "arm_roll": 10,
+        "arm_elbow": 12,
+        "gripper": 18,
         "front_yaw": 2,
         "front_wheel": 4,
         "rear_yaw": 6,

@@ -133,6 +133,15 @@ FIGURES: dict[str, Figure] = {
         "CHOSEN",
         "L4R axle where the L4T's roll joint is; KX §2.8: wheel offset not extracted",
     ),
+    "l4r.upper_arm": _f(
+        (0.0, 53.0, 0.0),
+        "mm",
+        "CHOSEN",
+        "L4R2A3 arm: shoulder roll to elbow, the L4D's upper leg (no L4R2A3 dimensions published)",
+    ),
+    "l4r.forearm": _f(
+        (0.0, 58.0, 0.0), "mm", "CHOSEN", "L4R2A3 arm: elbow to gripper, the L4D's lower leg"
+    ),
     "r4ll.hip": _f(
         (64.5, 48.0, 0.0),
         "mm",

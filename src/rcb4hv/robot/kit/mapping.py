@@ -25,7 +25,7 @@ _CORE: dict[Family, frozenset[str]] = {
     "L6": frozenset(s for limb in LIMBS["L6"].values() for s in limb),
     "L4T": frozenset(s for limb in LIMBS["L4T"].values() for s in limb),
     "L4N": frozenset(s for limb in LIMBS["L4N"].values() for s in limb),
-    "L4R": frozenset(s for limb in LIMBS["L4R"].values() for s in limb),
+    "L4R": frozenset({"front_yaw", "rear_yaw", "rear_wheel"}),  # L4R2A3: arms, no front wheel
     "L4D": frozenset(s for limb in LIMBS["L4D"].values() for s in limb),
     "R4LL": frozenset(s for limb in LIMBS["R4LL"].values() for s in limb),
 }
@@ -39,6 +39,13 @@ _CENTRE_LEGGED: dict[Family, tuple[tuple[str, str | None, str], ...]] = {
             ("neck", "pitch", "neck_pitch2"), ("neck", "pitch", "neck_pitch3"),
             ("neck", None, "neck_yaw"), ("gripper", None, "gripper"), ("jaw", None, "gripper")),
     "L4D": (("neck", None, "neck_pitch"), ("jaw", None, "jaw"), ("gripper", None, "jaw")),
+}  # fmt: skip
+
+
+# sided servos named without a limb position: (part, axis, slot)
+_SIDED_LEGGED: dict[Family, tuple[tuple[str, str | None, str], ...]] = {
+    "L4R": (("shoulder", "roll", "arm_roll"), ("elbow", None, "arm_elbow"),
+            ("gripper", None, "gripper"), ("hip", None, "rear_yaw")),
 }  # fmt: skip
 
 
@@ -124,6 +131,15 @@ def _legged(family: Family, roles: Mapping[int, tuple[str, Role]]) -> Placement:
     groups: dict[tuple[str, str], list[tuple[int, str, Role]]] = {}
     centre = list(_CENTRE_LEGGED.get(family, ()))
     for index, (name, role) in sorted(roles.items()):
+        if role.position is None and role.side != "centre":
+            extra = next(
+                (c for c in _SIDED_LEGGED.get(family, ()) if c[0] == role.part
+                 and c[1] in (None, role.axis)),
+                None,
+            )  # fmt: skip
+            if extra is not None:
+                _place(p, _side_prefix(p, role, index) + extra[2], index, name)
+                continue
         if role.position is None:
             match = next(
                 (c for c in centre if c[0] == role.part and c[1] in (None, role.axis)

@@ -7,6 +7,8 @@ torso boxes are named choices (``_TORSO``).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from rcb4hv.robot.kit.assembly import Slot, Template, box, cylinder_y, segment
 from rcb4hv.robot.kit.code import Family, KitCode
 from rcb4hv.robot.kit.figures import fig, vec
@@ -53,7 +55,7 @@ def _slot(
 
 def _wheel_slot(name: str, parent: str, axle: Vec3) -> Slot:
     tyre = cylinder_y(fig("wheel.radius"), fig("wheel.width"), axle)
-    return _slot(name, parent, axle, "wheel", WHEEL_LIMITS, (tyre,))
+    return replace(_slot(name, parent, axle, "wheel", WHEEL_LIMITS, (tyre,)), optional=True)
 
 
 # --------------------------------------------------------------------- humanoid
@@ -114,13 +116,16 @@ def _arm(arms: int) -> list[Slot]:
             (segment(wrist, grip, light=True),),
         ),
         _slot("wrist_roll", "wrist_pitch", wrist, "roll", (-135, 135), ()),
-        _slot(
-            "gripper",
-            "wrist_roll",
-            grip,
-            "grip",
-            (-100, 100),
-            (box((14, 6, 35), _add(grip, (0, -10, -17.5)), light=True),),
+        replace(
+            _slot(
+                "gripper",
+                "wrist_roll",
+                grip,
+                "grip",
+                (-100, 100),
+                (box((14, 6, 35), _add(grip, (0, -10, -17.5)), light=True),),
+            ),
+            optional=True,
         ),
     ]
 
@@ -411,6 +416,19 @@ def _four(family: Family) -> Template:
                 f"{limb}_roll", f"{limb}_yaw", r, "roll", (-110, 110), (segment(r, foot, 22, True),)
             ),
         ]
+    if family == "L4R":  # the L4R2A3(G) build: a 3-axis arm on each front yaw joint
+        y = vec("l4t.hip")
+        roll = _add(y, vec("l4t.roll"))
+        elbow = _add(roll, vec("l4r.upper_arm"))
+        grip = _add(elbow, vec("l4r.forearm"))
+        arm = [
+            _slot("arm_roll", "front_yaw", roll, "roll", (-110, 110),
+                  (segment(roll, elbow, light=True),)),
+            _slot("arm_elbow", "arm_roll", elbow, "roll", (-170, 170), (segment(elbow, grip),)),
+            _slot("gripper", "arm_elbow", grip, "grip", (-100, 100),
+                  (box((35, 10, 14), _add(grip, (0, 17.5, 0)), True),)),
+        ]  # fmt: skip
+        slots += [replace(s, optional=True) for s in arm]
     slots += _neck(family, vec("l4t.neck"), 3 if family == "L4N" else 1)
     size, centre = _TORSO["L4T"]
     return Template(family, (box(size, centre, True),), tuple(slots))
