@@ -268,3 +268,31 @@ def test_docs_render_the_provenance_table() -> None:
 
     docs = (Path(__file__).resolve().parents[2] / "docs" / "robots.md").read_text("utf-8")
     assert provenance_markdown() in docs
+
+
+def test_cli_detect_lists_the_candidates_of_an_ambiguous_project(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    import json
+
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+    from rcb4hv.hth4 import dump_project
+
+    project = load_project(kxr_project_path)
+    _, l4t = stock("kxr:L4T")
+    names = {i: n for i, n in names_for(l4t).items() if "首" not in n}
+    servos = tuple(
+        dataclasses.replace(s, name=names.get(s.device_number, s.name or ""),
+                            mode="Normal" if s.device_number in names else "None")
+        for s in project.servos
+    )  # fmt: skip
+    path = tmp_path / "turtle.h4p"
+    path.write_bytes(dump_project(dataclasses.replace(project, servos=servos, project_title="")))
+    out = CliRunner().invoke(cli, ["robot", "detect", str(path), "--json"])
+    assert out.exit_code != 0
+    data = json.loads(out.output[: out.output.rindex("}") + 1])
+    assert data["model"] is None and set(data["candidates"]) == {"kxr:L4T", "kxr:L4N"}
+    out = CliRunner().invoke(cli, ["robot", "detect", str(path), "--robot", "kxr:L4T"])
+    assert out.exit_code == 0 and "kxr:L4T" in out.output
