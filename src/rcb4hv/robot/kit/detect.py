@@ -14,13 +14,14 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
-from rcb4hv.robot.kinematics import forward
+from rcb4hv.robot.kinematics import Transform, apply, compose, forward, from_xyz_rpy
 from rcb4hv.robot.kit.build import (
     canonical_code,
     is_centre,
@@ -29,9 +30,10 @@ from rcb4hv.robot.kit.build import (
     stock_joint_map,
 )
 from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
+from rcb4hv.robot.kit.convention import LIMBS
 from rcb4hv.robot.kit.mapping import Placement, map_roles
 from rcb4hv.robot.kit.names import Role, parse_servo_name
-from rcb4hv.robot.model import RobotModel
+from rcb4hv.robot.model import Geom, RobotModel
 
 __all__ = ["SYMMETRY_TOLERANCE_DEG", "Detection", "detect_kit"]
 
@@ -170,6 +172,48 @@ def _level(model: RobotModel) -> list[tuple[str, bool, str]]:
     return [("home pose feet flat", ok, f"soles tilt {worst:.1f}° from the torso")]
 
 
+def _lowest(t: Transform, g: Geom) -> float:
+    """The lowest z of shape ``g`` placed at ``t`` (its corners; a cylinder by its box)."""
+    if g.shape == "box":
+        half = (g.size[0] / 2, g.size[1] / 2, g.size[2] / 2)
+    elif g.shape == "cylinder":
+        half = (g.size[0], g.size[0], g.size[1] / 2)
+    else:
+        half = (g.size[0], g.size[0], g.size[0])
+    return min(apply(t, c)[2] for c in itertools.product(*((-h, h) for h in half)))  # type: ignore[arg-type]
+
+
+def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]:
+    """A legged robot stands at home: every limb's last part reaches below the torso."""
+    if family == "humanoid" or not model.home:
+        return []
+    frames = forward(model, dict(model.home))
+    torso_bottom = min(g.pos[2] - g.size[2] / 2 for g in model.link("torso").geoms)
+    high = []
+    for limb in LIMBS[family].values():
+        for side in ("l_", "r_"):
+            link = next(
+                (
+                    side + s + "_link"
+                    for s in reversed(limb)
+                    if any(k.name == side + s + "_link" for k in model.links)
+                ),
+                None,
+            )
+            if link is None:
+                continue
+            low = min(
+                _lowest(compose(frames[link], from_xyz_rpy(g.pos, g.rpy)), g)
+                for g in model.link(link).geoms
+            )
+            if low > torso_bottom:
+                high.append(link.removesuffix("_link"))
+    detail = (
+        "every limb reaches below the torso" if not high else "above the torso: " + ", ".join(high)
+    )
+    return [("home pose stands on its limbs", not high, detail)]
+
+
 def _choose(
     code: KitCode | None,
     force: KitCode | None,
@@ -255,7 +299,7 @@ def detect_kit(
         home_counts=counts,
         sources={"joint map": source},
     )
-    checks += _level(model)
+    checks += _level(model) + _feet_down(model, effective.family)
     servos = tuple(
         (i, names[i], model.servo(i).joint if i in model.indices else None,
          model.servo(i).sign if i in model.indices else None)
