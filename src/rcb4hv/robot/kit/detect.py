@@ -14,14 +14,13 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
-from rcb4hv.robot.kinematics import Transform, apply, compose, forward, from_xyz_rpy
+from rcb4hv.robot.kinematics import compose, forward, from_xyz_rpy
 from rcb4hv.robot.kit.build import (
     canonical_code,
     is_centre,
@@ -33,7 +32,8 @@ from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
 from rcb4hv.robot.kit.convention import LIMBS
 from rcb4hv.robot.kit.mapping import Placement, map_roles
 from rcb4hv.robot.kit.names import Role, parse_servo_name
-from rcb4hv.robot.model import Geom, RobotModel
+from rcb4hv.robot.mjcf import geom_lowest
+from rcb4hv.robot.model import RobotModel
 
 __all__ = ["SYMMETRY_TOLERANCE_DEG", "Detection", "detect_kit"]
 
@@ -172,17 +172,6 @@ def _level(model: RobotModel) -> list[tuple[str, bool, str]]:
     return [("home pose feet flat", ok, f"soles tilt {worst:.1f}° from the torso")]
 
 
-def _lowest(t: Transform, g: Geom) -> float:
-    """The lowest z of shape ``g`` placed at ``t`` (its corners; a cylinder by its box)."""
-    if g.shape == "box":
-        half = (g.size[0] / 2, g.size[1] / 2, g.size[2] / 2)
-    elif g.shape == "cylinder":
-        half = (g.size[0], g.size[0], g.size[1] / 2)
-    else:
-        half = (g.size[0], g.size[0], g.size[0])
-    return min(apply(t, c)[2] for c in itertools.product(*((-h, h) for h in half)))  # type: ignore[arg-type]
-
-
 def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]:
     """A legged robot stands at home: every limb's last part reaches below the torso."""
     if family == "humanoid" or not model.home:
@@ -203,7 +192,7 @@ def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]
             if link is None:
                 continue
             low = min(
-                _lowest(compose(frames[link], from_xyz_rpy(g.pos, g.rpy)), g)
+                geom_lowest(compose(frames[link], from_xyz_rpy(g.pos, g.rpy)), g)
                 for g in model.link(link).geoms
             )
             if low > torso_bottom:
