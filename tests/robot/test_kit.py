@@ -296,3 +296,14 @@ def test_cli_detect_lists_the_candidates_of_an_ambiguous_project(
     assert data["model"] is None and set(data["candidates"]) == {"kxr:L4T", "kxr:L4N"}
     out = CliRunner().invoke(cli, ["robot", "detect", str(path), "--robot", "kxr:L4T"])
     assert out.exit_code == 0 and "kxr:L4T" in out.output
+
+
+def test_an_arm_yaw_name_is_the_shoulder_yaw() -> None:
+    _, model = stock("kxr:L2W2L6A4H2")
+    names = names_for(model)
+    names[22], names[23] = "右腕ヨー", "左腕ヨー"  # Kondo's name for the upper arm's yaw
+    names[20], names[21] = "右車輪", "左車輪"
+    det = detect_kit("Hello_KXR-L2W2L6A4h2", names)
+    assert det.model.name == "kxr:L2W2L6A4H2"
+    assert det.model.servo(22).joint == "r_shoulder_yaw"
+    assert det.model.servo(20).joint == "r_ankle_wheel"

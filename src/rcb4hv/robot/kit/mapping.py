@@ -83,6 +83,8 @@ def _humanoid_slot(role: Role) -> str | None:
     part, axis = role.part, role.axis
     if part == "shoulder":
         return f"shoulder_{axis or 'pitch'}"
+    if part == "arm" and axis is not None:  # 腕ヨー: the upper arm's yaw, at the shoulder
+        return f"shoulder_{axis}"
     if part == "elbow":
         return "elbow_yaw" if axis == "yaw" else "elbow_pitch"
     if part == "wrist":
