@@ -44,7 +44,7 @@ def _per_op_us(fn: Callable[[], object], seconds: float = 1.0) -> float:
     return best
 
 
-def run() -> list[dict[str, Any]]:
+def run(quick: bool = False) -> list[dict[str, Any]]:
     from rcb4hv.emulator import Board, EmulatorConfig, PtyServer, RealClock
 
     board = Board(EmulatorConfig(min_reply_latency_s=0.0), clock=RealClock(speed=10.0))
@@ -84,7 +84,7 @@ def run() -> list[dict[str, Any]]:
                     ),
                 ]
                 for name, fn, wire in cases:
-                    ours = _per_op_us(fn)
+                    ours = _per_op_us(fn, 0.03 if quick else 1.0)
                     results.append(
                         {
                             "name": name,

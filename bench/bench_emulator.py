@@ -30,14 +30,13 @@ def wire_us(request: bytes, reply: bytes) -> float:
     return (len(request) + len(reply)) * 11 / BAUD * 1e6
 
 
-def in_process() -> list[dict[str, Any]]:
+def in_process(n: int = 3000) -> list[dict[str, Any]]:
     out = []
     clock = VirtualClock()
     board = Board(clock=clock)
     board.run_for(3.0)  # booted, main loop running
     for name, frame in FRAMES.items():
         reply = board.feed(frame)
-        n = 3000
         t0 = time.perf_counter()
         for _ in range(n):
             clock.advance(0.0005)
@@ -76,8 +75,9 @@ def _serve(args: list[str]) -> tuple[subprocess.Popen[str], str]:
     return proc, proc.stdout.readline().split()[1]
 
 
-def _round_trip_us(path: str, frame: bytes) -> tuple[float, bytes]:
-    """Best-of-5 mean time of ``frame`` -> reply through pyserial at 1,250,000 baud 8E1."""
+def _round_trip_us(path: str, frame: bytes, n: int = 400) -> tuple[float, bytes]:
+    """Best-of-5 mean time of ``n`` times ``frame`` -> reply through pyserial at 1,250,000
+    baud 8E1."""
     port = serial.Serial(path, BAUD, parity="E", timeout=2)
     try:
         port.write(frame)
@@ -85,7 +85,6 @@ def _round_trip_us(path: str, frame: bytes) -> tuple[float, bytes]:
         reply += port.read(reply[0] - 1)
         best = float("inf")
         for _ in range(5):
-            n = 400
             t0 = time.perf_counter()
             for _ in range(n):
                 port.write(frame)
@@ -96,7 +95,7 @@ def _round_trip_us(path: str, frame: bytes) -> tuple[float, bytes]:
         port.close()
 
 
-def pty_round_trip() -> list[dict[str, Any]]:
+def pty_round_trip(n: int = 400) -> list[dict[str, Any]]:
     """Round trips through ``rcb4hv emulate --pty`` run as its own process (as users run it),
     driven by pyserial at 1,250,000 baud 8E1, minimum reply latency 0; and, side by side, the
     same exchange with a trivial Python server that answers the same bytes over a pty (the
@@ -107,18 +106,18 @@ def pty_round_trip() -> list[dict[str, Any]]:
         ["from rcb4hv.cli.main import main; main()", "emulate", "--pty", "--latency", "0"]
     )
     try:
-        measured = {name: _round_trip_us(path, frame) for name, frame in FRAMES.items()}
+        measured = {name: _round_trip_us(path, frame, n) for name, frame in FRAMES.items()}
     finally:
-        emu.terminate()
-        emu.wait(timeout=10)
+        with emu:  # closes its stdout pipe, then waits
+            emu.terminate()
     for name, frame in FRAMES.items():
         ours, reply = measured[name]
         echo, floor_path = _serve([_ECHO_SERVER, reply.hex()])
         try:
-            floor, _ = _round_trip_us(floor_path, frame)
+            floor, _ = _round_trip_us(floor_path, frame, n)
         finally:
-            echo.kill()
-            echo.wait(timeout=10)
+            with echo:  # closes its stdout pipe, then waits
+                echo.kill()
         w = wire_us(frame, reply)
         out.append(
             {
@@ -191,8 +190,9 @@ def motion_speed() -> list[dict[str, Any]]:
     ]
 
 
-def run() -> list[dict[str, Any]]:
-    return in_process() + pty_round_trip() + motion_speed()
+def run(quick: bool = False) -> list[dict[str, Any]]:
+    feeds, trips = (10, 10) if quick else (3000, 400)
+    return in_process(feeds) + pty_round_trip(trips) + motion_speed()
 
 
 if __name__ == "__main__":

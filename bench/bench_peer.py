@@ -59,7 +59,7 @@ def _row(name: str, ours: float, theirs: float, wire: float, **extra: Any) -> di
 # --------------------------------------------------------------------------- host
 
 
-def host() -> list[dict[str, Any]]:
+def host(quick: bool = False) -> list[dict[str, Any]]:
     rows = []
     ack = encode_reply(Ack(0x10))
     for ids in ((2,), IDS17, tuple(range(35))):
@@ -72,7 +72,7 @@ def host() -> list[dict[str, Any]]:
             "peer": lambda r=ri, i=id_list, v=values: r.servo_angle_vector(i, v, velocity=10),
         }
         with peer.quiet():
-            t = interleaved(fns)
+            t = interleaved(fns, quick=quick)
         request = 9 + 2 * len(ids)
         rows.append(
             _row(
@@ -91,7 +91,8 @@ def host() -> list[dict[str, Any]]:
         {
             "ours": lambda: client.read_ram(0x92, 126),
             "peer": lambda: ri.write_move_ram_to_com_command(0x92, 126),
-        }
+        },
+        quick=quick,
     )
     rows.append(
         _row(
@@ -196,7 +197,7 @@ class _Pair:
         return _bare(self.port, our_frames), _bare(self.port, their_frames), len(our_frames)
 
 
-def pty() -> list[dict[str, Any]]:
+def pty(quick: bool = False) -> list[dict[str, Any]]:
     proc, path = _emulator("--pty", "--latency", "0")
     rows = []
     try:
@@ -227,6 +228,7 @@ def pty() -> list[dict[str, Any]]:
                         },
                         rounds=11,
                         round_s=0.03,
+                        quick=quick,
                     )
                 over_ours = max(t["ours"] - t["floor_ours"], 0.0)
                 over_peer = max(t["peer"] - t["floor_peer"], 0.0)
@@ -257,15 +259,15 @@ def pty() -> list[dict[str, Any]]:
         finally:
             pair.close()
     finally:
-        proc.terminate()
-        proc.wait(timeout=10)
+        with proc:  # closes its stdout pipe, then waits
+            proc.terminate()
     return rows
 
 
 # --------------------------------------------------------------------------- paced loop
 
 
-def paced_loop() -> list[dict[str, Any]]:
+def paced_loop(quick: bool = False) -> list[dict[str, Any]]:
     proc, path = _emulator("--pty", "--latency", "0", "--pace")
     try:
         pair = _Pair(path)
@@ -298,12 +300,12 @@ def paced_loop() -> list[dict[str, Any]]:
                 )
                 plans[name] = (len(frames), wire)
             with peer.quiet():
-                t = interleaved(fns, rounds=9, round_s=0.1)
+                t = interleaved(fns, rounds=9, round_s=0.1, quick=quick)
         finally:
             pair.close()
     finally:
-        proc.terminate()
-        proc.wait(timeout=10)
+        with proc:  # closes its stdout pipe, then waits
+            proc.terminate()
     rows = []
     for name, label in (("ours", "cost-model plan"), ("ours_per_servo", "one frame per servo")):
         frames, wire = plans[name]
@@ -330,12 +332,12 @@ def paced_loop() -> list[dict[str, Any]]:
     return rows
 
 
-def run() -> list[dict[str, Any]]:
+def run(quick: bool = False) -> list[dict[str, Any]]:
     why = peer.available()
     if why is not None:
         print(f"(skipping the peer rows: {why})")
         return []
-    return host() + pty() + paced_loop()
+    return host(quick) + pty(quick) + paced_loop(quick)
 
 
 if __name__ == "__main__":

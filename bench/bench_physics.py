@@ -33,7 +33,7 @@ def _crouch(model: Any, depth: float) -> dict[int, int]:
     return values
 
 
-def _one(name: str) -> tuple[float, float, bool]:
+def _one(name: str, virtual_s: float = VIRTUAL_S) -> tuple[float, float, bool]:
     from rcb4hv.physics import PhysicsBackend, PhysicsWorld
     from rcb4hv.physics.standalone import robot_board
     from rcb4hv.protocol import RunConstFrameServo
@@ -48,7 +48,7 @@ def _one(name: str) -> tuple[float, float, bool]:
     frames = round(MOVE_S / board.output_period)
     t0 = time.process_time()
     k = 0
-    while board.now < VIRTUAL_S - 1e-9:
+    while board.now < virtual_s - 1e-9:
         board.feed(RunConstFrameServo(frames, sorted(poses[k % 2].items())).encode())
         board.run_for(MOVE_S)
         k += 1
@@ -58,7 +58,7 @@ def _one(name: str) -> tuple[float, float, bool]:
     return wall, backend.time, upright
 
 
-def run() -> list[dict[str, Any]]:
+def run(quick: bool = False) -> list[dict[str, Any]]:
     try:
         import mujoco  # noqa: F401
     except ImportError:
@@ -68,10 +68,11 @@ def run() -> list[dict[str, Any]]:
 
     step_ms = TIMESTEP * 1000
     rows = []
-    for name, axes in (("khr3hv", 17), ("khr3hv-22", 22)):
+    robots = (("khr3hv", 17), ("khr3hv-22", 22))
+    for name, axes in robots[:1] if quick else robots:
         best, virtual, upright = float("inf"), 0.0, True
-        for _ in range(3):
-            wall, v, up = _one(name)
+        for _ in range(1 if quick else 3):
+            wall, v, up = _one(name, MOVE_S if quick else VIRTUAL_S)
             if wall < best:
                 best, virtual, upright = wall, v, up
         rows.append(

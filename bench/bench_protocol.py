@@ -64,10 +64,10 @@ def cases() -> list[tuple[str, Callable[[], p.Command], bytes]]:
     ]
 
 
-def run() -> list[dict[str, Any]]:
+def run(quick: bool = False) -> list[dict[str, Any]]:
     all_cases = cases()
     fns = {name: _transaction(build, reply) for name, build, reply in all_cases}
-    times = interleaved(fns)
+    times = interleaved(fns, quick=quick)
     results = []
     for name, build, reply in all_cases:
         wire = wire_us(len(p.encode_command(build())) + len(reply))

@@ -52,9 +52,10 @@ def _slider_latency(seconds: float = 3.0) -> tuple[list[float], float, int, int]
         return list(s.latencies), period, events, s.moves_sent
 
 
-def run() -> list[dict[str, Any]]:
-    fraction, servos, rate = _polling_load()
-    lat, period, events, frames = _slider_latency()
+def run(quick: bool = False) -> list[dict[str, Any]]:
+    seconds = 0.3 if quick else 3.0
+    fraction, servos, rate = _polling_load(seconds)
+    lat, period, events, frames = _slider_latency(seconds)
     lat_us = sorted(x * 1e6 for x in lat)
     median = statistics.median(lat_us)
     p99 = lat_us[min(len(lat_us) - 1, round(0.99 * (len(lat_us) - 1)))]

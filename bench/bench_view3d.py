@@ -16,10 +16,9 @@ import importlib.util
 import math
 import threading
 import time
-from pathlib import Path
 from typing import Any
 
-from tests.ui.browser import CHROMIUM, LAUNCH_ARGS, ui_server
+from tests.ui.browser import LAUNCH_ARGS, find_chromium, skip_requested, ui_server
 
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, TcpServer
 from rcb4hv.protocol import POSITION_HOLD
@@ -62,7 +61,7 @@ def _measure(page: Any, updates: int, timeout: float) -> tuple[float, float]:
     return (n - n0) / dt, (ms - ms0) / max(n - n0, 1)
 
 
-def _rate(srv: TcpServer, poll_hz: float) -> tuple[float, float]:
+def _rate(srv: TcpServer, chromium: str, poll_hz: float, updates: int) -> tuple[float, float]:
     from playwright.sync_api import sync_playwright
 
     host, port = srv.address
@@ -70,7 +69,7 @@ def _rate(srv: TcpServer, poll_hz: float) -> tuple[float, float]:
         ui_server(f"socket://{host}:{port}", "--poll-hz", str(poll_hz)) as app,
         sync_playwright() as pw,
     ):
-        browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=LAUNCH_ARGS)
+        browser = pw.chromium.launch(executable_path=chromium, headless=True, args=LAUNCH_ARGS)
         page = browser.new_page(viewport={"width": 1400, "height": 900})
         page.goto(app)
         page.get_by_test_id("tab-servos").click()
@@ -80,24 +79,29 @@ def _rate(srv: TcpServer, poll_hz: float) -> tuple[float, float]:
         mover.start()
         try:
             _measure(page, 5, 10.0)  # warm up: the first poses arrive
-            return _measure(page, UPDATES, 3 * UPDATES / poll_hz)
+            return _measure(page, updates, 3 * updates / poll_hz)
         finally:
             stop.set()
             mover.join(timeout=5)
             browser.close()
 
 
-def run() -> list[dict[str, Any]]:
-    if not Path(CHROMIUM).is_file() or importlib.util.find_spec("playwright") is None:
-        print(f"(skipping the 3D view benchmark: needs Chromium at {CHROMIUM} and playwright)")
+def run(quick: bool = False) -> list[dict[str, Any]]:
+    chromium = None if skip_requested() else find_chromium()
+    if chromium is None or importlib.util.find_spec("playwright") is None:
+        print(
+            "(skipping the 3D view benchmark: needs Chromium (tools/ensure-browser) and "
+            "playwright, and RCB4HV_SKIP_BROWSER unset)"
+        )
         return []
+    rates, updates = (RATES_HZ[:1], 5) if quick else (RATES_HZ, UPDATES)
     board = Board(
         EmulatorConfig(virtual_servos=DEFAULT_ICS), clock=RealClock(), rom_image=default_image()
     )
     rows: list[dict[str, Any]] = []
     with TcpServer(board, "127.0.0.1", 0) as srv:
-        for hz in RATES_HZ:
-            per_s, ms = _rate(srv, hz)
+        for hz in rates:
+            per_s, ms = _rate(srv, chromium, hz, updates)
             period_us = 1e6 / hz
             rows.append(
                 {
@@ -107,7 +111,7 @@ def run() -> list[dict[str, Any]]:
                     "ratio": per_s / hz,
                     "lower_is_better": False,
                     **({"target": 0.9} if hz == RATES_HZ[0] else {}),
-                    "note": f"{per_s:.1f} updates/s over {UPDATES} updates (ratio: per poll)",
+                    "note": f"{per_s:.1f} updates/s over {updates} updates (ratio: per poll)",
                 }
             )
             rows.append(

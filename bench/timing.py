@@ -35,14 +35,25 @@ def _calls_for(fn: Callable[[], object], budget_s: float) -> int:
         n *= 4
 
 
+QUICK_ROUND_S = 0.001
+"""The round length of a quick pass (``python -m bench.run --quick``, run by the tests): the
+figures mean nothing, the pass only shows that every benchmark still runs."""
+
+
 def interleaved(
-    fns: Mapping[str, Callable[[], object]], rounds: int = 15, round_s: float = 0.02
+    fns: Mapping[str, Callable[[], object]],
+    rounds: int = 15,
+    round_s: float = 0.02,
+    *,
+    quick: bool = False,
 ) -> dict[str, float]:
     """Median µs per call of each of ``fns``, over ``rounds`` interleaved rounds.
 
     Each round runs every callable for about ``round_s`` seconds (a calibrated number of
-    calls), the order rotating from round to round.
+    calls), the order rotating from round to round. ``quick``: one short round.
     """
+    if quick:
+        rounds, round_s = 1, QUICK_ROUND_S
     names = list(fns)
     counts = {name: _calls_for(fns[name], round_s) for name in names}
     samples: dict[str, list[float]] = {name: [] for name in names}

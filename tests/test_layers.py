@@ -19,7 +19,7 @@ ROOT = SRC.parent.parent
 
 # lowest first; a package may import packages on lower layers only
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "__init__"),  # rcb4hv.errors and the root package (__version__)
+    ("errors", "files", "__init__"),  # the exception tree, atomic saves, the root package
     ("protocol",),
     ("transport",),
     ("rom", "robot", "ics"),  # robot: models as data, kinematics, URDF/MJCF; ics: ICS servos

@@ -11,9 +11,10 @@ import pytest
 
 from rcb4hv import hth4
 from rcb4hv.errors import EditError
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4.diff import diff_projects
 from rcb4hv.hth4.edit import mirror_motion, rename_motion, set_pose, set_trim
-from rcb4hv.hth4.session import EditSession, write_atomic
+from rcb4hv.hth4.session import EditSession
 from tests.hth4._hth4_fixtures import fixture
 from tests.hth4._model import kxr_like
 
@@ -80,7 +81,7 @@ def test_a_process_killed_mid_write_leaves_the_old_file(copy: Path) -> None:
     code = f"""
 import os, signal, sys
 sys.path.insert(0, {str(REPO / "src")!r})
-from rcb4hv.hth4 import _files
+from rcb4hv import files as _files
 real = os.fdopen
 class Half:
     def __init__(self, f): self.f = f

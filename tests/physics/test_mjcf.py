@@ -10,6 +10,7 @@ import pytest
 
 from rcb4hv.robot import Geom, Inertial, Joint, Link, RobotModel
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
+from rcb4hv.robot.geometry import pose_transform
 from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.mjcf import back_emf_damping, stiffness, to_mjcf
 
@@ -81,19 +82,8 @@ def test_a_recorded_pose_redraws_the_simulated_robot() -> None:
     world.step(200)
     mujoco.mj_kinematics(world.m, world.d)  # link poses of the current state (a step ends
     # with the positions integrated past the poses it computed)
-    w, x, y, z = world.quaternion()
-    rot = (
-        (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)),
-        (2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)),
-        (2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)),
-    )
     b = world.base()
-    base = (
-        (*rot[0], b.x),
-        (*rot[1], b.y),
-        (*rot[2], b.z),
-        (0.0, 0.0, 0.0, 1.0),
-    )
+    base = pose_transform((b.x, b.y, b.z), world.quaternion())
     frames = forward(model, world.joint_angles(), base)
     for link in model.links:
         got = world.d.xpos[world.m.body(link.name).id]

@@ -11,9 +11,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from rcb4hv.robot import RobotModel, forward
+from rcb4hv.robot.geometry import Stance, convex_hull, feet, geom_points, inside, stance
 from rcb4hv.robot.kinematics import from_xyz_rpy
 from rcb4hv.ui.playback import Frame, Playback, simulated_playback
-from rcb4hv.ui.stance import Stance, convex_hull, feet, geom_points, inside, stance
 from tests.ui.toy_robot import LEG, SOLE, SOLE_DROP, toy_model
 
 MODEL = toy_model()

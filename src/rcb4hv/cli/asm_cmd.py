@@ -11,6 +11,7 @@ import click
 from rcb4hv.asm import assemble, disassemble, disassemble_frames, disassemble_image
 from rcb4hv.cli.decode_cmd import parse_hex
 from rcb4hv.errors import AsmError
+from rcb4hv.files import write_atomic
 
 
 def _address(text: str) -> int:
@@ -59,13 +60,13 @@ def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> No
     except ValueError as exc:
         _fail(str(exc))
     if output is not None and not as_hex:
-        Path(output).write_bytes(program.data)
+        write_atomic(output, program.data)
         click.echo(f"{len(program.data)} bytes at ${program.origin:06X} -> {output}", err=True)
         return
     lines = [f"{item.address:06X}  {item.data.hex(' ').upper()}" for item in program.items]
     text_out = "\n".join(lines) + ("\n" if lines else "")
     if output is not None:
-        Path(output).write_text(text_out, encoding="utf-8")
+        write_atomic(output, text_out)
     else:
         click.echo(text_out, nl=False)
 
@@ -141,7 +142,7 @@ def disasm(
     except (OSError, ValueError) as exc:
         _fail(str(exc))
     if output is not None:
-        Path(output).write_text(text, encoding="utf-8")
+        write_atomic(output, text)
     else:
         click.echo(text, nl=False)
 

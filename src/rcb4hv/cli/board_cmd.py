@@ -22,6 +22,7 @@ from rcb4hv.cli._util import (
     print_table,
 )
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
+from rcb4hv.files import write_atomic
 from rcb4hv.protocol import POSITION_HOLD, ROM_SIZE, Button
 from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
 
@@ -180,7 +181,7 @@ def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> 
     with conn.open() as robot:
         data = robot.read_rom(address, size)
     if output is not None:
-        output.write_bytes(data)
+        write_atomic(output, data)
         click.echo(f"wrote {len(data)} bytes to {output}")
     else:
         _hexdump(address, data)
@@ -215,7 +216,7 @@ def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bo
     """Save ROM (default: all 256 KB) to an image file."""
     with conn.open() as robot, _output.progress(size, "rom dump", progress) as bar:
         data = robot.read_rom(start, size, progress=bar)
-    output.write_bytes(data)
+    write_atomic(output, data)
     click.echo(f"wrote {len(data)} bytes ({start:06X}-{start + size - 1:06X}) to {output}")
 
 

@@ -66,12 +66,75 @@ class IcsTarget:
         return IcsBus.open(url, self.baud)
 
 
-def _pass_target(func: F) -> F:
-    @functools.wraps(func)
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        return func(click.get_current_context().find_object(IcsTarget), *args, **kwargs)
+PORT_HELP = (
+    "The adapter in ICS mode (/dev/ttyUSB0), a pty or socket:// of `rcb4hv emulate-ics`, "
+    "icsemu://?ids=0,1 (in process), or with --via-board the board's port. "
+    "Default: $RCB4HV_ICS_PORT, else the Kondo USB adapter."
+)
 
-    return wrapper  # type: ignore[return-value]
+
+def _target_options(func: F, *, group: bool) -> F:
+    """The bus options (``--port``, ``--baud``, ``--via-board``, ``--line``, ``--json``), on the
+    ``ics`` group (with their defaults) or on a subcommand (where an option given overrides
+    the group's: ``rcb4hv ics scan --port X`` as ``rcb4hv ics --port X scan``, the way the
+    board commands take ``--port`` after the command)."""
+    options = [
+        click.option(
+            "--port",
+            envvar="RCB4HV_ICS_PORT" if group else None,
+            default=None,
+            metavar="URL",
+            help=PORT_HELP,
+        ),
+        click.option(
+            "--baud",
+            type=click.Choice(["115200", "625000", "1250000"]),
+            default="115200" if group else None,
+            show_default=group,
+            help="ICS baud rate (the board's COM rate with --via-board).",
+        ),
+        click.option("--via-board", is_flag=True, help="Reach the servos through a board's 0Eh."),
+        click.option(
+            "--line",
+            type=click.IntRange(0, 35),
+            default=0 if group else None,
+            show_default=group,
+            help="With --via-board: the ICS number whose SIO line to use (even: SIO1-4, "
+            "odd: SIO5-8).",
+        ),
+        click.option("--json", "as_json", is_flag=True, help="Print JSON."),
+    ]
+    for option in reversed(options):
+        func = option(func)
+    return func
+
+
+def _pass_target(func: F) -> F:
+    """The bus options on a subcommand, and the :class:`IcsTarget` (the group's options,
+    overridden by the subcommand's) as its first argument."""
+
+    @functools.wraps(func)
+    def wrapper(
+        *args: Any,
+        port: str | None,
+        baud: str | None,
+        via_board: bool,
+        line: int | None,
+        as_json: bool,
+        **kwargs: Any,
+    ) -> Any:
+        base = click.get_current_context().find_object(IcsTarget)
+        assert base is not None  # set by the ics group
+        target = IcsTarget(
+            base.port if port is None else port,
+            base.baud if baud is None else int(baud),
+            base.via_board or via_board,
+            base.line if line is None else line,
+            base.as_json or as_json,
+        )
+        return func(target, *args, **kwargs)
+
+    return _target_options(wrapper, group=False)  # type: ignore[return-value]
 
 
 def _servo_id(bus: Any, servo_id: int | None) -> int:
@@ -115,31 +178,7 @@ id_option = click.option(
 
 
 @click.group("ics")
-@click.option(
-    "--port",
-    envvar="RCB4HV_ICS_PORT",
-    default=None,
-    metavar="URL",
-    help="The adapter in ICS mode (/dev/ttyUSB0), a pty or socket:// of `rcb4hv emulate-ics`, "
-    "icsemu://?ids=0,1 (in process), or with --via-board the board's port. "
-    "Default: $RCB4HV_ICS_PORT, else the Kondo USB adapter.",
-)
-@click.option(
-    "--baud",
-    type=click.Choice(["115200", "625000", "1250000"]),
-    default="115200",
-    show_default=True,
-    help="ICS baud rate (the board's COM rate with --via-board).",
-)
-@click.option("--via-board", is_flag=True, help="Reach the servos through a board's 0Eh.")
-@click.option(
-    "--line",
-    type=click.IntRange(0, 35),
-    default=0,
-    show_default=True,
-    help="With --via-board: the ICS number whose SIO line to use (even: SIO1-4, odd: SIO5-8).",
-)
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@functools.partial(_target_options, group=True)
 @click.pass_context
 def ics(
     ctx: click.Context, port: str | None, baud: str, via_board: bool, line: int, as_json: bool

@@ -21,6 +21,7 @@ from rcb4hv.cli.project_common import (
     current_build_options,
     load_image,
 )
+from rcb4hv.files import write_atomic
 
 
 def _button_text(buttons: int, compare: str = "Equals") -> str:
@@ -48,7 +49,7 @@ def build(file: Path, output: Path, layout_name: str | None) -> None:
 
     p = load_project(file)
     image, lay = project_image(p, layout_name, options=current_build_options())
-    output.write_bytes(image)
+    write_atomic(output, image)
     click.echo(
         f"wrote {len(image)} bytes ({len(p.used_motions)} motions, HeartToHeart4 "
         f"{lay.version} layout) to {output}"

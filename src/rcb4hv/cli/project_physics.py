@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from rcb4hv.cli._util import print_json, print_table
+from rcb4hv.robot.geometry import convex_hull
 
 if TYPE_CHECKING:
     from rcb4hv.project.physics_sim import Frame, PhysicsRun, StartPose
@@ -145,28 +146,6 @@ def print_physics(run: PhysicsRun, summary: dict[str, object], as_json: bool) ->
             )
 
 
-def _hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Convex hull of 2D points (Andrew's monotone chain), counter-clockwise."""
-    pts = sorted(set(points))
-    if len(pts) < 3:
-        return pts
-
-    def cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower: list[tuple[float, float]] = []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    upper: list[tuple[float, float]] = []
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return lower[:-1] + upper[:-1]
-
-
 def draw_frames(ax: Any, frames: tuple[Frame, ...], axis: int = 0, spacing: float = 0.3) -> None:
     """Side views of the robot (``axis`` 0: seen from its side, x-z; 1: from the front, y-z),
     one per frame, ``spacing`` m apart, time under each."""
@@ -176,7 +155,7 @@ def draw_frames(ax: Any, frames: tuple[Frame, ...], axis: int = 0, spacing: floa
         shift = k * spacing
         origin = frame.shapes[0][0][axis] if frame.shapes else 0.0
         for corners in frame.shapes:
-            hull = _hull([(c[axis] - origin + shift, c[2]) for c in corners])
+            hull = convex_hull([(c[axis] - origin + shift, c[2]) for c in corners])
             ax.add_patch(Polygon(hull, closed=True, facecolor="0.6", edgecolor="0.2", lw=0.4))
         ax.annotate(f"{frame.t:.2f} s", (shift, -0.02), ha="center", va="top", fontsize=7)
     ax.axhline(0.0, color="0.3", linewidth=0.8)

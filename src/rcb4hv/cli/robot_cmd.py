@@ -5,7 +5,6 @@ from __future__ import annotations
 import importlib
 import math
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -13,22 +12,11 @@ import click
 
 from rcb4hv.cli._util import handle_errors, print_json, print_table
 from rcb4hv.errors import RobotModelError
+from rcb4hv.files import write_atomic
 from rcb4hv.robot.builtin import BUILTIN, load_builtin, load_robot
 from rcb4hv.robot.jointmap import to_joint_map
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.robot.urdf import to_urdf
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and ``os.replace``."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent or Path("."))
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
 
 
 def model_summary(model: RobotModel) -> dict[str, Any]:

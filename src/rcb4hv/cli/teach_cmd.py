@@ -10,6 +10,7 @@ from typing import Any
 import click
 
 from rcb4hv.cli._util import MOTION_SLOT, handle_errors
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4 import dump_motion_xml, dump_project, load_project, parse_project
 from rcb4hv.hth4.keyframes import (
     Keyframe,
@@ -101,9 +102,9 @@ def add_motion_command(
     data = dump_project(add_motion(project, motion))
     if dump_project(parse_project(data)) != data:
         raise ValueError("the new project does not round-trip; nothing written")
-    output.write_bytes(data)
+    write_atomic(output, data)
     if flowchart is not None:
-        flowchart.write_bytes(dump_motion_xml(flowchart_from_keyframes(frames, period)))
+        write_atomic(flowchart, dump_motion_xml(flowchart_from_keyframes(frames, period)))
     click.echo(
         f"{output}: motion {slot} {name!r}, {len(frames)} keyframes, "
         f"{len(motion.rom_bytes())} bytes at {motion.address:05X}h"

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import contextlib
 import logging
-import os
-import tempfile
 import time
 from pathlib import Path
+
+from rcb4hv.files import write_atomic
 
 __all__ = ["RomStore"]
 
@@ -71,34 +71,12 @@ class RomStore:
             self.flush(image)
 
     def flush(self, image: bytes | bytearray) -> None:
-        """Write ``image`` atomically (temp file + fsync + os.replace + directory fsync)."""
+        """Write ``image`` atomically (:func:`rcb4hv.files.write_atomic`: temp file + fsync +
+        os.replace + directory fsync; the image keeps its mode)."""
         if len(image) != self.size:
             raise ValueError("image size mismatch")
-        directory = self.path.parent
-        directory.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp", dir=directory)
-        try:
-            # mkstemp creates 0600; keep the image's own mode (0644 for a new image)
-            try:
-                mode = self.path.stat().st_mode & 0o777
-            except FileNotFoundError:
-                mode = 0o644
-            os.fchmod(fd, mode)
-            with os.fdopen(fd, "wb") as f:
-                f.write(image)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, self.path)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
-        with contextlib.suppress(OSError):
-            dfd = os.open(directory, os.O_RDONLY)
-            try:
-                os.fsync(dfd)
-            finally:
-                os.close(dfd)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(self.path, bytes(image))
         self._dirty_since = None
         self.flushes += 1
         log.debug("flushed ROM image to %s", self.path)

@@ -30,7 +30,7 @@ import os
 from dataclasses import replace
 from pathlib import Path
 
-from rcb4hv.hth4._files import write_atomic
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,

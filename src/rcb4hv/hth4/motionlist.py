@@ -30,7 +30,7 @@ from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.hth4._files import write_atomic
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4.model import MOTION_SLOT_SIZE, Motion
 from rcb4hv.protocol.memory import Button
 

@@ -13,7 +13,7 @@ import os
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.hth4._files import write_atomic
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     Builder,

@@ -4,7 +4,7 @@
 two stacks of earlier / undone projects. Every edit is a pure function of
 :mod:`rcb4hv.hth4.edit` applied with :meth:`EditSession.apply`; an edit that raises leaves
 the session as it was. Saving writes :func:`~rcb4hv.hth4.project.dump_project` of the
-current project through :func:`write_atomic` (a temp file in the same directory, fsync,
+current project through :func:`rcb4hv.files.write_atomic` (a temp file in the same directory, fsync,
 ``os.replace``, directory fsync), after checking that the bytes read back to the same
 project. A session that was not edited saves the bytes it loaded, unchanged.
 """
@@ -19,11 +19,11 @@ from pathlib import Path
 from typing import Concatenate, ParamSpec
 
 from rcb4hv.errors import EditError
-from rcb4hv.hth4._files import write_atomic
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.project import dump_project, parse_project
 
-__all__ = ["EditSession", "HistoryEntry", "changed_slots", "write_atomic"]
+__all__ = ["EditSession", "HistoryEntry", "changed_slots"]
 
 log = logging.getLogger(__name__)
 

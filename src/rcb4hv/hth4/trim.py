@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.hth4._files import write_atomic
+from rcb4hv.files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     Builder,

@@ -4,14 +4,12 @@
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from rcb4hv.errors import IcsError
+from rcb4hv.files import write_atomic
 from rcb4hv.ics.eeprom import Eeprom
 from rcb4hv.ics.host import IcsServo
 
@@ -24,20 +22,10 @@ def backup_json(eeprom: Eeprom, servo_id: int) -> dict[str, Any]:
 
 
 def save_backup(path: str | Path, eeprom: Eeprom, servo_id: int) -> None:
-    """Write the backup atomically (temp file in the same folder, then ``os.replace``)."""
+    """Write the backup atomically (:func:`rcb4hv.files.write_atomic`)."""
     path = Path(path)
     text = json.dumps(backup_json(eeprom, servo_id), indent=2) + "\n"
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
+    write_atomic(path, text)
 
 
 def load_backup(source: str | Path | bytes) -> Eeprom:

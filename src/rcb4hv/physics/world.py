@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
+from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
 from rcb4hv.robot.mjcf import (
     DEFAULT_SERVO,
     FREE_DAMPING_FRACTION,
@@ -21,7 +22,7 @@ from rcb4hv.robot.mjcf import (
     stiffness,
     to_mjcf,
 )
-from rcb4hv.robot.model import RobotModel, ServoSpec
+from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 
 __all__ = ["BasePose", "PhysicsWorld", "require_mujoco"]
 
@@ -141,33 +142,11 @@ class PhysicsWorld:
     def _actuator_order(self) -> list[int]:
         return [s.index for s in sorted(self.servos.values(), key=lambda s: s.actuator)]
 
-    def lowest_point(self) -> float:
-        """The lowest z (m) of the robot's geoms."""
+    def _geom_shapes(self) -> list[tuple[GeomShape, Vec3, Matrix3, Vec3]]:
+        """Each robot geom (the floor left out) as :mod:`rcb4hv.robot.geometry` takes a shape:
+        kind, centre, rotation, half extents (MuJoCo's sizes are half sizes already)."""
         m, d = self.m, self.d
-        low = math.inf
-        for g in range(m.ngeom):
-            if g == self._floor:
-                continue
-            r = d.geom_xmat[g]
-            cz = d.geom_xpos[g][2]
-            size = m.geom_size[g]
-            kind = int(m.geom_type[g])
-            if kind == self._mj.mjtGeom.mjGEOM_BOX:
-                z = cz - abs(r[6]) * size[0] - abs(r[7]) * size[1] - abs(r[8]) * size[2]
-            elif kind == self._mj.mjtGeom.mjGEOM_CYLINDER:
-                c = abs(r[8])
-                z = cz - c * size[1] - size[0] * math.sqrt(max(0.0, 1.0 - c * c))
-            else:
-                z = cz - size[0]
-            low = min(low, z)
-        return low
-
-    def shapes(self) -> list[tuple[tuple[float, float, float], ...]]:
-        """The corners (world, m) of each robot geom's box (a cylinder's or sphere's bounding
-        box): enough to draw the robot from any side."""
-        m, d = self.m, self.d
-        out = []
-        signs = [(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
+        out: list[tuple[GeomShape, Vec3, Matrix3, Vec3]] = []
         for g in range(m.ngeom):
             if g == self._floor:
                 continue
@@ -175,32 +154,31 @@ class PhysicsWorld:
             px, py, pz = d.geom_xpos[g].tolist()
             size = m.geom_size[g].tolist()
             kind = int(m.geom_type[g])
+            shape: GeomShape
             if kind == self._mj.mjtGeom.mjGEOM_BOX:
-                hx, hy, hz = size
+                shape, half = "box", (size[0], size[1], size[2])
             elif kind == self._mj.mjtGeom.mjGEOM_CYLINDER:
-                hx, hy, hz = size[0], size[0], size[1]
+                shape, half = "cylinder", (size[0], size[0], size[1])
             else:
-                hx = hy = hz = size[0]
-            out.append(
-                tuple(
-                    (
-                        px + r[0] * a * hx + r[1] * b * hy + r[2] * c * hz,
-                        py + r[3] * a * hx + r[4] * b * hy + r[5] * c * hz,
-                        pz + r[6] * a * hx + r[7] * b * hy + r[8] * c * hz,
-                    )
-                    for a, b, c in signs
-                )
-            )
+                shape, half = "sphere", (size[0], size[0], size[0])
+            rotation = ((r[0], r[1], r[2]), (r[3], r[4], r[5]), (r[6], r[7], r[8]))
+            out.append((shape, (px, py, pz), rotation, half))
         return out
+
+    def lowest_point(self) -> float:
+        """The lowest z (m) of the robot's geoms."""
+        return min((lowest_z(*shape) for shape in self._geom_shapes()), default=math.inf)
+
+    def shapes(self) -> list[tuple[tuple[float, float, float], ...]]:
+        """The corners (world, m) of each robot geom's box (a cylinder's or sphere's bounding
+        box): enough to draw the robot from any side."""
+        return [box_corners(center, r, half) for _, center, r, half in self._geom_shapes()]
 
     def base(self) -> BasePose:
         d = self.d
         x, y, z = (float(v) for v in d.qpos[0:3])
         w, qx, qy, qz = (float(v) for v in d.qpos[3:7])
-        # the third row of the rotation matrix of the unit quaternion
-        r20 = 2 * (qx * qz - w * qy)
-        r21 = 2 * (qy * qz + w * qx)
-        r22 = 1 - 2 * (qx * qx + qy * qy)
+        r20, r21, r22 = quaternion_matrix((w, qx, qy, qz))[2]
         # the twist about the vertical of a swing-twist decomposition: the heading, also
         # where the forward axis points up or down (lying on the back or front)
         yaw = math.remainder(2 * math.atan2(qz, w), 2 * math.pi)

@@ -25,12 +25,12 @@ through each other, which keeps the contact count, and so the cost, low.
 
 from __future__ import annotations
 
-import itertools
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from xml.sax.saxutils import quoteattr
 
-from rcb4hv.robot.kinematics import Transform, apply, compose, forward, from_xyz_rpy
+from rcb4hv.robot.geometry import geom_lowest_z
+from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.model import Geom, Joint, Link, RobotModel, ServoSpec, Vec3, chain
 
 __all__ = [
@@ -48,7 +48,6 @@ __all__ = [
     "WHEEL_FULL_SCALE_DEG",
     "armature",
     "back_emf_damping",
-    "geom_lowest",
     "lowest_point",
     "speed_cap",
     "stiffness",
@@ -244,26 +243,12 @@ def _hinge(model: RobotModel, j: Joint) -> str:
     )
 
 
-def geom_lowest(t: Transform, g: Geom) -> float:
-    """The lowest z of shape ``g`` placed at ``t`` (the corners of its bounding box)."""
-    if g.shape == "box":
-        half = (g.size[0] / 2, g.size[1] / 2, g.size[2] / 2)
-    elif g.shape == "cylinder":
-        half = (g.size[0], g.size[0], g.size[1] / 2)
-    else:
-        half = (g.size[0], g.size[0], g.size[0])
-    return min(apply(t, (c[0], c[1], c[2]))[2] for c in itertools.product(*((-h, h) for h in half)))
-
-
-def lowest_point(model: RobotModel, angles: Mapping[str, float] | None = None) -> float:
-    """The lowest z (m) of the model's shapes at joint ``angles`` (default: the zero pose),
-    root link at the origin."""
-    frames = forward(model, dict(angles or {}))
-    low = 0.0
-    for link in model.links:
-        for g in link.geoms:
-            low = min(low, geom_lowest(compose(frames[link.name], from_xyz_rpy(g.pos, g.rpy)), g))
-    return low
+def lowest_point(model: RobotModel) -> float:
+    """The lowest z (m) of the model's shapes in its zero pose, root link at the origin."""
+    frames = forward(model, {})
+    return min(
+        [0.0, *(geom_lowest_z(g, frames[link.name]) for link in model.links for g in link.geoms)]
+    )
 
 
 def _body(model: RobotModel, link: Link, indent: str, lines: list[str]) -> None:

@@ -24,8 +24,8 @@ from nicegui import ui
 from nicegui.elements.scene.scene_object3d import Object3D
 
 from rcb4hv.robot import RobotModel, Transform
+from rcb4hv.robot.geometry import Soles, Stance, stance
 from rcb4hv.robot.kinematics import from_xyz_rpy
-from rcb4hv.ui.stance import Soles, Stance, stance
 
 __all__ = ["GRID_CELL_M", "RobotBody", "RobotScene"]
 

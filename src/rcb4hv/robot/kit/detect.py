@@ -20,7 +20,8 @@ from dataclasses import dataclass, field, replace
 
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
-from rcb4hv.robot.kinematics import compose, forward, from_xyz_rpy
+from rcb4hv.robot.geometry import geom_lowest_z
+from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.kit.build import (
     canonical_code,
     is_centre,
@@ -32,7 +33,6 @@ from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
 from rcb4hv.robot.kit.convention import LIMBS
 from rcb4hv.robot.kit.mapping import Placement, map_roles
 from rcb4hv.robot.kit.names import Role, parse_servo_name
-from rcb4hv.robot.mjcf import geom_lowest
 from rcb4hv.robot.model import RobotModel
 
 __all__ = ["SYMMETRY_TOLERANCE_DEG", "Detection", "detect_kit"]
@@ -191,10 +191,7 @@ def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]
             )
             if link is None:
                 continue
-            low = min(
-                geom_lowest(compose(frames[link], from_xyz_rpy(g.pos, g.rpy)), g)
-                for g in model.link(link).geoms
-            )
+            low = min(geom_lowest_z(g, frames[link]) for g in model.link(link).geoms)
             if low > torso_bottom:
                 high.append(link.removesuffix("_link"))
     detail = (

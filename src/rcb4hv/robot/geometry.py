@@ -1,42 +1,157 @@
-"""Where a robot stands: link transforms, centre of mass, support polygon (pure geometry).
+"""Geometry of a robot model: rotations, the points and lowest point of its shapes, convex
+hulls, and where a pose stands (pure Python, no NumPy; the one place for these questions).
 
-The 3D view draws a pose from here; nothing in this module knows about the browser.
+* Rotations: :func:`quaternion_matrix` (a unit quaternion w, x, y, z, as MuJoCo's free joint
+  and ``TrackPoint`` record it) and :func:`pose_transform` (position + quaternion: the
+  transform a base pose gives :func:`~rcb4hv.robot.kinematics.forward`).
+* Shapes: a shape is its kind, centre, rotation and half extents (:func:`half_extents` of a
+  :class:`~rcb4hv.robot.model.Geom`: a cylinder's are radius, radius, half length along its
+  local z). :func:`box_corners` gives the 8 corners of its bounding box (to draw it),
+  :func:`lowest_z` its exact lowest point (to put it on the floor), :func:`geom_points` the
+  points a support polygon is made of.
+* :func:`convex_hull` and :func:`inside`: the support polygon and the test of the centre of
+  mass over it.
+* Stance: where a pose stands.
 
-* Feet: the model's leaf links whose lowest geom point, in the zero pose (every joint at 0),
-  lies within :data:`CONTACT_TOLERANCE_M` of the robot's lowest point (a humanoid's soles).
-* Without a measured base pose (the plain simulator, the live board) the robot stands on its
-  feet: the body is tilted (about a horizontal axis) so that the feet's mean sole normal is
-  vertical, as a robot standing on flat ground has its soles flat, and lowered so that the
-  lowest foot point is on the ground (z = 0); x, y and yaw stay at 0. A bow then leans the
-  body forward over flat feet instead of tipping the feet onto their heels.
-* The support polygon is the convex hull, on the ground plane, of the geom corners within
-  :data:`CONTACT_TOLERANCE_M` of the ground; the centre of mass is over it or not.
+  - Feet: the model's leaf links whose lowest geom point, in the zero pose (every joint at
+    0), lies within :data:`CONTACT_TOLERANCE_M` of the robot's lowest point (a humanoid's
+    soles).
+  - Without a measured base pose (the plain simulator, the live board) the robot stands on
+    its feet: the body is tilted (about a horizontal axis) so that the feet's mean sole normal
+    is vertical, as a robot standing on flat ground has its soles flat, and lowered so that
+    the lowest foot point is on the ground (z = 0); x, y and yaw stay at 0. A bow then leans
+    the body forward over flat feet instead of tipping the feet onto their heels.
+  - The support polygon is the convex hull, on the ground plane, of the geom points within
+    :data:`CONTACT_TOLERANCE_M` of the ground; the centre of mass is over it or not.
 
-Corners: a box's 8 corners; a cylinder's two rims as inscribed octagons (each point is on the
-rim; a straight side lies at most r(1 - cos 22.5°) = 7.6 % of the radius inside it); a sphere's
-lowest point and its 4 horizontal extremes.
+  Points (:func:`geom_points`): a box's 8 corners; a cylinder's two rims as inscribed
+  octagons (each point is on the rim; a straight side lies at most r(1 - cos 22.5°) = 7.6 % of
+  the radius inside it); a sphere's lowest point and its 4 horizontal extremes.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
 
-from rcb4hv.robot import Geom, RobotModel, Transform, Vec3, center_of_mass, forward
-from rcb4hv.robot.kinematics import IDENTITY, apply, compose, from_xyz_rpy, rotation_about
+from rcb4hv.robot.kinematics import (
+    IDENTITY,
+    Transform,
+    apply,
+    center_of_mass,
+    compose,
+    forward,
+    from_xyz_rpy,
+    rotation_about,
+)
+from rcb4hv.robot.model import Geom, GeomShape, RobotModel, Vec3
 
 __all__ = [
     "CONTACT_TOLERANCE_M",
+    "Matrix3",
+    "Quaternion",
     "Soles",
     "Stance",
+    "box_corners",
     "convex_hull",
     "feet",
+    "geom_lowest_z",
     "geom_points",
+    "half_extents",
     "inside",
+    "lowest_z",
+    "pose_transform",
+    "quaternion_matrix",
+    "rotation_of",
     "stance",
 ]
+
+Quaternion = tuple[float, float, float, float]
+"""A unit quaternion (w, x, y, z)."""
+Matrix3 = tuple[Vec3, Vec3, Vec3]
+"""A rotation matrix, rows."""
+
+
+# ------------------------------------------------------------------------------ rotations
+
+
+def quaternion_matrix(q: Quaternion) -> Matrix3:
+    """The rotation matrix of the unit quaternion ``q`` = (w, x, y, z)."""
+    w, x, y, z = q
+    return (
+        (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)),
+        (2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)),
+        (2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)),
+    )
+
+
+def pose_transform(position: Vec3, q: Quaternion) -> Transform:
+    """The transform of a body at ``position`` turned by the unit quaternion ``q``."""
+    r = quaternion_matrix(q)
+    return (
+        (*r[0], position[0]),
+        (*r[1], position[1]),
+        (*r[2], position[2]),
+        (0.0, 0.0, 0.0, 1.0),
+    )
+
+
+def rotation_of(t: Transform) -> Matrix3:
+    """The rotation part of ``t``."""
+    return ((t[0][0], t[0][1], t[0][2]), (t[1][0], t[1][1], t[1][2]), (t[2][0], t[2][1], t[2][2]))
+
+
+# --------------------------------------------------------------------------------- shapes
+
+
+def half_extents(geom: Geom) -> Vec3:
+    """The half extents of ``geom`` along its own axes: a box's half sizes; a cylinder's
+    radius, radius and half length (its axis is its local z); a sphere's radius thrice."""
+    a, b, c = geom.size
+    if geom.shape == "box":
+        return (a / 2, b / 2, c / 2)
+    if geom.shape == "cylinder":
+        return (a, a, b / 2)
+    return (a, a, a)
+
+
+def box_corners(center: Vec3, rotation: Matrix3, half: Vec3) -> tuple[Vec3, ...]:
+    """The 8 corners of the box of ``half`` extents at ``center`` turned by ``rotation`` (of
+    a cylinder or sphere: its bounding box in its own axes)."""
+    r = rotation
+    return tuple(
+        (
+            center[0] + r[0][0] * a * half[0] + r[0][1] * b * half[1] + r[0][2] * c * half[2],
+            center[1] + r[1][0] * a * half[0] + r[1][1] * b * half[1] + r[1][2] * c * half[2],
+            center[2] + r[2][0] * a * half[0] + r[2][1] * b * half[1] + r[2][2] * c * half[2],
+        )
+        for a, b, c in itertools.product((-1, 1), repeat=3)
+    )
+
+
+def lowest_z(shape: GeomShape, center: Vec3, rotation: Matrix3, half: Vec3) -> float:
+    """The exact lowest z of a shape (see :func:`half_extents`) at ``center`` turned by
+    ``rotation``: a box's lowest corner, a cylinder's lowest rim point (or face), a sphere's
+    bottom."""
+    up = rotation[2]  # the world z of each of the shape's axes
+    if shape == "box":
+        return center[2] - abs(up[0]) * half[0] - abs(up[1]) * half[1] - abs(up[2]) * half[2]
+    if shape == "cylinder":
+        c = abs(up[2])
+        return center[2] - c * half[2] - half[0] * math.sqrt(max(0.0, 1.0 - c * c))
+    return center[2] - half[0]
+
+
+def geom_lowest_z(geom: Geom, link: Transform) -> float:
+    """The exact lowest z of ``geom`` in the world, its link at ``link``."""
+    t = compose(link, from_xyz_rpy(geom.pos, geom.rpy))
+    return lowest_z(geom.shape, (t[0][3], t[1][3], t[2][3]), rotation_of(t), half_extents(geom))
+
+
+# -------------------------------------------------------------------------------- stance
 
 CONTACT_TOLERANCE_M = 0.001
 """A point within 1 mm of the ground touches it. The models' dimensions are published to

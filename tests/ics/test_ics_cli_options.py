@@ -1,0 +1,59 @@
+"""`rcb4hv ics`: the bus options are taken before the subcommand (on the group) and after it
+(as the board commands take ``--port``); an option given after overrides the one before."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+
+BUS = "icsemu://?ids=0,3"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["ics", "scan", "--port", BUS, "--json", "--ids", "0-5"],
+        ["ics", "scan", "--ids", "0-5", "--json", "--port", BUS],
+        ["ics", "--port", BUS, "--json", "scan", "--ids", "0-5"],
+        ["ics", "--port", BUS, "scan", "--json", "--ids", "0-5"],
+        ["ics", "--json", "scan", "--port", BUS, "--ids", "0-5"],
+    ],
+)
+def test_port_and_json_before_or_after_the_subcommand(args: list[str]) -> None:
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.output) == {"ids": [0, 3]}
+
+
+def test_an_option_after_the_subcommand_overrides_the_group_and_the_environment() -> None:
+    runner = CliRunner()
+    r = runner.invoke(cli, ["ics", "--port", "icsemu://?ids=1", "scan", "--port", BUS])
+    assert r.exit_code == 0, r.output
+    assert r.output.split() == ["0", "3"]
+    r = runner.invoke(cli, ["ics", "scan", "--port", BUS], env={"RCB4HV_ICS_PORT": "/nonexistent"})
+    assert r.exit_code == 0, r.output
+    assert r.output.split() == ["0", "3"]
+    r = runner.invoke(cli, ["ics", "scan"], env={"RCB4HV_ICS_PORT": "icsemu://?ids=5"})
+    assert r.exit_code == 0, r.output
+    assert r.output.split() == ["5"]
+
+
+def test_a_subgroup_command_takes_them_too(tmp_path: Path) -> None:
+    out = tmp_path / "servo3.json"
+    r = CliRunner().invoke(
+        cli, ["ics", "eeprom", "dump", "--port", "icsemu://?ids=3", "--json", "--id", "3", str(out)]
+    )
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.output)["id"] == 3
+    assert json.loads(out.read_text())["servo_id"] == 3
+
+
+def test_a_bad_value_after_the_subcommand_is_a_usage_error() -> None:
+    r = CliRunner().invoke(cli, ["ics", "scan", "--port", BUS, "--baud", "9600"])
+    assert r.exit_code == 2
+    assert "Invalid value for '--baud'" in r.output
