@@ -7,9 +7,10 @@ subset of the slots (its servo names say which); a slot without a servo is rigid
 shapes join its parent's link. All joints have identity rotation at the zero pose (KXR
 frames are built square), so a joint's origin is its position minus its parent's.
 
-Masses: the family's whole-robot mass (``figures.MASS_SERVOS`` build) plus or minus one
-servo per servo more or fewer, spread as :func:`rcb4hv.robot.humanoid.distribute_mass` does:
-each link carries its servo case, the rest is shared by shape volume.
+Masses: the build's own whole-robot mass where kxreus gives one, else the family's
+(``figures.MASS_SERVOS`` build) plus or minus one servo per servo more or fewer, spread as
+:func:`rcb4hv.robot.humanoid.distribute_mass` does: each link carries its servo case, the
+rest is shared by shape volume.
 """
 
 from __future__ import annotations
@@ -103,9 +104,12 @@ def assemble(
     sources: Mapping[str, str],
     home: Mapping[str, float] | None = None,
     servo: ServoSpec = KRS_3304R2,
+    total_mass: float | None = None,
 ) -> RobotModel:
     """The model of ``template`` with the slots ``present`` (base names); ``joint_map``: full
-    joint name (``l_knee_pitch``, ``neck_yaw``) -> (servo index, sign)."""
+    joint name (``l_knee_pitch``, ``neck_yaw``) -> (servo index, sign); ``total_mass`` (kg):
+    the build's own whole-robot mass when a source gives it (else the family's, see the
+    module docstring)."""
     by_name = {s.name: s for s in template.slots}
     unknown = [p for p in present if p not in by_name]
     if unknown:
@@ -134,7 +138,12 @@ def assemble(
     # masses: the family's total, a servo more or less per servo beyond its reference build
     sided = sum(1 if by_name[p].centre else 2 for p in keep)
     per_servo = fig("mass.per_servo") * MM
-    total = fig(f"mass.{template.family}") * MM + (sided - MASS_SERVOS[template.family]) * per_servo
+    total = (
+        total_mass
+        if total_mass is not None
+        else fig(f"mass.{template.family}") * MM
+        + (sided - MASS_SERVOS[template.family]) * per_servo
+    )
     parts = {
         (k or "torso"): (1 if k is None or by_name[k].centre else 2, 0 if k is None else 1, g)
         for k, g in links.items()

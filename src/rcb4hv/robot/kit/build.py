@@ -14,7 +14,7 @@ from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.code import KitCode
 from rcb4hv.robot.kit.convention import SIGNS, STOCK, arm_signs
-from rcb4hv.robot.kit.figures import FIGURES, SOURCES
+from rcb4hv.robot.kit.figures import FIGURES, SOURCES, fig
 from rcb4hv.robot.kit.templates import template
 from rcb4hv.robot.model import RobotModel
 
@@ -141,8 +141,13 @@ def kit_model(
         + "; ".join(f"{k}: {SOURCES[k][0]} ({SOURCES[k][1]})" for k in used),
         "joint map": "Kondo's stock ICS numbers for this kit code (KXR-KITS.md §1.4)",
         "signs": "the kit's assembly convention (kxreus joint maps of the stock builds)",
-        "mass": f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
-        "KRS-3304R2 per servo more or fewer, shared over the links",
+        "mass": (
+            f"the build's whole-robot mass (figures mass.{text})"
+            if f"mass.{text}" in FIGURES
+            else f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
+            "KRS-3304R2 per servo more or fewer"
+        )
+        + ", shared over the links by servo and shape volume",
     }
     src.update(sources or {})
     return assemble(
@@ -153,6 +158,7 @@ def kit_model(
         title=f"Kondo KXR-{text} ({len(jm) - _shared(jm)} servos)",
         sources=src,
         home=home,
+        total_mass=fig(f"mass.{text}") / 1000 if f"mass.{text}" in FIGURES else None,
     )
 
 

@@ -168,6 +168,17 @@ FIGURES: dict[str, Figure] = {
     "mass.L4N": _f(717.44, "g", "KX", "kxrl4nh4.json total (§3.3)"),
     "mass.L6": _f(1028.62, "g", "KX", "kxrl6.json total (§3.3)"),
     "mass.R4LL": _f(929.82, "g", "CHOSEN", "R4LL: the L4R's total (no R4LL figure, §3.3)"),
+    # whole-robot masses of the builds kxreus exports, by this package's canonical code
+    "mass.L2L5A3": _f(1135.68, "g", "KX", "kxrl2l5a3.json total (§3.3)"),
+    "mass.L2L5A3H2G": _f(1421.74, "g", "KX", "kxrl2l5a3h2g.json total (§3.3)"),
+    "mass.L2L5A4H2G": _f(1483.21, "g", "KX", "kxrl2l5a4h2g.json total (§3.3)"),
+    "mass.L2L6A5H2G": _f(1700.81, "g", "KX", "kxrl2l6a5h2.json total (§3.3)"),
+    "mass.L2L6A6H2G": _f(1708.46, "g", "KX", "kxrl2l6a6h2.json total (§3.3)"),
+    "mass.L2L6A7H2G": _f(1824.9, "g", "KX", "kxrl2l6a7h2.json total (§3.3)"),
+    "mass.L2L6A7H2GW": _f(1909.38, "g", "KX", "kxrl2l6a7h2w.json total (§3.3)"),
+    "mass.L2W2L5A4H2G": _f(1676.41, "g", "KX", "kxrl2w2l5a4h2.json total (§3.3)"),
+    "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
+    "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
     "mass.per_servo": _f(
         35.03,
         "g",
