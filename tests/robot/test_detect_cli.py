@@ -126,7 +126,9 @@ def test_cli_list_show_export(tmp_path: Path) -> None:
     runner = CliRunner()
     out = runner.invoke(cli, ["robot", "list", "--json"])
     assert out.exit_code == 0, out.output
-    assert [r["name"] for r in json.loads(out.output)] == list(BUILTIN)
+    rows = json.loads(out.output)
+    assert [r["name"] for r in rows if r["family"] is None] == list(BUILTIN)
+    assert {r["family"] for r in rows} >= {"humanoid", "L4D", "L4N", "L4R", "L4T", "L6", "R4LL"}
     out = runner.invoke(cli, ["robot", "show", "khr3hv", "--json"])
     data = json.loads(out.output)
     assert data["servos"] == 17 and data["mass_kg"] == pytest.approx(1.493)

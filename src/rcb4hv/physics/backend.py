@@ -32,9 +32,9 @@ from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
-from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
+from rcb4hv.protocol.memory import CENTER, NO_BLOCK, S16, SERVO, U16
 from rcb4hv.protocol.servomode import output_mode
-from rcb4hv.robot.mjcf import speed_cap
+from rcb4hv.robot.mjcf import speed_cap, wheel_duty
 
 __all__ = ["PhysicsBackend"]
 
@@ -69,13 +69,15 @@ class PhysicsBackend:
         self._steps = 0
         self._last_us = self._t0_us
         self.commanded: dict[int, float | None] = {}
-        """The board's target angle (rad) of each servo at the last period (None: free)."""
+        """The board's target angle (rad) of each servo at the last period (None: free;
+        wheel servos are not listed: their value is a speed, see :meth:`_spin`)."""
         self._effective: dict[int, float] = {}
         self._hold: dict[int, float] = {}
         self._angles: dict[tuple[int, int, int], float] = {}
         self._gains: dict[tuple[int, int | None], float] = {}
         self._caps: dict[tuple[int, int | None], float] = {}
         self._hold_is_free = board.config.position_7fff == "free"
+        self._wheel_sent: dict[int, int] = {}
         board.external_servos = True
         blocks = self._blocks()
         self._command(0.0, board.servo_outputs(), blocks)
@@ -167,8 +169,12 @@ class PhysicsBackend:
         commanded = self.commanded
         effective = self._effective
         hold = self._hold
+        servos = world.servos
         for index, blk, base in blocks:
             out = _u16(ram, blk + SERVO.OUTPUT)[0]
+            if servos[index].wheel:
+                self._spin(index, out, outs.get(index, out + base), base)
+                continue
             mode = output_mode(out, self._hold_is_free)
             if mode == "free":
                 world.release(index)
@@ -196,10 +202,26 @@ class PhysicsBackend:
             effective[index] = eff
             world.drive(index, eff, self._gain(index, stretch.get(index)))
 
+    def _spin(self, index: int, out: int, sent: int, base: int) -> None:
+        """A wheel servo: the value sent sets its speed (free: limp; hold: keeps turning)."""
+        mode = output_mode(out, self._hold_is_free)
+        if mode == "free":
+            self.world.release(index)
+            self._wheel_sent.pop(index, None)
+        elif mode == "angle":
+            self.world.spin(index, wheel_duty(self._angle(index, sent, base)))
+            self._wheel_sent[index] = sent
+
     def _measure(self, blocks: list[tuple[int, int, int]]) -> None:
         b = self.board
         model = self.world.model
         angles = self.world.servo_angles()
-        positions = {index: model.value(index, angles[index], base) for index, _, base in blocks}
+        wheels = self._wheel_sent
+        positions = {  # a wheel reports the speed it was sent (its angle grows without end)
+            index: wheels.get(index, base + CENTER)
+            if self.world.servos[index].wheel
+            else model.value(index, angles[index], base)
+            for index, _, base in blocks
+        }
         gyro, accel = self.world.imu()
         b.measure(positions, self.sensors.channels(gyro, accel))

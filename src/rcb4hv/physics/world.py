@@ -70,6 +70,7 @@ class _Servo:
     qpos: int
     dof: int
     actuator: int
+    wheel: bool = False
 
 
 class PhysicsWorld:
@@ -96,6 +97,7 @@ class PhysicsWorld:
                 int(j.qposadr[0]),
                 int(j.dofadr[0]),
                 int(m.actuator(f"servo{s.index}").id),
+                model.joint(s.joint).kind == "wheel",
             )
         self._indices = list(self.servos)
         self._qpos = [s.qpos for s in self.servos.values()]
@@ -134,7 +136,10 @@ class PhysicsWorld:
             adr = self._joint_qpos.get(name)
             if adr is not None:
                 d.qpos[adr] = a
-        d.ctrl[:] = [angles.get(self.servos[i].joint, 0.0) for i in self._actuator_order()]
+        d.ctrl[:] = [
+            0.0 if self.servos[i].wheel else angles.get(self.servos[i].joint, 0.0)
+            for i in self._actuator_order()
+        ]
         self._mj.mj_forward(self.m, d)
         d.qpos[2] = -self.lowest_point()
         d.time = 0.0
@@ -217,6 +222,22 @@ class PhysicsWorld:
             m.actuator_biasprm[s.actuator, 1] = -kp
             self._kp[index] = kp
         self.d.ctrl[s.actuator] = target
+
+    def spin(self, index: int, duty: float) -> None:
+        """Wheel servo ``index`` drives its motor at ``duty`` (-1..1): torque ``duty x
+        stall`` against its back-EMF damping (:data:`rcb4hv.robot.mjcf.WHEEL_FULL_SCALE_DEG`)."""
+        s = self.servos[index]
+        m = self.m
+        if not self._powered[index]:
+            m.dof_damping[s.dof] = back_emf_damping(s.spec)
+            self._powered[index] = True
+        m.actuator_gainprm[s.actuator, 0] = s.spec.stall_torque
+        self._kp[index] = -1.0  # not a position gain: the next drive() sets its own
+        self.d.ctrl[s.actuator] = duty
+
+    def wheel_speed(self, index: int) -> float:
+        """Wheel servo ``index``'s turning speed (rad/s)."""
+        return float(self.d.qvel[self.servos[index].dof])
 
     def release(self, index: int) -> None:
         """Servo ``index`` goes limp: no torque, only the gear train's passive damping."""

@@ -2,11 +2,12 @@
 
 :func:`to_mjcf` writes one self-contained document: a ground plane, the robot on a free joint
 (its root link), one body per link with the link's inertial and geoms, one hinge per joint
-with its limits, one servo actuator per mapped joint and an IMU site on the root link with a
-gyro and an accelerometer. The physics of :mod:`rcb4hv.physics` loads it and drives the
-actuators itself (stiffness from each servo's stretch, limp when free); exported on its own
-(``rcb4hv robot export NAME --format mjcf``) the actuators are plain position servos at the
-default stretch, ready for MuJoCo's viewer or a controller.
+with its limits (a ``wheel`` joint turns without limits), one servo actuator per mapped
+joint (a wheel's drives its speed, :data:`WHEEL_FULL_SCALE_DEG`) and an IMU site on the
+root link with a gyro and an accelerometer. The physics of :mod:`rcb4hv.physics` loads it
+and drives the actuators itself (stiffness from each servo's stretch, limp when free);
+exported on its own (``rcb4hv robot export NAME --format mjcf``) the actuators are plain
+position servos at the default stretch, ready for MuJoCo's viewer or a controller.
 
 Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q)`` clamped to the servo's
 stall torque, on a hinge with the servo's back-EMF damping ``stall_torque / no_load_speed`` and
@@ -44,12 +45,14 @@ __all__ = [
     "MOTOR_TIME_CONSTANT",
     "STRETCH_MAX",
     "TIMESTEP",
+    "WHEEL_FULL_SCALE_DEG",
     "armature",
     "back_emf_damping",
     "lowest_point",
     "speed_cap",
     "stiffness",
     "to_mjcf",
+    "wheel_duty",
 ]
 
 # ----------------------------------------------------------------------------- servo model
@@ -147,6 +150,23 @@ def back_emf_damping(spec: ServoSpec) -> float:
     return spec.stall_torque / spec.no_load_speed
 
 
+WHEEL_FULL_SCALE_DEG = 135.0
+"""A servo in wheel (rotation) mode turns continuously; the value sent sets its speed: 7500
+stops it, the distance from 7500 is the speed and its sign the direction, 3500 and 11500
+are full speed (the ICS tools step the command within 3500-11500 in rotation mode,
+KXR-KITS.md §5). Kondo publishes no value-to-speed scale, so it is taken linear: the
+command's joint-angle equivalent (the model's one conversion, sign and trim included) over
+135° (= 4000 counts) is the motor's duty, -1..1. A ``wheel`` joint's actuator applies
+``duty x stall torque``; with the hinge's back-EMF damping (stall / no-load speed) that is a
+DC motor's torque-speed line, so an unloaded wheel settles at ``duty x no-load speed``."""
+
+
+def wheel_duty(angle: float) -> float:
+    """The motor duty (-1..1) of a wheel servo sent the value whose joint-angle equivalent is
+    ``angle`` (rad; see :data:`WHEEL_FULL_SCALE_DEG`)."""
+    return max(-1.0, min(1.0, angle / math.radians(WHEEL_FULL_SCALE_DEG)))
+
+
 IMU_SITE = "imu"
 """The site on the root link carrying the gyro and the accelerometer."""
 
@@ -212,9 +232,13 @@ def _hinge(model: RobotModel, j: Joint) -> str:
     spec = _spec(model, j.name)
     damping = back_emf_damping(spec) if spec is not None else 0.0
     inertia = armature(spec) if spec is not None else 0.0
+    limits = (
+        'limited="false"'
+        if j.kind == "wheel"
+        else f'range="{_f(j.lower)} {_f(j.upper)}" limited="true"'
+    )
     return (
-        f'<joint name={quoteattr(j.name)} type="hinge" axis="{_v(j.axis)}" '
-        f'range="{_f(j.lower)} {_f(j.upper)}" limited="true" '
+        f'<joint name={quoteattr(j.name)} type="hinge" axis="{_v(j.axis)}" {limits} '
         f'damping="{_f(damping)}" armature="{_f(inertia)}"/>'
     )
 
@@ -286,6 +310,13 @@ def to_mjcf(
     lines += ["    </body>", "  </worldbody>", "  <actuator>"]
     for s in sorted(model.servos, key=lambda s: s.index):
         spec = s.servo or DEFAULT_SERVO
+        if model.joint(s.joint).kind == "wheel":  # duty-driven motor (WHEEL_FULL_SCALE_DEG)
+            lines.append(
+                f'    <general name="servo{s.index}" joint={quoteattr(s.joint)} '
+                f'gaintype="fixed" gainprm="{_f(spec.stall_torque)}" ctrlrange="-1 1" '
+                f'forcerange="{_f(-spec.stall_torque)} {_f(spec.stall_torque)}"/>'
+            )
+            continue
         kp = stiffness(spec, stretch)
         lines.append(
             f'    <general name="servo{s.index}" joint={quoteattr(s.joint)} gaintype="fixed" '

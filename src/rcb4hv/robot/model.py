@@ -57,7 +57,7 @@ __all__ = [
 ]
 
 Vec3 = tuple[float, float, float]
-JointKind = Literal["pitch", "roll", "yaw", "grip"]
+JointKind = Literal["pitch", "roll", "yaw", "grip", "wheel"]
 Side = Literal["left", "right", "centre"]
 GeomShape = Literal["box", "cylinder", "sphere"]
 LimitVerdict = Literal["ok", "advisory", "hard"]

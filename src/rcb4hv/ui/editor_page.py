@@ -120,6 +120,11 @@ class EditorPage:
             with ui.column().classes("items-center"):
                 self.caption = tid(ui.label(""), "editor-3d-caption")
                 self.caption.classes("text-sm text-slate-600")
+                self.pick = tid(
+                    ui.select([], label="robot", on_change=lambda e: self.pick_robot(e.value)),
+                    "editor-robot-pick",
+                ).classes("min-w-[12rem]")
+                self.pick.set_visibility(False)
                 self.holder = ui.column()
                 with ui.row().classes("items-center"):
                     tid(
@@ -355,10 +360,24 @@ class EditorPage:
 
     # ------------------------------------------------------------------ drawing
 
+    def pick_robot(self, name: str | None) -> None:
+        """The user picked one of the models an ambiguous project fits."""
+        if not name or name not in self.ed.model_candidates:
+            return
+        try:
+            self.ed.pick_robot(name)
+        except Rcb4Error as exc:
+            self.fail(exc)
+            return
+        self.rebuild_view()
+        self.redraw()
+
     def rebuild_view(self) -> None:
         ed = self.ed
         self.holder.clear()
         self.scene = None
+        self.pick.set_options(list(ed.model_candidates), value=None)
+        self.pick.set_visibility(bool(ed.model_candidates))
         if ed.model is None:
             self.caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
             self.player.show(None)

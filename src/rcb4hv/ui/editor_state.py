@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Concatenate, ParamSpec
 
-from rcb4hv.errors import EditError, Rcb4Error
+from rcb4hv.errors import AmbiguousRobotError, EditError, Rcb4Error
 from rcb4hv.hth4 import Project, parse_project
 from rcb4hv.hth4.keyframes import chain_flowchart_xml
 from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
@@ -50,6 +50,8 @@ class Editor:
         self.session: EditSession | None = None
         self.model: RobotModel | None = None
         self.model_error = ""
+        #: the models the project's evidence fits when detection must ask (pick_robot)
+        self.model_candidates: tuple[str, ...] = ()
         self.slot: int | None = None
         self.pose_index: int | None = None
         self.force = False
@@ -61,13 +63,20 @@ class Editor:
         ``model`` (``--robot``), else the model detected from it: the rule of
         :mod:`rcb4hv.hth4.robotpick` (a model needing servos the project lacks is refused)."""
         self.session = EditSession(parse_project(data), path, data)
-        self.model, self.model_error = None, ""
+        self.model, self.model_error, self.model_candidates = None, "", ()
         try:
             self.model = project_model(self.session.project, model)
+        except AmbiguousRobotError as exc:
+            self.model_error, self.model_candidates = str(exc), exc.candidates
         except Rcb4Error as exc:
             self.model_error = str(exc)
         used = self.project.used_motions
         self.select(used[0].slot if used else None)
+
+    def pick_robot(self, name: str) -> None:
+        """Use model ``name`` (one of :attr:`model_candidates`, as ``--robot`` would)."""
+        self.model = project_model(self.project, name)
+        self.model_error, self.model_candidates = "", ()
 
     @property
     def project(self) -> Project:
