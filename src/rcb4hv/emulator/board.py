@@ -397,6 +397,16 @@ class Board:
         self._ad_inputs[channel] = counts
         self._sample_ad()
 
+    def sensors_at_rest(self) -> None:
+        """The robot stands still: each calibrated channel of the ROM image (reference
+        1..1023, :func:`~rcb4hv.rom.calibration.calibrated_ad_inputs`) whose input is unset
+        (0) reads its reference, as HeartToHeart4's calibration recorded it."""
+        from rcb4hv.rom.calibration import calibrated_ad_inputs
+
+        for ch, counts in calibrated_ad_inputs(self.rom).items():
+            if not self._ad_inputs[ch]:
+                self.set_ad_input(ch, counts)
+
     def ad_input(self, channel: int) -> int:
         """The input of AD``channel`` (0..1023 counts), as set by the host or a backend."""
         return self._ad_inputs[channel]

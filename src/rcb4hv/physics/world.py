@@ -96,6 +96,7 @@ class PhysicsWorld:
         self._gyro = int(m.sensor("gyro").adr[0])
         self._accel = int(m.sensor("accelerometer").adr[0])
         self._floor = int(m.geom("floor").id)
+        self._root = int(m.jnt_bodyid[0])  # the free joint's body: the root link
         self._powered: dict[int, bool] = dict.fromkeys(self.servos, True)
         self._kp: dict[int, float] = {}
 
@@ -254,6 +255,11 @@ class PhysicsWorld:
     def saturated(self, index: int) -> bool:
         s = self.servos[index]
         return abs(self.torque(index)) >= SATURATION * s.spec.stall_torque
+
+    def push(self, force: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+        """Push the root link with ``force`` (N, world frame, at its centre of mass) at every
+        step from now until the next call (the default: no push)."""
+        self.d.xfrc_applied[self._root, :3] = force
 
     # ------------------------------------------------------------------ sensors
 
