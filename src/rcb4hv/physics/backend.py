@@ -153,7 +153,8 @@ class PhysicsBackend:
         key = (index, speed)
         v = self._caps.get(key)
         if v is None:
-            v = self._caps[key] = speed_cap(self.world.servos[index].spec, speed)
+            cap = speed_cap(self.world.servos[index].spec, speed)
+            v = self._caps[key] = cap * self.world.options.speed_cap
         return v
 
     def _command(self, dt: float, outs: dict[int, int], blocks: list[tuple[int, int, int]]) -> None:

@@ -29,7 +29,13 @@ from dataclasses import dataclass, field
 from typing import Any, Final, Literal
 
 from rcb4hv.emulator import EmulatorConfig
-from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
+from rcb4hv.physics import (
+    DEFAULT_SENSORS,
+    PhysicsBackend,
+    PhysicsOptions,
+    PhysicsWorld,
+    SensorLayout,
+)
 from rcb4hv.project.check import Finding
 from rcb4hv.project.physicsresult import Frame, MotionRun, PhysicsOutcome, PhysicsRun, TrackPoint
 from rcb4hv.project.simresult import MotionResult
@@ -119,12 +125,13 @@ class PhysicsSimulator(Simulator):
         timestep: float = TIMESTEP,
         start: StartPose = "upright",
         config: EmulatorConfig | None = None,
+        options: PhysicsOptions | None = None,
     ) -> None:
         super().__init__(image, motion_layout=motion_layout, listener=listener, config=config)
         self.start = start
         self.robot = robot
-        self.world = PhysicsWorld(robot, timestep=timestep)
-        self._sensors = sensors
+        self.world = PhysicsWorld(robot, timestep=timestep, options=options)
+        self._sensors = self.world.options.sensors(sensors)
         self.backend: PhysicsBackend | None = None
         self._watch: _Watch | None = None
         self.track: list[TrackPoint] | None = [] if track else None
@@ -268,12 +275,14 @@ def play_physics(
     timestep: float = TIMESTEP,
     start: StartPose = "upright",
     progress: Callable[[MotionRun], None] | None = None,
+    options: PhysicsOptions | None = None,
 ) -> PhysicsRun:
     """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
     stand for each (``start``: standing, or lying on its back or front). ``limit``: virtual
     seconds per motion, :data:`~rcb4hv.project.simulate.DEFAULT_LIMIT` when None (a robot
     in physics never stops changing its measured positions and sensors for certain, so
-    the motion's own progress cannot be what ends it)."""
+    the motion's own progress cannot be what ends it). ``options``: factors on the model's
+    chosen figures (:class:`~rcb4hv.physics.PhysicsOptions`)."""
     if limit is None:
         limit = DEFAULT_LIMIT
     runs: list[MotionRun] = []
@@ -291,6 +300,7 @@ def play_physics(
                 track=track,
                 timestep=timestep,
                 start=start,
+                options=options,
             )
             b = sim.boot()
             boot = boot or b
