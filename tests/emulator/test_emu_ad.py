@@ -151,3 +151,12 @@ def test_cli_refuses_bad_ad_inputs(arg: str) -> None:
 
     res = CliRunner().invoke(emulate, ["--pty", "--ad", arg])
     assert res.exit_code == 2 and "--ad" in res.output
+
+
+def test_a_reset_leaves_the_inputs_and_zeroes_the_references() -> None:
+    b = Board(IDLE, clock=VirtualClock())
+    b.set_ad_input(4, 600)
+    x(b, reference_move(4, 100))
+    assert b.ad_measured(4) == 500
+    b.power_on()  # what a reset does (spec 10.1): the references are 0 again
+    assert b.ad_input(4) == 600 and b.ad_reference(4) == 0 and b.ad_measured(4) == 600

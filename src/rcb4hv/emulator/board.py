@@ -126,6 +126,8 @@ class Board:
             self._interp.ics_comm = self.ics_lines.exchange
         self.frames_handled = 0
         self._closed = False
+        # what the AD pins see: the world outside the board, which a reset leaves alone
+        self._ad_inputs = [self.config.ad0, *self.config.ad_inputs]
         self.power_on()
 
     # ------------------------------------------------------------------ lifecycle
@@ -136,7 +138,6 @@ class Board:
         r = self.ram
         r[:] = bytes(RAM_SIZE)
         write_system(r, cfg.power_on_system_register)
-        self._ad_inputs = [cfg.ad0, *cfg.ad_inputs]
         self._sample_ad()
         write_u16(r, PIO_DIRECTION, PIO_MASK)  # every PIO pin an output
         reset_timers(r)
