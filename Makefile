@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test docs package bench fuzz reliability screenshots clean
+.PHONY: demo test docs package bench fuzz reliability sensitivity screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -69,6 +69,11 @@ fuzz: $(VENV)/.installed-dev
 
 reliability: $(VENV)/.installed-dev
 	$(BIN)/python -m bench.reliability
+
+# which physics verdicts flip when a chosen constant changes (~10 CPU-minutes; docs/physics.md)
+# SENSITIVITY_EXTRA=DIR adds every .h4p below DIR (e.g. local copies of Kondo's samples)
+sensitivity: $(VENV)/.installed-dev
+	nice -n 10 $(BIN)/python -m bench.sensitivity $(if $(SENSITIVITY_EXTRA),--extra $(SENSITIVITY_EXTRA))
 
 clean:
 	rm -rf $(VENV) .build .mypy_cache .pytest_cache .ruff_cache build/screenshots

@@ -30,6 +30,8 @@ from rcb4hv.emulator.icslines import IcsLines
 from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
 from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
+    AD_CHANNELS,
+    AD_REFERENCE,
     AD_VALUES,
     ALLOC,
     ALLOC_END,
@@ -45,6 +47,7 @@ from rcb4hv.emulator.memmap import (
     SYSTEM,
     VECTOR_TABLE,
     read_u16,
+    s16,
     write_u16,
 )
 from rcb4hv.emulator.romstore import RomStore
@@ -71,6 +74,12 @@ log = logging.getLogger(__name__)
 FRAME_US: Final = tuple(ms * 1000 for ms in FRAME_PERIODS_MS)
 
 OutputListener = Callable[[float, dict[int, int]], None]
+AD_MAX: Final = 1023  # a 10-bit converter
+
+
+def _check_ad(channel: int, counts: int) -> None:
+    if not 0 <= channel < AD_CHANNELS or not 0 <= counts <= AD_MAX:
+        raise ValueError(f"AD channels 0-{AD_CHANNELS - 1} take inputs of 0..{AD_MAX}")
 
 
 class Board:
@@ -117,6 +126,7 @@ class Board:
             self._vectors,
             on_rom_write=self._rom_written,
             on_reset=self.power_on,
+            on_ad_reference=self._sample_ad,
             accelerate=accelerate,
         )
         self.ics_lines: IcsLines | None = None  # the SIO lines' ICS servos, for 0Eh
@@ -125,6 +135,8 @@ class Board:
             self._interp.ics_comm = self.ics_lines.exchange
         self.frames_handled = 0
         self._closed = False
+        # what the AD pins see: the world outside the board, which a reset leaves alone
+        self._ad_inputs = [self.config.ad0, *self.config.ad_inputs]
         self.power_on()
 
     # ------------------------------------------------------------------ lifecycle
@@ -135,8 +147,7 @@ class Board:
         r = self.ram
         r[:] = bytes(RAM_SIZE)
         write_system(r, cfg.power_on_system_register)
-        for i, v in enumerate((cfg.ad0, *cfg.ad_values)):
-            write_u16(r, AD_VALUES + 2 * i, v)
+        self._sample_ad()
         write_u16(r, PIO_DIRECTION, PIO_MASK)  # every PIO pin an output
         reset_timers(r)
         r[ALLOC:ALLOC_END] = pack_alloc(())
@@ -252,7 +263,16 @@ class Board:
         run(t)
         self._now = t
 
+    def _sample_ad(self) -> None:
+        """The board samples its AD inputs (spec 10.4): each measured register (0022h) gets
+        the channel's input minus its reference (000Ch), signed in the 16-bit word."""
+        r = self.ram
+        for ch, v in enumerate(self._ad_inputs):
+            write_u16(r, AD_VALUES + 2 * ch, (v - read_u16(r, AD_REFERENCE + 2 * ch)) & 0xFFFF)
+        self._touch(AD_VALUES, 2 * AD_CHANNELS)
+
     def _period(self) -> None:
+        self._sample_ad()
         self._servos.period()
         if self.ram[SYSTEM] & SYS_ICS:
             self._servos.report()
@@ -379,13 +399,35 @@ class Board:
         self.ram[PA[n - 1]] = value
         self._touch(PA[n - 1], 1)
 
-    def set_ad(self, channel: int, value: int) -> None:
-        """Set the measured value of AD0-AD10."""
-        if not 0 <= channel <= 10 or not 0 <= value <= 1023:
-            raise ValueError("AD channels 0-10 take 0..1023")
+    def set_ad_input(self, channel: int, counts: int) -> None:
+        """Set the input of AD0-AD10 (0..1023 counts of 0-5 V, what the pin sees). The measured
+        register (0022h) then reads the input minus the channel's reference (spec 10.4)."""
+        _check_ad(channel, counts)
         self.tick()
-        write_u16(self.ram, AD_VALUES + 2 * channel, value)
-        self._touch(AD_VALUES + 2 * channel, 2)
+        self._ad_inputs[channel] = counts
+        self._sample_ad()
+
+    def sensors_at_rest(self) -> None:
+        """The robot stands still: each calibrated channel of the ROM image (reference
+        1..1023, :func:`~rcb4hv.rom.calibration.calibrated_ad_inputs`) whose input is unset
+        (0) reads its reference, as HeartToHeart4's calibration recorded it."""
+        from rcb4hv.rom.calibration import calibrated_ad_inputs
+
+        for ch, counts in calibrated_ad_inputs(self.rom).items():
+            if not self._ad_inputs[ch]:
+                self.set_ad_input(ch, counts)
+
+    def ad_input(self, channel: int) -> int:
+        """The input of AD``channel`` (0..1023 counts), as set by the host or a backend."""
+        return self._ad_inputs[channel]
+
+    def ad_reference(self, channel: int) -> int:
+        """The reference word of AD``channel`` (RAM 000Ch + 2 x channel)."""
+        return read_u16(self.ram, AD_REFERENCE + 2 * channel)
+
+    def ad_measured(self, channel: int) -> int:
+        """The measured register of AD``channel`` (RAM 0022h + 2 x channel), signed."""
+        return s16(read_u16(self.ram, AD_VALUES + 2 * channel))
 
     def set_servo_position(self, ics: int, position: int) -> None:
         """Move a virtual servo by hand (as if pushed while free)."""
@@ -408,17 +450,20 @@ class Board:
 
     def measure(self, positions: Mapping[int, int], ad: Mapping[int, int]) -> None:
         """A servo backend's measurements: virtual servo positions (ICS -> position, reported
-        at the next output period) and AD channel values. Unlike :meth:`set_servo_position`
-        and :meth:`set_ad` this does not tick, so an output listener may call it."""
+        at the next output period) and AD channel inputs (counts, clamped to 0..1023). Unlike
+        :meth:`set_servo_position` and :meth:`set_ad_input` this does not tick, so an output
+        listener may call it."""
         physical = self._servos.physical
         for ics, p in positions.items():
             if ics in physical:
                 physical[ics] = min(max(p, 0), 0xFFFF)
+        inputs = self._ad_inputs
         for ch, v in ad.items():
-            if not 0 <= ch <= 10:
+            if not 0 <= ch < AD_CHANNELS:
                 raise ValueError("AD channels are 0-10")
-            write_u16(self.ram, AD_VALUES + 2 * ch, min(max(v, 0), 1023))
-            self._touch(AD_VALUES + 2 * ch, 2)
+            inputs[ch] = min(max(v, 0), AD_MAX)
+        if ad:
+            self._sample_ad()
 
     def add_output_listener(self, callback: OutputListener) -> None:
         """Call ``callback(board_time_s, {ics: sent value})`` after every output period."""

@@ -16,8 +16,9 @@ After every output period (the moment a real RCB-4 sends its servo frame on the 
    value (:func:`rcb4hv.robot.mjcf.stiffness`);
 4. the simulated joint angles go back into the board as the servos' measured positions
    (``RobotModel.value``), reported into the blocks at the next period as the ICS reply
-   would be, and the gyro and accelerometer into their AD channels
-   (:mod:`rcb4hv.physics.sensors`).
+   would be, and the gyro and accelerometer into their AD channels as inputs: a calibrated
+   channel reads its image reference at rest plus the signal (:mod:`rcb4hv.physics.sensors`),
+   and the board's measured register the signal alone (spec 10.4).
 
 So a host reading a servo sees where the joint is, a free limb falls and reads back where it
 fell to, and a limb pushed by hand (or by the floor) can be read.
@@ -35,6 +36,7 @@ from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 from rcb4hv.protocol.memory import CENTER, NO_BLOCK, S16, SERVO, U16
 from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.robot.mjcf import speed_cap, wheel_duty
+from rcb4hv.rom.calibration import calibrated_ad_inputs
 
 __all__ = ["PhysicsBackend"]
 
@@ -63,6 +65,8 @@ class PhysicsBackend:
         self.board = board
         self.world = world
         self.sensors = sensors
+        self.rest = calibrated_ad_inputs(board.rom)
+        """The calibrated channels' readings at rest (the image's AD references)."""
         self.observers: list[Observer] = []
         self._t0_us = round(board.now * _US)
         self._dt_us = round(world.timestep * _US)
@@ -155,7 +159,8 @@ class PhysicsBackend:
         key = (index, speed)
         v = self._caps.get(key)
         if v is None:
-            v = self._caps[key] = speed_cap(self.world.servos[index].spec, speed)
+            cap = speed_cap(self.world.servos[index].spec, speed)
+            v = self._caps[key] = cap * self.world.options.speed_cap
         return v
 
     def _command(self, dt: float, outs: dict[int, int], blocks: list[tuple[int, int, int]]) -> None:
@@ -224,4 +229,4 @@ class PhysicsBackend:
             for index, _, base in blocks
         }
         gyro, accel = self.world.imu()
-        b.measure(positions, self.sensors.channels(gyro, accel))
+        b.measure(positions, self.sensors.channels(gyro, accel, self.rest))

@@ -13,9 +13,11 @@ from dataclasses import dataclass
 from typing import Any
 
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
+from rcb4hv.physics.options import PhysicsOptions
 from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
 from rcb4hv.robot.mjcf import (
     DEFAULT_SERVO,
+    FLOOR_FRICTION,
     FREE_DAMPING_FRACTION,
     TIMESTEP,
     back_emf_damping,
@@ -76,13 +78,27 @@ class _Servo:
 class PhysicsWorld:
     """One robot on a flat floor in MuJoCo, stepped by :meth:`step` (``timestep`` s each)."""
 
-    def __init__(self, model: RobotModel, *, timestep: float = TIMESTEP) -> None:
+    def __init__(
+        self,
+        model: RobotModel,
+        *,
+        timestep: float = TIMESTEP,
+        options: PhysicsOptions | None = None,
+    ) -> None:
         mj = require_mujoco()
         self._mj = mj
         self.model = model
         self.timestep = timestep
+        self.options = opts = options or PhysicsOptions()
+        """Factors on the model's chosen figures (default: none)."""
+        mjcf = to_mjcf(
+            model,
+            timestep=timestep,
+            floor_friction=FLOOR_FRICTION * opts.friction,
+            armature_scale=opts.armature,
+        )
         try:
-            self.m = mj.MjModel.from_xml_string(to_mjcf(model, timestep=timestep))
+            self.m = mj.MjModel.from_xml_string(mjcf)
         except ValueError as exc:
             raise PhysicsError(f"{model.name}: MuJoCo refuses the model: {exc}") from exc
         self.d = mj.MjData(self.m)
@@ -105,6 +121,7 @@ class PhysicsWorld:
         self._gyro = int(m.sensor("gyro").adr[0])
         self._accel = int(m.sensor("accelerometer").adr[0])
         self._floor = int(m.geom("floor").id)
+        self._root = int(m.jnt_bodyid[0])  # the free joint's body: the root link
         self._powered: dict[int, bool] = dict.fromkeys(self.servos, True)
         self._kp: dict[int, float] = {}
 
@@ -243,14 +260,15 @@ class PhysicsWorld:
         """Servo ``index`` goes limp: no torque, only the gear train's passive damping."""
         s = self.servos[index]
         if self._powered[index]:
-            self.m.dof_damping[s.dof] = FREE_DAMPING_FRACTION * back_emf_damping(s.spec)
+            free = FREE_DAMPING_FRACTION * self.options.free_damping
+            self.m.dof_damping[s.dof] = free * back_emf_damping(s.spec)
             self.m.actuator_gainprm[s.actuator, 0] = 0.0
             self.m.actuator_biasprm[s.actuator, 1] = 0.0
             self._kp[index] = 0.0
             self._powered[index] = False
 
     def stiffness(self, index: int, stretch: int | None) -> float:
-        return stiffness(self.servos[index].spec, stretch)
+        return self.options.stiffness * stiffness(self.servos[index].spec, stretch)
 
     def torque(self, index: int) -> float:
         """The servo's motor torque (N·m) at the last step."""
@@ -259,6 +277,11 @@ class PhysicsWorld:
     def saturated(self, index: int) -> bool:
         s = self.servos[index]
         return abs(self.torque(index)) >= SATURATION * s.spec.stall_torque
+
+    def push(self, force: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+        """Push the root link with ``force`` (N, world frame, at its centre of mass) at every
+        step from now until the next call (the default: no push)."""
+        self.d.xfrc_applied[self._root, :3] = force
 
     # ------------------------------------------------------------------ sensors
 

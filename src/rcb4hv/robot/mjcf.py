@@ -228,10 +228,10 @@ def _spec(model: RobotModel, joint: str) -> ServoSpec | None:
     return s.servo or DEFAULT_SERVO
 
 
-def _hinge(model: RobotModel, j: Joint) -> str:
+def _hinge(model: RobotModel, j: Joint, armature_scale: float) -> str:
     spec = _spec(model, j.name)
     damping = back_emf_damping(spec) if spec is not None else 0.0
-    inertia = armature(spec) if spec is not None else 0.0
+    inertia = armature_scale * armature(spec) if spec is not None else 0.0
     limits = (
         'limited="false"'
         if j.kind == "wheel"
@@ -263,13 +263,15 @@ def to_mjcf(
     floor_friction: float = FLOOR_FRICTION,
     stretch: int = DEFAULT_STRETCH,
     base_height: float | None = None,
+    armature_scale: float = 1.0,
 ) -> str:
     """The MJCF document of ``model`` (see the module docstring).
 
     ``timestep`` is the physics step (s), ``floor_friction`` the sliding friction coefficient
     of the robot's feet on the floor, ``stretch`` the ICS stretch (1-127) the exported
     position servos get, ``base_height`` the root link's start height above the floor (m;
-    default: the zero pose standing on the floor).
+    default: the zero pose standing on the floor), ``armature_scale`` a factor on each
+    servo's reflected inertia (1: :func:`armature`; for sensitivity studies).
     """
     if base_height is None:
         base_height = -lowest_point(model)
@@ -301,7 +303,7 @@ def to_mjcf(
     def walk(parent: str, indent: str) -> None:
         for j in by_parent.get(parent, []):
             lines.append(f"{indent}<body name={quoteattr(j.child)} {_pose(j.xyz, j.rpy)}>")
-            lines.append(indent + "  " + _hinge(model, j))
+            lines.append(indent + "  " + _hinge(model, j, armature_scale))
             _body(model, model.link(j.child), indent + "  ", lines)
             walk(j.child, indent + "  ")
             lines.append(f"{indent}</body>")
