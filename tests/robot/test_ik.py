@@ -100,12 +100,19 @@ def test_an_unreachable_target_stops_at_the_nearest_pose(name: str) -> None:
 
 
 def test_a_limit_holds_the_limb_and_says_so() -> None:
-    model = load_builtin("khr3hv")  # hip roll may only spread the leg outward (0..30°)
-    home = position(link_pose(model, "l_foot", {}))
-    inward = (home[0], home[1] - 0.06, home[2] + 0.01)
-    result = ik.solve(model, "l_foot", inward, {}, orient="none")
+    # the IK keeps the hard (mechanical) limits: the KXR frame stops the shoulder roll at
+    # -30 deg, so the arm cannot swing in across the body (an advisory range never holds it)
+    model = load_builtin("kxr-l2")
+    roll = model.joint("l_shoulder_roll")
+    assert math.degrees(roll.lower) == pytest.approx(-30.0)
+    home = position(link_pose(model, "l_forearm", {}))
+    inward = (home[0], home[1] - 0.05, home[2] + 0.02)
+    result = ik.solve(model, "l_forearm", inward, {}, orient="none")
+    assert not result.reached
+    assert result.at_limits == ("l_shoulder_roll",)
+    assert "held at a limit: l_shoulder_roll" in result.message
     assert not model.within_limits(result.angles)
-    assert result.angles["l_hip_roll"] >= 0.0
+    assert result.angles["l_shoulder_roll"] == pytest.approx(roll.lower)
 
 
 def test_solve_feet_puts_both_feet_at_world_poses_under_a_moved_torso() -> None:

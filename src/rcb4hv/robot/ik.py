@@ -21,7 +21,6 @@ for a given torso pose, seeded by the previous pose; :func:`solve` is one limb.
 from __future__ import annotations
 
 import math
-import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -322,6 +321,33 @@ def _descend(
     return q, _norm(ep), _angle_error(ew), it
 
 
+#: Bases of the restart seeds' Halton sequence, one per joint of a limb (limbs have <= 8).
+_HALTON_BASES = (2, 3, 5, 7, 11, 13, 17, 19)
+
+
+def _halton(index: int, base: int) -> float:
+    """The ``index``-th term (from 1) of the van der Corput sequence in ``base``, in (0, 1)."""
+    f, r = 1.0, 0.0
+    while index > 0:
+        f /= base
+        r += f * (index % base)
+        index //= base
+    return r
+
+
+def _restart_seed(joints: Sequence[Joint], index: int) -> list[float]:
+    """The ``index``-th restart seed (from 1): a point of the Halton sequence in the limb's
+    joint box. Low-discrepancy: the seeds cover the whole box evenly, so a solution family
+    (e.g. a KXR knee bent backward within its frame limits) that fills a small corner of it
+    is found within a few restarts, where random seeds leave gaps."""
+    if len(joints) > len(_HALTON_BASES):
+        raise RobotModelError(f"a limb of {len(joints)} joints is longer than IK supports")
+    return [
+        j.lower + (j.upper - j.lower) * _halton(index, b)
+        for j, b in zip(joints, _HALTON_BASES, strict=False)
+    ]
+
+
 def _as_target(target: Vec3 | Transform, current: Transform) -> Transform:
     if len(target) == 4:
         return target
@@ -354,8 +380,8 @@ def solve(
     ``angles`` seeds the solver and gives the joints outside the limb (default: the model's
     home pose). A position target keeps the link's current orientation where the chain can
     (``orient``, see the module docstring). When the seed does not reach, up to ``restarts``
-    more seeds are tried (the middle of the limits, then random in-limit angles from a fixed
-    seed: deterministic); the best result is returned.
+    more seeds are tried (the middle of the limits, then points of a Halton sequence spread
+    evenly over the limb's limits: deterministic); the best result is returned.
     """
     seed = {j.name: 0.0 for j in model.joints}
     seed.update(model.home if angles is None else angles)
@@ -369,14 +395,13 @@ def solve(
     strict = len(target) == 4
     dofs = _dofs(orient, len(joints))
     q0 = [min(j.upper, max(j.lower, seed.get(j.name, 0.0))) for j in joints]
-    rng = random.Random(0)
     best: tuple[float, list[float], float, float, int] | None = None
     total = 0
     for attempt in range(restarts + 1):
         if attempt == 1:
             q0 = [(j.lower + j.upper) / 2.0 for j in joints]
         elif attempt > 1:
-            q0 = [rng.uniform(j.lower, j.upper) for j in joints]
+            q0 = _restart_seed(joints, attempt - 1)
         q, ep, ew, it = _descend(chain, limb_base, goal, q0, dofs, max_iter)
         total += it
         if not strict and dofs != "none" and ep > POSITION_TOL * 10:
