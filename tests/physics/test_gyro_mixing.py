@@ -60,9 +60,9 @@ def pushed(
 
     backend.observers.append(watch)
     world.push(force)
-    sim._run_us(round(PUSH_S * 1e6))
+    sim.run_us(round(PUSH_S * 1e6))
     world.push()
-    sim._run_us(round(WATCH_S * 1e6))
+    sim.run_us(round(WATCH_S * 1e6))
     period = sim.board.output_period
     return math.degrees(sum(rates) * period), math.degrees(max(tilts))
 
