@@ -4,7 +4,9 @@ test: the public sample projects are never part of the repository).
     python tools/detect_table.py DIR [--facts FILE.json] [--json]
 
 For each ``*.h4p`` under DIR (and each entry of a facts file: a JSON list of objects with
-``file``, ``title`` and ``servos`` = [{``ics``, ``name``}] of the slots in use) it prints the
+``file``, ``title`` and ``servos`` = [{``ics``, ``name``}] of the slots in use, or an object
+whose ``projects`` list has ``path``, ``project_title`` and ``servos`` = [{``device``,
+``name``, ``mode``}] of every slot, ``mode`` "None" for an unused one) it prints the
 project, its title, the detected model (or the error and candidates) and whether the family
 (and, for a biped, the arm axes) matches the kit code in the project's folder or file
 name (``Hello_kxrl4t/...`` -> L4T), which is the expectation.
@@ -80,9 +82,16 @@ def main(argv: list[str] | None = None) -> int:
             project = load_project(path)
             rows.append(_row(str(path.relative_to(args.dir)), project.project_title or "", project))
     if args.facts is not None:
-        for entry in json.loads(args.facts.read_text(encoding="utf-8")):
-            names = {int(s["ics"]): s["name"] or "" for s in entry["servos"]}
-            rows.append(_row(entry["file"], entry.get("title", ""), names))
+        facts = json.loads(args.facts.read_text(encoding="utf-8"))
+        for entry in facts["projects"] if isinstance(facts, dict) else facts:
+            names = {
+                int(s["ics"] if "ics" in s else s["device"]): s["name"] or ""
+                for s in entry["servos"]
+                if s.get("mode", "Normal") != "None"
+            }
+            where = entry["file"] if "file" in entry else entry["path"]
+            title = entry.get("title", entry.get("project_title")) or ""
+            rows.append(_row(where, title, names))
     if args.json:
         json.dump(rows, sys.stdout, ensure_ascii=False, indent=1)
         return 0
