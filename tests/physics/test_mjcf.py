@@ -12,7 +12,8 @@ from rcb4hv.robot import Geom, Inertial, Joint, Link, RobotModel
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 from rcb4hv.robot.geometry import pose_transform
 from rcb4hv.robot.kinematics import forward
-from rcb4hv.robot.mjcf import back_emf_damping, stiffness, to_mjcf
+from rcb4hv.robot.mjcf import to_mjcf
+from rcb4hv.robot.servos import back_emf_damping, stiffness
 
 
 @pytest.mark.parametrize("name", BUILTIN)

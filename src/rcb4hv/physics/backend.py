@@ -11,7 +11,7 @@ After every output period (the moment a real RCB-4 sends its servo frame on the 
    sent includes the block's base, the servo's trim: the model's one conversion rule);
 3. a target moves towards the command at most at the servo's speed cap (its SetSpeed value
    as a fraction of the no-load speed), and the servo's stiffness follows its SetStretch
-   value (:func:`rcb4hv.robot.mjcf.stiffness`);
+   value (:func:`rcb4hv.robot.servos.stiffness`);
 4. the simulated joint angles go back into the board as the servos' measured positions
    (``RobotModel.value``), reported into the blocks at the next period as the ICS reply
    would be, and the gyro and accelerometer into their AD channels
@@ -31,7 +31,7 @@ from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
 from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
-from rcb4hv.robot.mjcf import speed_cap
+from rcb4hv.robot.servos import speed_cap
 
 __all__ = ["PhysicsBackend"]
 

@@ -14,15 +14,14 @@ from typing import Any
 
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
 from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
-from rcb4hv.robot.mjcf import (
+from rcb4hv.robot.mjcf import TIMESTEP, to_mjcf
+from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
+from rcb4hv.robot.servos import (
     DEFAULT_SERVO,
     FREE_DAMPING_FRACTION,
-    TIMESTEP,
     back_emf_damping,
     stiffness,
-    to_mjcf,
 )
-from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 
 __all__ = ["BasePose", "PhysicsWorld", "require_mujoco"]
 
