@@ -150,7 +150,10 @@ def test_kxr_home_pose_bends_knees() -> None:
         assert hip < 0 and ankle < 0
         assert hip + knee + ankle == pytest.approx(0.0, abs=1e-9)  # soles parallel to torso
         assert m.joint(side + "knee_pitch").lower <= knee <= m.joint(side + "knee_pitch").upper
-    assert m.within_limits(m.home) == []
+    assert m.out_of_limits(m.home) == []
+    assert m.out_of_limits(
+        {"l_knee_pitch": m.joint("l_knee_pitch").upper + 0.01, "r_knee_pitch": 0.0}
+    ) == ["l_knee_pitch"]
     # knee bend moves the ankle backwards (-x): the robot faces +x
     frames = forward(m, {"l_knee_pitch": 0.5})
     assert apply(frames["l_ankle"], (0.0, 0.0, 0.0))[0] < -0.01

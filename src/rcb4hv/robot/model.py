@@ -274,7 +274,7 @@ class RobotModel:
             out[target] = -a if j.kind in ("roll", "yaw") else a
         return out
 
-    def within_limits(self, angles: Mapping[str, float]) -> list[str]:
+    def out_of_limits(self, angles: Mapping[str, float]) -> list[str]:
         """Names of the joints whose angle lies outside the model's limits."""
         return [n for n, a in angles.items() if not self.joint(n).lower <= a <= self.joint(n).upper]
 
