@@ -34,6 +34,7 @@ the ICS bus) or a physical servo position -> ``angle(s)`` / ``value(s)`` with th
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Literal
@@ -53,11 +54,27 @@ __all__ = [
     "Side",
     "Vec3",
     "chain",
+    "side_of_name",
 ]
 
 Vec3 = tuple[float, float, float]
 JointKind = Literal["pitch", "roll", "yaw", "grip"]
 Side = Literal["left", "right", "centre"]
+
+_SIDE_WORDS: dict[Literal["left", "right"], re.Pattern[str]] = {
+    "left": re.compile(r"^(l|left)[_\-]|[_\-](l|left)$|^left|left$|^左", re.IGNORECASE),
+    "right": re.compile(r"^(r|right)[_\-]|[_\-](r|right)$|^right|right$|^右", re.IGNORECASE),
+}
+
+
+def side_of_name(name: str) -> Literal["left", "right"] | None:
+    """The side a joint's or servo's name states, by a side word at either end: ``l_`` /
+    ``left`` / ``_l`` / ``-left`` (any case), or HeartToHeart4's 左 / 右 in front; None when
+    it states none (``shoulder_pitch`` holds ``r_`` but names no side) or both."""
+    found = [side for side, word in _SIDE_WORDS.items() if word.search(name.strip())]
+    return found[0] if len(found) == 1 else None
+
+
 GeomShape = Literal["box", "cylinder", "sphere"]
 
 
