@@ -23,12 +23,13 @@ import math
 
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, Vec3
-from rcb4hv.robot.servos import KRS_2552RHV, TRAVEL_DEG
+from rcb4hv.robot.servos import KRS_2552RHV
 from rcb4hv.robot.shapes import solid_many
 
 __all__ = ["KHR_LIMITS_DEG", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
 
 MM = 0.001
+SERVO_RANGE_DEG = 135.0  # ±135°: 3500..11500 counts around 7500 (FACTS.md)
 
 # servo index -> sign (kxreus "khr" and "khr20"; FACTS.md)
 KHR_SIGNS: dict[int, int] = {
@@ -151,7 +152,7 @@ def _box(
 
 
 def _limits(index: int) -> tuple[float, float]:
-    lo, hi = KHR_LIMITS_DEG.get(index, (-TRAVEL_DEG, TRAVEL_DEG))
+    lo, hi = KHR_LIMITS_DEG.get(index, (-SERVO_RANGE_DEG, SERVO_RANGE_DEG))
     if KHR_SIGNS[index] < 0:
         lo, hi = -hi, -lo
     return math.radians(lo), math.radians(hi)
