@@ -1,8 +1,9 @@
 """Project simulation: wall time to play every motion of the fixture project in virtual time.
 
 Boots the fixture project's image in the emulator (virtual clock) and plays each of its 65
-motions the way a host does (``rcb4hv.project.simulate``). ``ours_us`` is the wall time of the
-plays (boot excluded), ``wire_us`` the virtual time they cover; the target is 1000x faster
+motions the way a host does (``rcb4hv.project.run.run_motions``, the one run API). ``ours_us``
+is the wall time of the run, ``wire_us`` the virtual time it covers (both with the boot, which
+is short); the target is 1000x faster
 than real time (ratio <= 0.001). Best of 3 runs. Skipped when ../shared is absent.
 """
 
@@ -25,25 +26,20 @@ def run(quick: bool = False) -> list[dict[str, Any]]:
         return []
     from rcb4hv import hth4
     from rcb4hv.project.image import build_project_image
-    from rcb4hv.project.simulate import Simulator
+    from rcb4hv.project.run import run_motions
 
     project = hth4.load_project(FIXTURE)
     image = build_project_image(project)
-    motions = [(m.slot, m.name or "") for m in project.used_motions][: 3 if quick else None]
+    motions = [m.slot for m in project.used_motions][: 3 if quick else None]
     best_wall, virtual, statuses = float("inf"), 0.0, ""
     for _ in range(1 if quick else 3):
-        sim = Simulator(image)
-        sim.boot()
         t0 = time.perf_counter()
-        results = sim.play_all(motions)
+        run = run_motions(image, motions)  # the boot included
         wall = time.perf_counter() - t0
         if wall < best_wall:
             best_wall = wall
-            virtual = sum(r.duration for r in results)
-            counts: dict[str, int] = {}
-            for r in results:
-                counts[r.status] = counts.get(r.status, 0) + 1
-            statuses = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
+            virtual = run.virtual_s
+            statuses = ", ".join(f"{n} {s}" for s, n in sorted(run.summary().items()))
     return [
         {
             "name": f"project: simulate {len(motions)} fixture motions (virtual time)",

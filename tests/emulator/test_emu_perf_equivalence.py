@@ -113,7 +113,7 @@ def project_trace(project_path: Path) -> tuple[str, int, int, int]:
     for slot, _ in motions[:: max(1, len(motions) // 6)]:
         sim.start_motion(layout.motion_address(slot))
         for _ in range(90):
-            sim._run_us(17_000)
+            sim.run_us(17_000)
             t.snap(b)
     walk = next(
         m for m in project.used_motions if "歩行" in (m.name or "") and m.button_data == 0x0001

@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
+from rcb4hv.emulator.memmap import UPDATE_FLAGS
 from rcb4hv.protocol import RunConstFrameServo, RunSeriesServo, RunSingleServo
 from tests.emulator.conftest import IDLE, x
 
@@ -220,3 +221,41 @@ def test_rcb4_style_probe_sees_exactly_the_virtual_servos() -> None:
 def test_stretch_kept_per_servo(idle: Board) -> None:
     assert x(idle, "0C 12 15 00 00 00 00 01 3C 3C 3C E8") == bytes.fromhex("04 12 06 1C")
     assert idle.stretch == {0: 60, 2: 60, 4: 60}
+
+
+def test_servo_mode_reads_the_output_without_the_trim() -> None:
+    """A trimmed servo sends 8000h + trim when free: the mode reads the block's output, so a
+    negative trim (sent value below 8000h) or a positive one (above) is still "free"."""
+    for trim in (-100, 100):
+        b = servo_board(0, start=7500)
+        b.ram[BLK + 2 : BLK + 4] = (trim & 0xFFFF).to_bytes(2, "little")
+        assert b.servo_mode(0) == "angle"
+        assert b.sent_angles() == {0: 7500 + trim}
+        assert b.sent_angles(trim=False) == {0: 7500}
+        x(b, RunSingleServo(0, 1, 0x8000))
+        b.run_for(0.011)
+        assert b.servo_outputs()[0] == 0x8000 + trim  # the sent value is not 8000h
+        assert b.servo_mode(0) == "free" and b.sent_angles() == {0: None}
+        x(b, RunSingleServo(0, 1, 0x7FFF))
+        b.run_for(0.011)
+        assert b.servo_mode(0) == "hold" and b.sent_angles() == {0: None}
+    assert servo_board(1).servo_mode(0) is None  # no block
+
+
+def test_servo_mode_honours_position_7fff() -> None:
+    b = servo_board(0, position_7fff="free")
+    x(b, RunSingleServo(0, 1, 0x7FFF))
+    b.run_for(0.011)
+    assert b.servo_mode(0) == "free"
+
+
+def test_update_flag_wait_counts_the_periods_left() -> None:
+    b = servo_board(0, start=7500)
+    assert b.update_flag_wait() == 0  # no flag set
+    x(b, RunSingleServo(0, 5, 8000))
+    assert b.update_flag_wait() == 6  # 5 steps, the flag clears the period after the last
+    b.run_for(0.011)
+    assert b.update_flag_wait() == 5
+    x(b, RunSingleServo(0, 1, 0x7FFF, set_update_flag=False))  # a hold stops the move
+    b.ram[UPDATE_FLAGS] |= 1
+    assert b.update_flag_wait() is None  # a flag no move will ever clear

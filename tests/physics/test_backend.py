@@ -12,7 +12,8 @@ import pytest
 from rcb4hv.errors import PhysicsUnavailableError
 from rcb4hv.hth4.keyframes import Keyframe
 from rcb4hv.physics import DEFAULT_SENSORS, require_mujoco
-from rcb4hv.project.physics_sim import PhysicsSimulator, play_physics
+from rcb4hv.project.physics_sim import PhysicsSimulator
+from rcb4hv.project.run import run_motions
 from rcb4hv.protocol import POSITION_FREE, Com, Ics, Move, RunSingleServo, SetStretch
 from rcb4hv.protocol.memory import SERVO
 from tests.physics.conftest import host_read, image_with, pose
@@ -84,7 +85,7 @@ def test_a_free_limb_falls_and_a_host_reads_where_it_is() -> None:
     held = measured(sim, elbow)
     assert abs(math.degrees(ROBOT.motion_angle(elbow, held)) + 90.0) < 5.0
     sim.board.feed(encode(RunSingleServo(elbow, 1, POSITION_FREE)))
-    sim._run_us(3_000_000)
+    sim.run_us(3_000_000)
     sim.backend.sync()  # type: ignore[union-attr]
     fell = measured(sim, elbow)
     angle = math.degrees(ROBOT.motion_angle(elbow, fell))
@@ -116,11 +117,11 @@ def test_stretch_sets_the_stiffness() -> None:
 def test_the_same_input_gives_the_same_bits() -> None:
     runs = []
     for _ in range(2):
-        run = play_physics(
+        run = run_motions(
             IMAGE,
-            ROBOT,
             [ARMS_SLOT, BAD_SLOT],
-            NAMES,
+            names=NAMES,
+            robot=ROBOT,
             motion_layout=LAYOUT,
             sequence=True,
             track=True,
@@ -149,8 +150,8 @@ def test_two_processes_give_the_same_bits() -> None:
 
     script = (
         "from tests.physics.test_backend import IMAGE, LAYOUT, NAMES, ROBOT, BAD_SLOT\n"
-        "from rcb4hv.project.physics_sim import play_physics\n"
-        "run = play_physics(IMAGE, ROBOT, [BAD_SLOT], NAMES, motion_layout=LAYOUT,"
+        "from rcb4hv.project.run import run_motions\n"
+        "run = run_motions(IMAGE, [BAD_SLOT], names=NAMES, robot=ROBOT, motion_layout=LAYOUT,"
         " sequence=False, track=True)\n"
         "print(repr(run.motions[0].outcome), [p.x.hex() for p in run.motions[0].track])\n"
     )

@@ -15,12 +15,9 @@ from click.testing import CliRunner
 from rcb4hv.cli.main import cli
 from rcb4hv.cli.project_common import load_image, parse_buttons
 from rcb4hv.hth4.keyframes import Keyframe
-from rcb4hv.project.physics_sim import (
-    MotionRun,
-    PhysicsOutcome,
-    physics_findings,
-    play_physics,
-)
+from rcb4hv.project.physics_sim import PhysicsOutcome, physics_findings
+from rcb4hv.project.run import run_motions
+from rcb4hv.project.runresult import MotionRun
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.robot.builtin import load_builtin
 from tests.physics.conftest import PROJECT, image_with, pose
@@ -36,7 +33,9 @@ GET_UP_BACK = 15  # XL2G_115: get up from lying on the back
 
 
 def play(*slots: int, sequence: bool = False) -> list[PhysicsOutcome]:
-    run = play_physics(IMAGE, KXR, list(slots), NAMES, motion_layout=LAYOUT, sequence=sequence)
+    run = run_motions(
+        IMAGE, list(slots), names=NAMES, robot=KXR, motion_layout=LAYOUT, sequence=sequence
+    )
     return [m.outcome for m in run.motions]
 
 
@@ -99,8 +98,14 @@ def test_the_fixture_greeting_bows_upright_and_in_place() -> None:
 def test_the_get_up_from_the_back_stands_the_robot_up() -> None:
     # with MuJoCo's elliptic friction cone; with its pyramidal one the feet crept away while
     # the arms pushed, the robot sat on its heels and fell back onto its back
-    run = play_physics(
-        IMAGE, KXR, [GET_UP_BACK], NAMES, motion_layout=LAYOUT, sequence=False, start="on_back"
+    run = run_motions(
+        IMAGE,
+        [GET_UP_BACK],
+        names=NAMES,
+        robot=KXR,
+        motion_layout=LAYOUT,
+        sequence=False,
+        start="on_back",
     )
     out = run.motions[0].outcome
     assert out.max_tilt_deg > 85.0  # it started lying
@@ -123,7 +128,7 @@ def test_a_greeting_bow_stays_upright_and_in_place() -> None:
     bow = pose(robot, {"r_hip_pitch": -45.0, "l_hip_pitch": -45.0})
     image, layout, names = image_with([[Keyframe(0.3, stand), Keyframe(1.0, bow),
                                         Keyframe(0.5, stand)]])  # fmt: skip
-    run = play_physics(image, robot, [18], names, motion_layout=layout, sequence=False)
+    run = run_motions(image, [18], names=names, robot=robot, motion_layout=layout, sequence=False)
     out = run.motions[0].outcome
     assert not out.fell and out.end_pose == "upright"
     assert out.max_tilt_deg > 30.0  # it did bow
@@ -153,6 +158,8 @@ def test_the_cli_reports_physics_in_json(tmp_path: Path) -> None:
     data = json.loads(res.output)
     phys = data["motions"][0]["physics"]
     assert set(phys) == {
+        "start_pose",
+        "fallen_at_start",
         "fell",
         "fell_at_s",
         "end_pose",
@@ -165,7 +172,12 @@ def test_the_cli_reports_physics_in_json(tmp_path: Path) -> None:
     }
     assert phys["dyaw_deg"] > 10.0
     assert data["physics"]["robot"] == "kxr-l2-gripper"
-    assert data["physics"]["virtual_s"] > 1.0
+    assert data["virtual_s"] > 1.0 and "virtual_seconds" not in data
+    import mujoco
+
+    assert data["physics"]["engine"] == f"mujoco {mujoco.__version__}"
+    assert data["physics"]["settled_pose"] == "upright" and phys["start_pose"] == "upright"
+    assert not phys["fallen_at_start"]
     assert plot.stat().st_size > 10_000
 
 
@@ -207,11 +219,11 @@ def test_held_on_its_button_a_walk_keeps_going_the_right_way(
     slot: int, button: str, check: Callable[[PhysicsOutcome], bool]
 ) -> None:
     """As a user drives the robot: the remote button held 3 s repeats the step."""
-    run = play_physics(
+    run = run_motions(
         IMAGE,
-        KXR,
         [slot],
-        NAMES,
+        names=NAMES,
+        robot=KXR,
         motion_layout=LAYOUT,
         sequence=False,
         hold=parse_buttons(button),

@@ -37,6 +37,10 @@ def test_simulate_walk_json_with_hold(kxr_project_path: Path) -> None:
     assert walk["status"] == "completed" and walk["duration_s"] >= 2.0
     assert battery["status"] == "waiting" and battery["inputs"] == ["buttons"]
     assert data["summary"] == {"completed": 1, "waiting": 1}
+    # one vocabulary with --physics: virtual_s (board time, the boot included), no physics
+    assert "virtual_seconds" not in data and "physics" not in data
+    assert data["virtual_s"] >= data["boot"]["duration_s"] + walk["duration_s"]
+    assert walk["start_s"] >= data["boot"]["duration_s"]
 
 
 def test_simulate_table_and_plot(kxr_project_path: Path, tmp_path: Path) -> None:

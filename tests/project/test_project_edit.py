@@ -17,7 +17,7 @@ from rcb4hv.hth4.poses import motion_poses
 from rcb4hv.hth4.session import EditSession
 from rcb4hv.project.check import check_project
 from rcb4hv.project.image import build_project_image
-from rcb4hv.project.simulate import Simulator
+from rcb4hv.project.run import run_motions
 
 WALK, TURN_LEFT, TURN_RIGHT, FREE = 66, 69, 70, 73
 
@@ -73,9 +73,9 @@ def test_edit_diff_build_simulate(kxr_project_path: Path, tmp_path: Path) -> Non
     original = hth4.load_project(kxr_project_path)
     assert motion_poses(project.motion(FREE)) == motion_poses(original.motion(TURN_RIGHT))
     image = build_project_image(project)
-    sim = Simulator(image)
-    assert sim.boot().status == "completed"
-    results = sim.play_all([(s, project.motion(s).name or "") for s in (WALK, FREE, TURN_RIGHT)])
+    run = run_motions(image, (WALK, FREE, TURN_RIGHT))
+    assert run.boot.status == "completed"
+    results = run.results
     assert [r.status for r in results] == ["completed"] * 3, results
     # the mirror takes as long as the fixture's own turn right, within one 15 ms output
     # period (where the play starts in the period differs)

@@ -17,6 +17,7 @@ from rcb4hv.cli.main import cli
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.project.image import build_project_image, read_image
 from rcb4hv.project.options import BuildOptions
+from rcb4hv.project.run import run_motions
 from rcb4hv.project.simulate import Simulator
 from rcb4hv.protocol import (
     ALWAYS,
@@ -131,7 +132,7 @@ def test_startup_in_empty_slot_boot_fails_and_motions_still_play(xml: str) -> No
     assert boot.error is not None
     assert boot.error.startswith("startup motion 09380h: slot 18 holds no motion; ROMERR")
     assert boot.pc == EMPTY_ADDRESS
-    results = sim.play_all([(39, "home"), (9, "walk")])
+    results = run_motions(image, (39, 9)).results
     assert [r.status for r in results] == ["completed", "completed"]
     stubbed = build_project_image(project, options=BuildOptions(empty_startup="stub"))
     assert decode_command(frame_at(stubbed, layout.STARTUP_CALL)) == Call(layout.STARTUP_STUB)

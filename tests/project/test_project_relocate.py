@@ -21,6 +21,7 @@ from rcb4hv.project.relocate import (
     project_layout,
     relocate_project,
 )
+from rcb4hv.project.run import run_motions
 from rcb4hv.project.simulate import Simulator
 from rcb4hv.protocol import Op
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS
@@ -106,11 +107,11 @@ def test_older_image_simulates_like_the_2_2_image(
     kxr_project: hth4.Project, older_project: hth4.Project, kxr_image: bytes
 ) -> None:
     slots = [(m.slot, m.name or "") for m in kxr_project.used_motions]
-    old = Simulator(build_project_image(older_project, OLDER))
-    new = Simulator(kxr_image)
-    assert old.layout == OLDER and new.layout == HTH4_22
-    assert old.boot().status == new.boot().status == "completed"
-    a, b = old.play_all(slots, limit=30.0), new.play_all(slots, limit=30.0)
+    old_image = build_project_image(older_project, OLDER)
+    assert Simulator(old_image).layout == OLDER and Simulator(kxr_image).layout == HTH4_22
+    old, new = (run_motions(i, [s for s, _ in slots], limit=30.0) for i in (old_image, kxr_image))
+    assert old.boot.status == new.boot.status == "completed"
+    a, b = old.results, new.results
     assert [(r.status, r.duration, r.instructions) for r in a] == [
         (r.status, r.duration, r.instructions) for r in b
     ]

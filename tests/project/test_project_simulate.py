@@ -8,6 +8,7 @@ import pytest
 
 from rcb4hv import hth4
 from rcb4hv.emulator import EmulatorConfig
+from rcb4hv.project.run import run_motions
 from rcb4hv.project.simulate import PROGRESS_WINDOW, MotionResult, Simulator
 from rcb4hv.protocol import (
     ALWAYS,
@@ -28,10 +29,10 @@ from rcb4hv.rom import ImageDescription, ImageMotion, ImageServo, build_image, l
 
 @pytest.fixture(scope="module")
 def kxr_results(kxr_project: hth4.Project, kxr_image: bytes) -> list[MotionResult]:
-    sim = Simulator(kxr_image)
-    boot = sim.boot()
-    assert boot.status == "completed", boot
-    return sim.play_all([(m.slot, m.name or "") for m in kxr_project.used_motions])
+    names = {m.slot: m.name or "" for m in kxr_project.used_motions}
+    run = run_motions(kxr_image, list(names), names=names)
+    assert run.boot.status == "completed", run.boot
+    return run.results
 
 
 def test_every_fixture_motion_completes_or_waits(

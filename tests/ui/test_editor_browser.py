@@ -16,7 +16,7 @@ import pytest
 
 from rcb4hv import hth4
 from rcb4hv.project.image import build_project_image
-from rcb4hv.project.simulate import Simulator
+from rcb4hv.project.run import run_motions
 from tests.ui.browser import LAUNCH_ARGS, PAGE_LOAD_MS
 from tests.ui.conftest import shot
 
@@ -152,7 +152,7 @@ def test_editor_in_the_browser(gl_page: Any, kxr_project_path: Path, tmp_path: P
     assert build.returncode == 0, build.stderr
     project = hth4.load_project(out)
     assert image.read_bytes() == build_project_image(project)
-    sim = Simulator(image.read_bytes())
-    assert sim.boot().status == "completed"
-    results = sim.play_all([(s, "") for s in (WALK, FREE)])
+    run = run_motions(image.read_bytes(), (WALK, FREE))
+    assert run.boot.status == "completed"
+    results = run.results
     assert [r.status for r in results] == ["completed", "completed"]

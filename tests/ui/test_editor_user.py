@@ -12,8 +12,8 @@ from rcb4hv.emulator import Board
 from rcb4hv.hth4.diff import diff_projects
 from rcb4hv.hth4.edit import set_pose
 from rcb4hv.hth4.poses import motion_poses
+from rcb4hv.project.relocate import project_image
 from rcb4hv.ui.context import UiContext
-from rcb4hv.ui.project_actions import project_image
 from rcb4hv.ui.trim_panel import new_trim
 from tests.ui.test_user import one, output, run, until
 
@@ -75,6 +75,11 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         user.find(marker="editor-preview").click()
         await until(lambda: one(user, "editor-preview-status").text.startswith("t = "), 30)
         assert one(user, "editor-scrubber").props["max"] > 0.5  # the turn lasts ~0.6 s
+        # the one preview player: at the motion's end it stops and shows Play again (the
+        # editor's own copy kept showing "Pause", its clock ticking on)
+        await until(lambda: one(user, "editor-play").text == "Play", 30)
+        status = one(user, "editor-preview-status").text  # "t = 0.63 / 0.63 s"
+        assert status.split(" / ")[0].removeprefix("t = ") == status.split(" / ")[1][:-2]
         one(user, "editor-path").set_value(str(out))
         user.find(marker="editor-save").click()
         await until(lambda: out.exists() and one(user, "editor-status").text.endswith(" - saved"))
@@ -133,6 +138,6 @@ def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_pa
         user.find(marker="editor-play-confirm").click()
         await until(lambda: output(board, 10) == 7700, 120)
         edited = set_pose(hth4.load_project(src), 39, 0, {10: 7700})
-        assert bytes(board.rom) == project_image(edited)  # the edit is in the board's ROM
+        assert bytes(board.rom) == project_image(edited)[0]  # the edit is in the board's ROM
 
     run(scenario)

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from rcb4hv.robot import RobotModel, forward
 from rcb4hv.robot.geometry import Stance, convex_hull, feet, geom_points, inside, stance
 from rcb4hv.robot.kinematics import from_xyz_rpy
-from rcb4hv.ui.playback import Frame, Playback, simulated_playback
+from rcb4hv.ui.playback import Playback, TimedPose, simulated_playback
 from tests.ui.toy_robot import LEG, SOLE, SOLE_DROP, toy_model
 
 MODEL = toy_model()
@@ -93,7 +93,7 @@ def test_playback_picks_the_frame_at_or_before_a_time() -> None:
     pb = Playback(
         1,
         "m",
-        (Frame(0.0, {"a": 0.0}), Frame(0.5, {"a": 1.0}), Frame(1.0, {"a": 2.0})),
+        (TimedPose(0.0, {"a": 0.0}), TimedPose(0.5, {"a": 1.0}), TimedPose(1.0, {"a": 2.0})),
         "completed",
     )
     assert [pb.at(t).angles["a"] for t in (-1.0, 0.0, 0.49, 0.5, 0.99, 5.0)] == [0, 0, 0, 1, 1, 2]
@@ -108,13 +108,13 @@ def test_playback_picks_the_frame_at_or_before_a_time() -> None:
 
 def test_the_plain_simulator_gives_every_output_period_of_a_motion(kxr_project_path: Path) -> None:
     from rcb4hv.hth4 import load_project
+    from rcb4hv.project.relocate import project_image
     from rcb4hv.project.simulate import Simulator
-    from rcb4hv.ui.project_actions import project_image
 
     project = load_project(kxr_project_path)
     slot = 21  # XL2G_201 greeting
     pb = simulated_playback(project, slot, MODEL)
-    sim = Simulator(project_image(project))
+    sim = Simulator(project_image(project)[0])
     sim.boot()
     period = sim.board.output_period
     result = sim.play(project.motion(slot).address, slot=slot)
@@ -124,9 +124,11 @@ def test_the_plain_simulator_gives_every_output_period_of_a_motion(kxr_project_p
     steps = [b - a for a, b in zip(pb.times, pb.times[1:], strict=False)]
     assert all(s == pytest.approx(period, abs=1e-5) for s in steps[1:])
     # the last frame is the pose the board holds at the end, through the joint map
-    from rcb4hv.ui.playback import board_trims
+    from rcb4hv.protocol.memory import SERVO
 
-    assert pb.frames[-1].angles == MODEL.angles(sim.board.servo_outputs(), board_trims(sim.board))
+    b = sim.board
+    trims = {k: SERVO.F_BASE.get(b.ram, b.alloc(k)) for k in b.servo_outputs()}
+    assert pb.frames[-1].angles == MODEL.angles(b.servo_outputs(), trims)
     assert len({tuple(sorted(f.angles.items())) for f in pb.frames}) > 10  # it moves
 
 
@@ -143,16 +145,15 @@ def test_a_bow_leans_the_body_over_flat_feet() -> None:
 def test_the_physics_playback_is_the_physics_run(kxr_project_path: Path) -> None:
     from rcb4hv.hth4 import load_project
     from rcb4hv.project.physics_sim import PhysicsSimulator
-    from rcb4hv.project.relocate import project_layout
+    from rcb4hv.project.relocate import project_image, project_layout
     from rcb4hv.robot.builtin import load_builtin
     from rcb4hv.ui.playback import physics_playback
-    from rcb4hv.ui.project_actions import project_image
 
     project = load_project(kxr_project_path)
     robot = load_builtin("kxr-l2-gripper")
     slot = 1  # a few small steps forward
     pb = physics_playback(project, slot, robot)
-    sim = PhysicsSimulator(project_image(project), robot, motion_layout=project_layout(project))
+    sim = PhysicsSimulator(project_image(project)[0], robot, motion_layout=project_layout(project))
     sim.boot()
     result = sim.play(project.motion(slot).address, slot=slot)
     outcome = sim.outcomes[-1]

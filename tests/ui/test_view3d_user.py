@@ -135,13 +135,13 @@ def test_a_physics_preview_marks_the_fall(
     from rcb4hv.hth4 import load_project
     from rcb4hv.robot.builtin import load_builtin
     from rcb4hv.ui import preview
-    from rcb4hv.ui.playback import Frame, Playback
+    from rcb4hv.ui.playback import Playback, TimedPose
 
     robot = load_builtin("kxr-l2-gripper")
-    upright = Frame(0.0, {}, None)
-    lying = Frame(1.0, {}, ((0, 0, 1, 0), (0, 1, 0, 0), (-1, 0, 0, 0.05), (0, 0, 0, 1)))
+    upright = TimedPose(0.0, {}, None)
+    lying = TimedPose(1.0, {}, ((0, 0, 1, 0), (0, 1, 0, 0), (-1, 0, 0, 0.05), (0, 0, 0, 1)))
     falls = Playback(
-        1, "falls", (upright, Frame(0.5, {}, None), lying), "completed", "physics", 0.5
+        1, "falls", (upright, TimedPose(0.5, {}, None), lying), "completed", "physics", 0.5
     )
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:

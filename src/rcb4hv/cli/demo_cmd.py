@@ -17,7 +17,7 @@ from rcb4hv.client import PositionRecorder, Robot
 from rcb4hv.rom.layout import HTH4_22
 
 if TYPE_CHECKING:
-    from rcb4hv.project.physics_sim import Frame
+    from rcb4hv.project.physicsresult import ShapeFrame
 
 
 @click.command()
@@ -130,7 +130,7 @@ SCENE_POSES: tuple[tuple[float, dict[str, float]], ...] = (
 """The physics part of the demo: (seconds, joint angles) moves from the robot's home pose."""
 
 
-def _physics_scene() -> tuple[Frame, ...]:
+def _physics_scene() -> tuple[ShapeFrame, ...]:
     """With MuJoCo installed (``rcb4hv[sim]``): a KXR-L2 in physics bows, waves and squats,
     driven by servo commands through an emulated board in virtual time; its frames, drawn
     under the plot. Without MuJoCo: none."""
@@ -141,7 +141,7 @@ def _physics_scene() -> tuple[Frame, ...]:
         return ()
     from rcb4hv.physics import PhysicsBackend, PhysicsWorld
     from rcb4hv.physics.standalone import robot_board
-    from rcb4hv.project.physics_sim import Frame
+    from rcb4hv.project.physicsresult import ShapeFrame
     from rcb4hv.protocol import RunConstFrameServo
     from rcb4hv.robot.builtin import load_builtin
 
@@ -152,7 +152,7 @@ def _physics_scene() -> tuple[Frame, ...]:
     world = PhysicsWorld(model)
     world.place(model.home)
     backend = PhysicsBackend(board, world)
-    frames: list[Frame] = []
+    frames: list[ShapeFrame] = []
     t0 = time.monotonic()
     for seconds, angles in SCENE_POSES:
         pose = {**model.home, **angles}
@@ -160,7 +160,7 @@ def _physics_scene() -> tuple[Frame, ...]:
         board.feed(RunConstFrameServo(frames_n, sorted(model.motion_values(pose).items())).encode())
         board.run_for(seconds + 0.3)
         backend.sync()
-        frames.append(Frame(board.now, world.shapes()))
+        frames.append(ShapeFrame(board.now, world.shapes()))
     tilt = math.degrees(world.base().tilt)
     click.echo(
         f"\nphysics: a {model.title} bowed, waved and squatted in MuJoCo "
@@ -175,7 +175,7 @@ def _plot(
     robot: Robot,
     output: Path,
     joints: list[int],
-    frames: tuple[Frame, ...] = (),
+    frames: tuple[ShapeFrame, ...] = (),
 ) -> Path:
     samples = recorder.samples
     if not samples:

@@ -53,16 +53,13 @@ def _short(text: str, width: int) -> str:
 
 def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
     from rcb4hv.cli.project_common import load_image
-    from rcb4hv.cli.project_physics import physics_robot, run_physics
+    from rcb4hv.cli.project_physics import physics_robot
     from rcb4hv.project.physics_sim import physics_findings
-    from rcb4hv.project.simulate import DEFAULT_LIMIT
+    from rcb4hv.project.run import run_motions
 
     image, lay, names = load_image(file)
     model = physics_robot(file, image, robot)
-    run, _ = run_physics(
-        image, lay, names, sorted(names), model, sequence=False, limit=DEFAULT_LIMIT, hold=0,
-        hold_for=0.0, track=False,
-    )  # fmt: skip
+    run = run_motions(image, sorted(names), names=names, motion_layout=lay, robot=model)
     return physics_findings(run.motions)
 
 

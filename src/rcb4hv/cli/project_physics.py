@@ -8,7 +8,6 @@ Wired into :mod:`rcb4hv.cli.project_sim_cmd` (the options) and
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -18,7 +17,8 @@ from rcb4hv.cli._util import print_json, print_table
 from rcb4hv.robot.geometry import convex_hull
 
 if TYPE_CHECKING:
-    from rcb4hv.project.physics_sim import Frame, PhysicsRun, StartPose
+    from rcb4hv.project.physicsresult import ShapeFrame
+    from rcb4hv.project.runresult import SimulationRun
     from rcb4hv.robot.model import RobotModel
     from rcb4hv.rom.layout import MotionLayout
 
@@ -28,7 +28,6 @@ __all__ = [
     "physics_robot",
     "plot_run",
     "print_physics",
-    "run_physics",
 ]
 
 
@@ -67,87 +66,61 @@ def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     return project_model(names, robot, used)
 
 
-def run_physics(
-    image: bytes,
-    lay: MotionLayout,
-    names: dict[int, str],
-    slots: list[int],
-    model: RobotModel,
-    *,
-    sequence: bool,
-    limit: float | None,
-    hold: int,
-    hold_for: float,
-    track: bool,
-    start: StartPose = "upright",
-) -> tuple[PhysicsRun, dict[str, object]]:
-    """Play ``slots`` on ``model``: the run and the top-level ``physics`` JSON object."""
-    from rcb4hv.project.physics_sim import play_physics
-
-    t0 = time.perf_counter()
-    run = play_physics(
-        image,
-        model,
-        slots,
-        names,
-        motion_layout=lay,
-        sequence=sequence,
-        limit=limit,
-        hold=hold,
-        hold_for=hold_for,
-        track=track,
-        start=start,
-    )
-    wall = time.perf_counter() - t0
-    summary: dict[str, object] = {
-        "robot": model.name,
-        "virtual_s": round(run.virtual_s, 3),
-        "wall_s": round(wall, 3),
-    }
-    return run, summary
-
-
-def print_physics(run: PhysicsRun, summary: dict[str, object], as_json: bool) -> None:
-    """The table (or JSON) of a physics run."""
+def print_physics(run: SimulationRun, as_json: bool) -> None:
+    """The table (or JSON) of a physics run: per motion, the pose it started in (``down at
+    start`` when it was down although it stood before), whether it fell, its end pose, where
+    it went."""
     if as_json:
-        motions = []
-        for m in run.motions:
-            d = m.result.to_dict()
-            d["physics"] = m.outcome.to_dict()
-            motions.append(d)
-        print_json({"boot": run.boot.to_dict(), "motions": motions, "physics": summary})
+        print_json(run.to_dict())
         return
+    setup = run.physics
+    assert setup is not None
     click.echo(
-        f"robot {summary['robot']}: boot {run.boot.status}, then on flat ground "
-        f"({summary['virtual_s']} s virtual in {summary['wall_s']} s)"
+        f"robot {setup.robot} ({setup.engine}): boot {run.boot.status}, then on flat ground "
+        f"({setup.start}), settled {setup.settled_pose} after {setup.settle_s:g} s "
+        f"({run.virtual_s:.3f} s virtual in {run.wall_s:.3f} s)"
     )
-    print_table(
-        ("slot", "name", "status", "fell", "end pose", "dx m", "dy m", "dyaw°", "tilt°", "err°"),
-        [
+    rows = []
+    for m in run.motions:
+        o = m.outcome
+        assert o is not None
+        if o.fallen_at_start:
+            fell = f"down at start ({o.start_pose})"
+        elif o.fell_at_s is not None:
+            fell = f"at {o.fell_at_s:.2f} s"
+        else:
+            fell = "no"
+        rows.append(
             [
                 m.result.slot or "-",
                 m.result.name,
                 m.result.status,
-                "no" if m.outcome.fell_at_s is None else f"at {m.outcome.fell_at_s:.2f} s",
-                m.outcome.end_pose,
-                f"{m.outcome.dx_m:+.3f}",
-                f"{m.outcome.dy_m:+.3f}",
-                f"{m.outcome.dyaw_deg:+.1f}",
-                f"{m.outcome.max_tilt_deg:.1f}",
-                f"{m.outcome.max_tracking_error_deg:.1f}",
+                o.start_pose,
+                fell,
+                o.end_pose,
+                f"{o.dx_m:+.3f}",
+                f"{o.dy_m:+.3f}",
+                f"{o.dyaw_deg:+.1f}",
+                f"{o.max_tilt_deg:.1f}",
+                f"{o.max_tracking_error_deg:.1f}",
             ]
-            for m in run.motions
-        ],
-    )
+        )
+    print_table(
+        ("slot", "name", "status", "start pose", "fell", "end pose", "dx m", "dy m", "dyaw°",
+         "tilt°", "err°"),
+        rows,
+    )  # fmt: skip
     for m in run.motions:
-        if m.outcome.saturated_joints:
+        if m.outcome is not None and m.outcome.saturated_joints:
             click.echo(
                 f"slot {m.result.slot}: at the torque limit: "
                 + ", ".join(m.outcome.saturated_joints)
             )
 
 
-def draw_frames(ax: Any, frames: tuple[Frame, ...], axis: int = 0, spacing: float = 0.3) -> None:
+def draw_frames(
+    ax: Any, frames: tuple[ShapeFrame, ...], axis: int = 0, spacing: float = 0.3
+) -> None:
     """Side views of the robot (``axis`` 0: seen from its side, x-z; 1: from the front, y-z),
     one per frame, ``spacing`` m apart, time under each."""
     from matplotlib.patches import Polygon
@@ -167,7 +140,7 @@ def draw_frames(ax: Any, frames: tuple[Frame, ...], axis: int = 0, spacing: floa
     ax.set_xticks([])
 
 
-def plot_run(path: Path, run: PhysicsRun) -> None:
+def plot_run(path: Path, run: SimulationRun) -> None:
     """``--plot`` with ``--physics``: each motion's filmstrip (side view) and the torso's
     path on the floor, fallen stretches in red."""
     import matplotlib
@@ -185,9 +158,12 @@ def plot_run(path: Path, run: PhysicsRun) -> None:
         for k, m in enumerate(run.motions):
             ax = fig.add_subplot(grid[k])
             draw_frames(ax, m.frames)
+            o = m.outcome
+            assert o is not None
             ax.set_title(
-                f"slot {m.result.slot}: {m.outcome.end_pose}"
-                + (f", fell at {m.outcome.fell_at_s:.2f} s" if m.outcome.fell_at_s else ""),
+                f"slot {m.result.slot}: {o.end_pose}"
+                + (f" (down at start: {o.start_pose})" if o.fallen_at_start else "")
+                + (f", fell at {o.fell_at_s:.2f} s" if o.fell_at_s is not None else ""),
                 fontsize=9,
                 loc="left",
             )

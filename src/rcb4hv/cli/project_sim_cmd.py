@@ -18,18 +18,12 @@ from rcb4hv.cli.project_common import (
     load_image,
     parse_buttons,
 )
-from rcb4hv.cli.project_physics import (
-    parse_sequence,
-    physics_robot,
-    plot_run,
-    print_physics,
-    run_physics,
-)
-from rcb4hv.protocol import POSITION_HOLD, position_to_degrees
+from rcb4hv.cli.project_physics import parse_sequence, physics_robot, plot_run, print_physics
+from rcb4hv.protocol import position_to_degrees
 
 if TYPE_CHECKING:
     from rcb4hv.project.physics_sim import StartPose
-    from rcb4hv.rom.layout import MotionLayout
+    from rcb4hv.project.runresult import SimulationRun
 
 
 @click.command("simulate")
@@ -129,9 +123,12 @@ def simulate(
     and reports whether it fell (and when), the end pose, the displacement dx/dy (m, x forward
     where the robot faced at the start, y left) and turn dyaw (degrees, counter-clockwise),
     the largest tilt and tracking error and the joints at their torque limit; --plot then
-    draws the torso's path on the floor.
+    draws the torso's path on the floor. A robot that is down as a motion starts (it fell
+    while settling, or an earlier motion of the sequence left it lying) is reported "down at
+    start" with the pose it lies in, and cannot "fall" in that motion.
     """
-    from rcb4hv.project.simulate import Simulator
+    from rcb4hv.emulator import Board
+    from rcb4hv.project.run import run_motions
 
     image, lay, names = load_image(file, layout_name)
     hold = parse_buttons(hold_button) if hold_button else 0
@@ -144,117 +141,61 @@ def simulate(
         slots = parse_sequence(sequence, lay)
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
-    if physics:
-        _physics(file, image, lay, names, slots, robot, sequence is not None, as_json, plot,
-                 limit=limit, hold=hold, hold_for=hold_for, start=start)  # fmt: skip
-        return
-    if robot is not None or start != "upright":
+    if not physics and (robot is not None or start != "upright"):
         raise click.UsageError("--robot and --start set up the robot of --physics: add --physics")
+    model = physics_robot(file, image, robot) if physics else None
     samples: list[tuple[float, dict[int, int | None]]] = []
-    sim: Simulator
 
-    def record(t: float, outs: dict[int, int]) -> None:
-        # free / hold outputs have no angle
-        samples.append(
-            (
-                t,
-                {
-                    k: None
-                    if (st := sim.board.servo_state(k)) is None or st.output >= POSITION_HOLD
-                    else v
-                    for k, v in outs.items()
-                },
-            )
-        )
+    def record(t: float, board: Board) -> None:
+        samples.append((t, board.sent_angles()))
 
-    sim = Simulator(image, listener=record if plot else None, motion_layout=lay)
-    boot = sim.boot()
-    starts: list[tuple[float, int]] = []
-    results = []
     # a failed boot is reported; every motion is still played from the host (spec 11.4)
-    for slot in slots:
-        starts.append((sim.now, slot))
-        results.append(
-            sim.play(
-                lay.address(slot),
-                slot=slot,
-                name=names.get(slot, ""),
-                hold=hold,
-                hold_for=hold_for,
-                limit=limit,
-            )
-        )
-    summary: dict[str, int] = {}
-    for r in results:
-        summary[r.status] = summary.get(r.status, 0) + 1
-    virtual = sum(r.duration for r in results)
-    if as_json:
-        print_json(
-            {
-                "boot": boot.to_dict(),
-                "motions": [r.to_dict() for r in results],
-                "summary": summary,
-                "virtual_seconds": round(virtual, 6),
-            }
-        )
-    else:
-        click.echo(
-            f"boot: {boot.status} after {boot.duration:.3f} s virtual"
-            + (f" ({boot.detail})" if boot.detail else "")
-        )
-        print_table(
-            ("slot", "address", "name", "status", "virtual s", "instr", "detail"),
-            [
-                [
-                    r.slot or "-",
-                    f"{r.address:05X}",
-                    r.name,
-                    r.status,
-                    f"{r.duration:.3f}",
-                    r.instructions,
-                    r.detail,
-                ]
-                for r in results
-            ],
-        )
-        parts = ", ".join(f"{n} {s}" for s, n in sorted(summary.items()))
-        click.echo(f"{len(results)} motions: {parts or 'none'}; {virtual:.3f} s virtual")
-    if plot is not None:
-        _plot(plot, samples, starts)
-        if not as_json:
-            click.echo(f"wrote {plot}")
-    codes = {STATUS_EXIT.get(r.status, 0) for r in [boot, *results]}
-    sys.exit(1 if 1 in codes else max(codes))
-
-
-def _physics(
-    file: Path,
-    image: bytes,
-    lay: MotionLayout,
-    names: dict[int, str],
-    slots: list[int],
-    robot: str | None,
-    sequence: bool,
-    as_json: bool,
-    plot: Path | None,
-    *,
-    limit: float | None,
-    hold: int,
-    hold_for: float,
-    start: StartPose,
-) -> None:
-    model = physics_robot(file, image, robot)
-    run, summary = run_physics(
-        image, lay, names, slots, model, sequence=sequence, limit=limit, hold=hold,
-        hold_for=hold_for, track=plot is not None, start=start,
+    run = run_motions(
+        image, slots, names=names, motion_layout=lay, limit=limit, hold=hold, hold_for=hold_for,
+        robot=model, sequence=sequence is not None, start=start, track=physics and plot is not None,
+        listener=record if plot is not None and not physics else None,
     )  # fmt: skip
-    print_physics(run, summary, as_json)
+    if physics:
+        print_physics(run, as_json)
+    elif as_json:
+        print_json(run.to_dict())
+    else:
+        _print_plain(run)
     if plot is not None:
-        plot_run(plot, run)
+        if physics:
+            plot_run(plot, run)
+        else:
+            _plot(plot, samples, [(m.start_s, m.result.slot or 0) for m in run.motions])
         if not as_json:
             click.echo(f"wrote {plot}")
-    codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *(m.result for m in run.motions)]}
+    codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *run.results]}
     sys.exit(1 if 1 in codes else max(codes))
+
+
+def _print_plain(run: SimulationRun) -> None:
+    boot = run.boot
+    click.echo(
+        f"boot: {boot.status} after {boot.duration:.3f} s virtual"
+        + (f" ({boot.detail})" if boot.detail else "")
+    )
+    print_table(
+        ("slot", "address", "name", "status", "virtual s", "instr", "detail"),
+        [
+            [
+                r.slot or "-",
+                f"{r.address:05X}",
+                r.name,
+                r.status,
+                f"{r.duration:.3f}",
+                r.instructions,
+                r.detail,
+            ]
+            for r in run.results
+        ],
+    )
+    parts = ", ".join(f"{n} {s}" for s, n in sorted(run.summary().items()))
+    virtual = f"{run.virtual_s:.3f} s virtual (boot included)"
+    click.echo(f"{len(run.motions)} motions: {parts or 'none'}; {virtual}")
 
 
 def _plot(

@@ -8,13 +8,12 @@ from typing import Final, Literal
 
 from rcb4hv.protocol import (
     COUNTS_PER_DEGREE,
-    POSITION_FREE,
-    POSITION_HOLD,
     ServoBlock,
     SystemRegister,
     ics_to_id_port,
 )
 from rcb4hv.protocol.memory import CENTER, TimerState
+from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.rom.layout import LAYOUTS
 
 __all__ = [
@@ -82,11 +81,9 @@ class ServoInfo:
 
     @property
     def state(self) -> str:
-        out = self.block.output
-        if out == POSITION_FREE:
-            return "free"
-        if out == POSITION_HOLD:
-            return "hold"
+        mode = output_mode(self.block.output)
+        if mode != "angle":
+            return mode
         return "moving" if self.block.speed else "on"
 
     def describe(self) -> dict[str, object]:

@@ -72,7 +72,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from rcb4hv.emulator.board import Board, ServoState
+from rcb4hv.emulator.board import Board, ServoMode, ServoState
 from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
 from rcb4hv.emulator.clock import Clock, RealClock, VirtualClock
 from rcb4hv.emulator.config import DEFAULT_VERSION, EmulatorConfig
@@ -90,6 +90,7 @@ __all__ = [
     "EmulatorConfig",
     "PtyServer",
     "RealClock",
+    "ServoMode",
     "ServoState",
     "Stop",
     "StopKind",

@@ -274,21 +274,13 @@ def skip_periods(
     blocks = servos.blocks
     n = (horizon - np) // period_us + 1
     info: list[tuple[int, int]] = []
-    unblock = 0
     for ics in servos.active:
         blk = blocks[ics]
         if blk is None:
             return np
         info.append((ics, blk))
-        if flags >> ics & 1:
-            unblock = max(unblock, r[blk + B_REMAINING] + 1)
-    if flags:
-        pending = flags
-        for ics, _ in info:
-            pending &= ~(1 << ics)
-        k = n if pending else min(n, unblock)
-    else:
-        k = n
+    unblock = servos.flag_wait(flags) if flags else None
+    k = n if unblock is None else min(n, unblock)
     skip = k - 1
     if skip <= 0:
         return np

@@ -53,9 +53,18 @@ from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, t
 from rcb4hv.emulator.vectors import Vectors
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
 from rcb4hv.protocol import FRAME_PERIODS_MS, FrameDecoder, Rom, decode_command, encode_reply
-from rcb4hv.protocol.memory import PIO_MASK, pack_alloc, read_system, write_buttons, write_system
+from rcb4hv.protocol.memory import (
+    PIO_MASK,
+    SERVO,
+    pack_alloc,
+    read_system,
+    read_update_flags,
+    write_buttons,
+    write_system,
+)
+from rcb4hv.protocol.servomode import ServoMode
 
-__all__ = ["Board", "ServoState", "Stop"]
+__all__ = ["Board", "ServoMode", "ServoState", "Stop"]
 
 log = logging.getLogger(__name__)
 
@@ -424,3 +433,31 @@ class Board:
 
     def servo_state(self, ics: int) -> ServoState | None:
         return self._servos.state(ics)
+
+    def servo_mode(self, ics: int) -> ServoMode | None:
+        """Whether servo ``ics`` is ``"free"``, ``"hold"`` or at an ``"angle"``: its block's
+        output (the trim is not in it) under the config's ``position_7fff``; None without a
+        servo block. The one answer to that question
+        (:func:`rcb4hv.protocol.servomode.output_mode`)."""
+        return self._servos.mode(ics)
+
+    def sent_angles(self, *, trim: bool = True) -> dict[int, int | None]:
+        """:meth:`servo_outputs` with None for each servo that is free or holds (no angle).
+        ``trim=False``: each value less its block's trim (output + mixing: the motion's own
+        value; 16-bit, as the board adds)."""
+        servos = self._servos
+        ram = self.ram
+        out: dict[int, int | None] = {}
+        for k, v in servos.outputs().items():
+            if servos.mode(k) != "angle":
+                out[k] = None
+            elif trim:
+                out[k] = v
+            else:
+                out[k] = (v - SERVO.F_BASE.get(ram, self.alloc(k))) & 0xFFFF
+        return out
+
+    def update_flag_wait(self) -> int | None:
+        """Output periods until the program's update flags have all cleared (0: none set;
+        None: never, a flagged servo is not moving): the wait the board itself skips over."""
+        return self._servos.flag_wait(read_update_flags(self.ram))

@@ -48,6 +48,7 @@ from rcb4hv.emulator.memmap import (
 )
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
+from rcb4hv.protocol.servomode import ServoMode, output_mode
 
 __all__ = ["ServoState", "Servos", "ramp"]
 
@@ -316,10 +317,11 @@ class Servos:
         for ics, blk in pairs:
             out = _u16(r, blk + B_OUTPUT)[0]
             base = _s16(r, blk + B_BASE)[0]
-            if out == FREE or (out == HOLD and hold_is_free):
+            mode = output_mode(out, hold_is_free)
+            if mode == "free":
                 torque[ics] = False
                 p = physical[ics]
-            elif out == HOLD or external:
+            elif mode == "hold" or external:
                 torque[ics] = True
                 p = physical[ics]
             else:
@@ -350,6 +352,32 @@ class Servos:
             if blk is not None:
                 out[ics] = self.sent(blk)
         return out
+
+    def mode(self, ics: int) -> ServoMode | None:
+        """:func:`output_mode` of ICS ``ics``'s block under this board's config (None: no
+        type-0 block)."""
+        blk = self.block(ics)
+        if blk is None:
+            return None
+        return output_mode(_u16(self.ram, blk + B_OUTPUT)[0], self.config.position_7fff == "free")
+
+    def flag_wait(self, flags: int) -> int | None:
+        """Output periods until every update flag in ``flags`` has cleared: one more than the
+        longest remaining count of the flagged servos' moves (0: no flag set). None when a
+        flagged servo has no move in progress, so its flag never clears. The one rule for how
+        long the program waits on update flags: the accelerator skips these periods
+        (:func:`rcb4hv.emulator.accel.skip_periods`) and the simulator steps over them."""
+        r = self.ram
+        longest = 0
+        while flags:
+            low = flags & -flags
+            ics = low.bit_length() - 1
+            flags ^= low
+            blk = self.block(ics) if ics < ICS_COUNT else None
+            if blk is None or not r[blk + B_SPEED]:
+                return None
+            longest = max(longest, r[blk + B_REMAINING] + 1)
+        return longest
 
     def state(self, ics: int) -> ServoState | None:
         blk = self.block(ics)

@@ -15,7 +15,7 @@ documentation page "Physics" lists them with their sources.
 
 from rcb4hv.physics.backend import PhysicsBackend
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
-from rcb4hv.physics.world import BasePose, PhysicsWorld, require_mujoco
+from rcb4hv.physics.world import BasePose, PhysicsWorld, engine_version, require_mujoco
 
 __all__ = [
     "DEFAULT_SENSORS",
@@ -23,5 +23,6 @@ __all__ = [
     "PhysicsBackend",
     "PhysicsWorld",
     "SensorLayout",
+    "engine_version",
     "require_mujoco",
 ]

@@ -29,8 +29,8 @@ from typing import Final
 from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
-from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
 from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
+from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.robot.servos import speed_cap
 
 __all__ = ["PhysicsBackend"]
@@ -165,13 +165,14 @@ class PhysicsBackend:
         hold = self._hold
         for index, blk, base in blocks:
             out = _u16(ram, blk + SERVO.OUTPUT)[0]
-            if out == POSITION_FREE or (out == POSITION_HOLD and self._hold_is_free):
+            mode = output_mode(out, self._hold_is_free)
+            if mode == "free":
                 world.release(index)
                 commanded[index] = None
                 effective.pop(index, None)
                 hold.pop(index, None)
                 continue
-            if out == POSITION_HOLD:
+            if mode == "hold":
                 goal = hold.get(index)
                 if goal is None:
                     goal = hold[index] = world.servo_angle(index)

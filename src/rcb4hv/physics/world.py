@@ -23,7 +23,7 @@ from rcb4hv.robot.servos import (
     stiffness,
 )
 
-__all__ = ["BasePose", "PhysicsWorld", "require_mujoco"]
+__all__ = ["BasePose", "PhysicsWorld", "engine_version", "require_mujoco"]
 
 SATURATION = 0.999
 """An actuator at this fraction of its stall torque counts as saturated (rounding margin)."""
@@ -38,6 +38,12 @@ def require_mujoco() -> Any:
             "physics needs MuJoCo: install rcb4hv[sim] (pip install 'rcb4hv[sim]')"
         ) from exc
     return mujoco
+
+
+def engine_version() -> str:
+    """The physics engine and its version (``"mujoco 3.3.0"``): outcomes depend on it, so
+    reports record it. Raises :class:`PhysicsUnavailableError` without MuJoCo."""
+    return f"mujoco {require_mujoco().__version__}"
 
 
 @dataclass(frozen=True, slots=True)

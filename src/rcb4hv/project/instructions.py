@@ -4,12 +4,16 @@
   which ICS operands a data command reads - used to classify waiting loops and command errors.
 * :func:`boot_cause`: why the boot program of a HeartToHeart4 2.2 image stopped, e.g.
   ``"startup motion 0FB80h: slot 31 holds no motion; ROMERR ..."``.
+* :func:`instruction_at`: the instruction at a ROM address and its disassembly;
+  :func:`stop_reason`: why the board's program stopped, in the simulator's words.
 """
 
 from __future__ import annotations
 
 from typing import Final
 
+from rcb4hv.asm import format_command
+from rcb4hv.emulator import Board, Stop
 from rcb4hv.errors import ProtocolError
 from rcb4hv.protocol import (
     Add,
@@ -33,7 +37,14 @@ from rcb4hv.protocol import (
 from rcb4hv.protocol.memory import AD_CHANNELS, ADDR, SERVO, TIMERS
 from rcb4hv.rom import layout
 
-__all__ = ["boot_cause", "ics_operands", "input_names", "slot_problem"]
+__all__ = [
+    "boot_cause",
+    "ics_operands",
+    "input_names",
+    "instruction_at",
+    "slot_problem",
+    "stop_reason",
+]
 
 # RAM that changes from outside the program: (first, last, name)
 _INPUTS: Final = (
@@ -125,3 +136,61 @@ def boot_cause(rom: bytes | bytearray, error: str, pc: int | None) -> str:
     slot = layout.motion_number(target)
     where = f" (slot {slot})" if slot is not None else ""
     return f"startup motion {target:05X}h{where}: {error}"
+
+
+# Decoded instructions by their exact frame bytes (pure: the same bytes always decode alike).
+_DECODED: dict[bytes, tuple[Command | None, str]] = {}
+
+_STOP_WORDS: Final[dict[str, str]] = {
+    "romerr": "ROMERR (checksum error in ROM)",
+    "stack-underflow": "call-stack underflow (RETURN on an empty stack)",
+    "stack-overflow": "call-stack overflow (17th nested CALL)",
+    "suspended": "stopped by the host (ROM_F cleared)",
+}
+"""How a :class:`~rcb4hv.project.simresult.MotionResult` names the board's stop kinds
+(:class:`rcb4hv.emulator.Stop`)."""
+
+
+def instruction_at(rom: bytes | bytearray, pc: int) -> tuple[Command | None, str]:
+    """The instruction at ``pc`` of ``rom`` (None if it does not decode) and its disassembly
+    (``.byte ...`` for bytes that are no instruction)."""
+    try:
+        frame = frame_at(rom, pc)
+    except ProtocolError:
+        return None, f".byte {bytes(rom[pc : pc + 16]).hex(' ')}"
+    known = _DECODED.get(frame)
+    if known is not None:
+        return known
+    try:
+        cmd = decode_command(frame)
+    except ProtocolError:
+        result: tuple[Command | None, str] = (None, f".byte {frame[:16].hex(' ')}")
+    else:
+        result = (cmd, format_command(cmd))
+    if len(_DECODED) < 4096:
+        _DECODED[frame] = result
+    return result
+
+
+def stop_reason(board: Board, before: Stop | None) -> tuple[str, int, str]:
+    """(kind, PC, disassembly) of the instruction that stopped ``board``'s program.
+
+    The one place the stop reason is read: the board's own record
+    (:attr:`rcb4hv.emulator.Board.last_stop`), in the simulator's words. A stop the board did
+    not record since ``before`` (the program cleared ROM_F itself) is a plain "program
+    stopped".
+    """
+    stop = board.last_stop
+    if stop is None or stop is before or not stop.halted:
+        pc = board.pc
+        return "program stopped (ROM_F cleared)", pc, instruction_at(board.rom, pc)[1]
+    pc = stop.where
+    text = instruction_at(board.rom, pc)[1]
+    kind = _STOP_WORDS.get(stop.what)
+    if kind is not None:
+        return kind, pc, text
+    reason = stop.why
+    if stop.instruction is not None:
+        reason = reason.removesuffix(f": {stop.instruction}")
+        return f"command error: {reason}", pc, text
+    return f"invalid instruction ({reason})", pc, text

@@ -3,16 +3,24 @@
 :class:`PhysicsSimulator` is a :class:`~rcb4hv.project.simulate.Simulator` whose board has a
 :class:`~rcb4hv.physics.PhysicsBackend`. After the boot (run on the board alone, as before)
 the robot is put on flat ground in the pose the board holds, its feet lowered onto the floor,
-and left to settle for :data:`SETTLE_S`; then motions play as before, and each is watched
-until :data:`SETTLE_S` after it ends (a robot that topples does so within that time). Each
-motion's :class:`PhysicsOutcome` says:
+and left to settle for :data:`SETTLE_S` (:attr:`PhysicsSimulator.settled`: the pose it
+settled in); then motions play as before, and each is watched until :data:`SETTLE_S` after it
+ends (a robot that topples does so within that time). Runs go through
+:func:`rcb4hv.project.run.run_motions`. Each motion's :class:`PhysicsOutcome` says:
 
-* ``fell`` / ``fell_at_s``: the torso passed :data:`FALL_TILT_DEG` of tilt (having started
-  below it), and when, from the motion's start. A motion that lies down on purpose reports
-  this too: read ``end_pose``;
+* ``start_pose``: the robot's pose (as ``end_pose``) when the motion starts;
+  ``fallen_at_start``: it is down then although it stood before (it fell while settling after
+  the boot, or an earlier motion of a sequence left it lying); a robot put down on purpose
+  (``start="on_back"``) is not "fallen";
+* ``fell`` / ``fell_at_s``: the robot went from upright to down during the motion (or its
+  settling): its torso passed :data:`FALL_TILT_DEG` of tilt having started below it, and
+  when, from the motion's start. A motion that starts down cannot fall; a motion that lies
+  down on purpose reports a fall too: read ``end_pose``;
 * ``end_pose``: ``upright`` (tilt below :data:`FALL_TILT_DEG`), else ``on_back`` /
   ``on_front`` when the torso's forward axis points more up / down than its left axis,
-  else ``on_side``;
+  else ``on_side``. So ``fell`` and ``end_pose`` agree: a motion that started upright and
+  ends lying has fallen; one that ends lying without falling started down
+  (``fallen_at_start`` or put down on purpose);
 * ``dx_m``, ``dy_m``, ``dyaw_deg``: the torso's displacement and turn from the motion's
   start in the frame the robot faced then (x forward, y left, yaw counter-clockwise: ROS
   REP 103);
@@ -24,18 +32,18 @@ motion's :class:`PhysicsOutcome` says:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any, Final, Literal
 
 from rcb4hv.emulator import EmulatorConfig
-from rcb4hv.physics import DEFAULT_SENSORS, PhysicsBackend, PhysicsWorld, SensorLayout
+from rcb4hv.physics import DEFAULT_SENSORS, BasePose, PhysicsBackend, PhysicsWorld, SensorLayout
 from rcb4hv.project.check import Finding
-from rcb4hv.project.physicsresult import Frame, MotionRun, PhysicsOutcome, PhysicsRun, TrackPoint
+from rcb4hv.project.physicsresult import PhysicsOutcome, ShapeFrame, TrackPoint
+from rcb4hv.project.runresult import MotionRun
 from rcb4hv.project.simresult import MotionResult
-from rcb4hv.project.simulate import BOOT_LIMIT, DEFAULT_LIMIT, SampleListener, Simulator
-from rcb4hv.protocol import POSITION_HOLD
-from rcb4hv.protocol.memory import NO_BLOCK, SERVO
+from rcb4hv.project.simulate import BOOT_LIMIT, SampleListener, Simulator
+from rcb4hv.protocol.memory import SERVO
 from rcb4hv.robot.mjcf import TIMESTEP
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom.layout import MotionLayout
@@ -45,15 +53,13 @@ __all__ = [
     "FRAME_EVERY_S",
     "SATURATED_S",
     "SETTLE_S",
-    "Frame",
-    "MotionRun",
     "PhysicsOutcome",
-    "PhysicsRun",
     "PhysicsSimulator",
+    "ShapeFrame",
     "StartPose",
     "TrackPoint",
     "physics_findings",
-    "play_physics",
+    "pose_name",
 ]
 
 SETTLE_S: Final = 1.0
@@ -88,6 +94,8 @@ class _Watch:
     yaw0: float
     upright0: bool
     yaw: float
+    start_pose: str
+    fallen_at_start: bool
     fell_at: float | None = None
     max_tilt: float = 0.0
     max_error: float = 0.0
@@ -95,7 +103,9 @@ class _Watch:
     last_t: float = 0.0
 
 
-def _end_pose(tilt: float, up: tuple[float, float, float]) -> str:
+def pose_name(base: BasePose) -> str:
+    """``upright``, ``on_back``, ``on_front`` or ``on_side`` (see the module docstring)."""
+    tilt, up = base.tilt, base.up
     if tilt < math.radians(FALL_TILT_DEG):
         return "upright"
     if abs(up[0]) >= abs(up[1]):
@@ -128,10 +138,13 @@ class PhysicsSimulator(Simulator):
         self.backend: PhysicsBackend | None = None
         self._watch: _Watch | None = None
         self.track: list[TrackPoint] | None = [] if track else None
-        self.frames: list[Frame] = []
+        self.frames: list[ShapeFrame] = []
         self._next_frame = 0.0
         self.outcomes: list[PhysicsOutcome] = []
         self.runs: list[MotionRun] = []
+        self.settled: BasePose | None = None
+        """The robot's pose :data:`SETTLE_S` after it was put on the floor (None before)."""
+        self._stood = start == "upright"  # it has stood since it was put down
 
     # ------------------------------------------------------------------ start
 
@@ -142,24 +155,29 @@ class PhysicsSimulator(Simulator):
         self.world.place(self.board_pose(), pitch=_START_PITCH[self.start])
         self.backend = PhysicsBackend(self.board, self.world, sensors=self._sensors)
         self.backend.observers.append(self._observe)
-        self._run_us(round(SETTLE_S * 1e6))
-        self.backend.sync()
+        self.settled = self.settle()
         return res
 
+    def settle(self, seconds: float = SETTLE_S) -> BasePose:
+        """Let the robot move on for ``seconds`` of board time (the program runs as it does);
+        its pose then."""
+        assert self.backend is not None
+        self.run_us(round(seconds * 1e6))
+        self.backend.sync()
+        return self.world.base()
+
     def board_pose(self) -> dict[str, float]:
-        """Joint angles (rad) of the values the board sends now (free servos at 0)."""
+        """Joint angles (rad) of the values the board sends now to servos at an angle (free
+        and holding servos are left out: :meth:`~rcb4hv.emulator.Board.sent_angles`)."""
         b = self.board
-        outs = b.servo_outputs()
         angles: dict[str, float] = {}
+        sent = b.sent_angles()
         for s in self.robot.servos:
-            blk = b.alloc(s.index)
-            if blk == NO_BLOCK or s.index not in outs:
+            value = sent.get(s.index)
+            if value is None:
                 continue
-            st = b.servo_state(s.index)
-            if st is None or st.output >= POSITION_HOLD:  # free or hold: no angle sent
-                continue
-            base = SERVO.F_BASE.get(b.ram, blk)
-            angles[s.joint] = self.robot.angle(s.index, outs[s.index], base)
+            base = SERVO.F_BASE.get(b.ram, b.alloc(s.index))
+            angles[s.joint] = self.robot.angle(s.index, value, base)
         return angles
 
     # ------------------------------------------------------------------ watching
@@ -168,17 +186,10 @@ class PhysicsSimulator(Simulator):
         w = self._watch
         base = self.world.base()
         t = backend.board_time
+        if base.tilt < math.radians(FALL_TILT_DEG):
+            self._stood = True
         if self.track is not None:
-            world = self.world
-            angles = world.joint_angles()
-            self.track.append(
-                TrackPoint(
-                    t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles
-                )
-            )
-            if t >= self._next_frame:
-                self.frames.append(Frame(t, self.world.shapes()))
-                self._next_frame = t + FRAME_EVERY_S
+            self._track(t, base)
         if w is None:
             return
         # unwrapped yaw: turns beyond 180° add up
@@ -196,19 +207,36 @@ class PhysicsSimulator(Simulator):
                 if world.saturated(index):
                     w.saturated[servo.joint] = w.saturated.get(servo.joint, 0.0) + dt
 
+    def _track(self, t: float, base: BasePose) -> None:
+        assert self.track is not None
+        world = self.world
+        angles = world.joint_angles()
+        self.track.append(
+            TrackPoint(t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles)
+        )
+        if t >= self._next_frame:
+            self.frames.append(ShapeFrame(t, world.shapes()))
+            self._next_frame = t + FRAME_EVERY_S
+
     def _start_watch(self) -> None:
         assert self.backend is not None
         base = self.world.base()
         t = self.backend.board_time
+        upright = base.tilt < math.radians(FALL_TILT_DEG)
         self._watch = _Watch(
             t,
             base.x,
             base.y,
             base.yaw,
-            base.tilt < math.radians(FALL_TILT_DEG),
+            upright,
             base.yaw,
+            pose_name(base),
+            not upright and self._stood,
             last_t=t,
         )
+        if self.track is not None:  # the path starts where the motion starts
+            self._next_frame = t
+            self._track(t, base)
 
     def _outcome(self) -> PhysicsOutcome:
         w = self._watch
@@ -219,7 +247,7 @@ class PhysicsSimulator(Simulator):
         return PhysicsOutcome(
             fell=w.fell_at is not None,
             fell_at_s=w.fell_at,
-            end_pose=_end_pose(base.tilt, base.up),
+            end_pose=pose_name(base),
             dx_m=c * ex + s * ey,
             dy_m=-s * ex + c * ey,
             dyaw_deg=math.degrees(w.yaw - w.yaw0),
@@ -228,88 +256,33 @@ class PhysicsSimulator(Simulator):
             saturated_joints=tuple(
                 sorted(j for j, secs in w.saturated.items() if secs >= SATURATED_S)
             ),
+            start_pose=w.start_pose,
+            fallen_at_start=w.fallen_at_start,
         )
 
     # ------------------------------------------------------------------ playing
 
     def play(self, address: int, **kw: Any) -> MotionResult:
         """Play a motion (as :meth:`Simulator.play`) and watch the robot until
-        :data:`SETTLE_S` after it ends; its outcome is appended to :attr:`outcomes`."""
+        :data:`SETTLE_S` after it ends; its outcome is appended to :attr:`outcomes`, the whole
+        :class:`MotionRun` to :attr:`runs`."""
         if self.backend is None:
             self.boot()
         assert self.backend is not None
         self.backend.sync()
-        self._start_watch()
+        start_s = self.now
         n_track = len(self.track) if self.track is not None else 0
         n_frames = len(self.frames)
+        self._start_watch()
         res = super().play(address, **kw)
-        self._run_us(round(SETTLE_S * 1e6))
-        self.backend.sync()
+        self.settle()
         outcome = self._outcome()
         self.outcomes.append(outcome)
         track = tuple(self.track[n_track:]) if self.track is not None else ()
-        self.runs.append(MotionRun(res, outcome, track, tuple(self.frames[n_frames:])))
+        frames = tuple(self.frames[n_frames:])
+        self.runs.append(MotionRun(res, outcome, track, frames, start_s))
         self._watch = None
         return res
-
-
-def play_physics(
-    image: bytes,
-    robot: RobotModel,
-    slots: list[int],
-    names: dict[int, str],
-    *,
-    motion_layout: MotionLayout,
-    sequence: bool,
-    limit: float | None = None,
-    hold: int = 0,
-    hold_for: float = 0.0,
-    track: bool = False,
-    timestep: float = TIMESTEP,
-    start: StartPose = "upright",
-    progress: Callable[[MotionRun], None] | None = None,
-) -> PhysicsRun:
-    """Play ``slots`` with physics: one robot for all (``sequence``) or a fresh boot and
-    stand for each (``start``: standing, or lying on its back or front). ``limit``: virtual
-    seconds per motion, :data:`~rcb4hv.project.simulate.DEFAULT_LIMIT` when None (a robot
-    in physics never stops changing its measured positions and sensors for certain, so
-    the motion's own progress cannot be what ends it)."""
-    if limit is None:
-        limit = DEFAULT_LIMIT
-    runs: list[MotionRun] = []
-    virtual = 0.0
-    boot: MotionResult | None = None
-    sim: PhysicsSimulator | None = None
-    for slot in slots:
-        if sim is None or not sequence:
-            if sim is not None:
-                virtual += sim.now
-            sim = PhysicsSimulator(
-                image,
-                robot,
-                motion_layout=motion_layout,
-                track=track,
-                timestep=timestep,
-                start=start,
-            )
-            b = sim.boot()
-            boot = boot or b
-        sim.play(
-            motion_layout.address(slot),
-            slot=slot,
-            name=names.get(slot, ""),
-            hold=hold,
-            hold_for=hold_for,
-            limit=limit,
-        )
-        runs.append(sim.runs[-1])
-        if progress is not None:
-            progress(sim.runs[-1])
-    if sim is not None:
-        virtual += sim.now
-    if boot is None:
-        raise ValueError("no motions to play")
-    return PhysicsRun(boot, tuple(runs), virtual)
 
 
 def physics_findings(runs: Iterable[MotionRun]) -> list[Finding]:
@@ -318,6 +291,8 @@ def physics_findings(runs: Iterable[MotionRun]) -> list[Finding]:
     out: list[Finding] = []
     for run in runs:
         r, o = run.result, run.outcome
+        if o is None:
+            continue
         where = f"{r.address:05X}h"
         if o.fell and o.fell_at_s is not None:
             out.append(

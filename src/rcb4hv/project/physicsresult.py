@@ -1,15 +1,14 @@
 """What a motion played with physics reports: :class:`PhysicsOutcome` per motion, the robot's
-path (:class:`TrackPoint`) and pictures (:class:`Frame`), and :class:`PhysicsRun` for a whole
-run (see :mod:`rcb4hv.project.physics_sim` for how each figure is measured)."""
+path (:class:`TrackPoint`), pictures of its shapes (:class:`ShapeFrame`) and the set-up of a
+physics run (:class:`PhysicsSetup`); see :mod:`rcb4hv.project.physics_sim` for how each figure
+is measured, :mod:`rcb4hv.project.runresult` for a whole run."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from rcb4hv.project.simresult import MotionResult
-
-__all__ = ["Frame", "MotionRun", "PhysicsOutcome", "PhysicsRun", "TrackPoint"]
+__all__ = ["PhysicsOutcome", "PhysicsSetup", "ShapeFrame", "TrackPoint"]
 
 
 @dataclass(frozen=True)
@@ -25,9 +24,13 @@ class PhysicsOutcome:
     max_tilt_deg: float
     max_tracking_error_deg: float
     saturated_joints: tuple[str, ...]
+    start_pose: str = "upright"
+    fallen_at_start: bool = False
 
     def to_dict(self) -> dict[str, object]:
         return {
+            "start_pose": self.start_pose,
+            "fallen_at_start": self.fallen_at_start,
             "fell": self.fell,
             "fell_at_s": None if self.fell_at_s is None else round(self.fell_at_s, 3),
             "end_pose": self.end_pose,
@@ -57,28 +60,34 @@ class TrackPoint:
 
 
 @dataclass(frozen=True, slots=True)
-class Frame:
-    """The robot at virtual time ``t``: the corners of each of its shapes (world, m)."""
+class ShapeFrame:
+    """A picture of the robot at virtual time ``t``: the corners of each of its shapes (world,
+    m), for the side views of ``--plot``."""
 
     t: float
     shapes: list[tuple[tuple[float, float, float], ...]]
 
 
 @dataclass(frozen=True)
-class MotionRun:
-    """One motion played with physics: its result, outcome and (``track``) the robot's path
-    and frames from the motion's start until it has settled after its end."""
+class PhysicsSetup:
+    """How a physics run was set up, and how the robot settled after the (first) boot:
+    ``settled_pose`` is its pose (as ``end_pose``) :data:`settle_s` seconds after it was put
+    on the floor in ``start`` (a robot that cannot stand in its start pose is down here, before
+    any motion plays)."""
 
-    result: MotionResult
-    outcome: PhysicsOutcome
-    track: tuple[TrackPoint, ...] = ()
-    frames: tuple[Frame, ...] = ()
+    robot: str
+    engine: str
+    start: str
+    settle_s: float
+    settled_pose: str
+    settled_tilt_deg: float
 
-
-@dataclass(frozen=True)
-class PhysicsRun:
-    """:func:`play_physics`'s answer: the (first) boot, each motion, the virtual seconds."""
-
-    boot: MotionResult
-    motions: tuple[MotionRun, ...]
-    virtual_s: float
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "robot": self.robot,
+            "engine": self.engine,
+            "start": self.start,
+            "settle_s": self.settle_s,
+            "settled_pose": self.settled_pose,
+            "settled_tilt_deg": round(self.settled_tilt_deg, 1),
+        }

@@ -7,7 +7,8 @@ program (PC = the main loop, depth 0, update flags 0), CALL the motion, resume (
 VEC_F). The image's layout (main loop 044Bh or 003FDh, motion slots) is detected from it.
 While a button is held for the motion (``hold``) VEC_F is left clear at the resume, so the
 held button does not also fire the package bound to it at once; the main loop re-arms VEC_F
-when it runs.
+when it runs. Runs of motions (boot, then each motion, with or without physics) go through
+the one run API, :func:`rcb4hv.project.run.run_motions`.
 
 Each play ends in one of these states (:class:`MotionResult.status`):
 
@@ -46,38 +47,35 @@ A boot that stops (:meth:`Simulator.boot` with status ``error``) names its cause
 motion; ROMERR ...``); motions can still be played from the host afterwards, as spec 11.4 does.
 
 The kind of error is the board's own record of why the program stopped
-(:attr:`rcb4hv.emulator.Board.last_stop`), read in one place (``Simulator._error``).
+(:attr:`rcb4hv.emulator.Board.last_stop`), read in one place
+(:func:`rcb4hv.project.instructions.stop_reason`).
 """
 
 from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from typing import Any, Final
 
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError, SimulationError
-from rcb4hv.project.instructions import boot_cause, input_names
+from rcb4hv.project.instructions import boot_cause, input_names, instruction_at, stop_reason
 from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.project.simwatch import Watch, mixed_sensors, progress_state
 from rcb4hv.protocol import (
-    ICS_COUNT,
     Ack,
     Command,
     DataReply,
     Return,
-    decode_command,
     decode_reply,
     encode_command,
-    frame_at,
 )
 from rcb4hv.protocol import sequences as seq
 from rcb4hv.protocol.memory import (
     ADDR,
     NO_BLOCK,
-    SERVO,
     SYS,
     read_alloc,
     read_system,
@@ -100,9 +98,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-# Decoded instructions by their exact frame bytes (pure: the same bytes always decode alike).
-_DECODED: dict[bytes, tuple[Command | None, str]] = {}
-
 SampleListener = Callable[[float, dict[int, int]], None]
 
 DEFAULT_LIMIT: Final = 60.0
@@ -122,13 +117,6 @@ flags are stepped exactly). 2 ms is below the shortest output period (10 ms), so
 duration is within one step of the board's; 1 ms steps made simulation ~20% slower."""
 BOOT_LIMIT: Final = 30.0
 TIMER_US: Final = 100_000
-_STOP_WORDS: Final[dict[str, str]] = {
-    "romerr": "ROMERR (checksum error in ROM)",
-    "stack-underflow": "call-stack underflow (RETURN on an empty stack)",
-    "stack-overflow": "call-stack overflow (17th nested CALL)",
-    "suspended": "stopped by the host (ROM_F cleared)",
-}
-"""How :class:`MotionResult` names the board's stop kinds (:class:`rcb4hv.emulator.Stop`)."""
 
 
 class Simulator:
@@ -203,8 +191,9 @@ class Simulator:
         """Virtual seconds since power-on."""
         return self._t_us / 1e6
 
-    def _run_us(self, dt_us: int) -> None:
-        """Advance the virtual clock by whole microseconds (no float drift) and tick."""
+    def run_us(self, dt_us: int) -> None:
+        """Advance the virtual clock by ``dt_us`` whole microseconds (at least one; no float
+        drift) and let the board catch up: the program runs, the servos move."""
         self._t_us += max(1, dt_us)
         # a quarter microsecond above the target: the board truncates to whole microseconds
         self.clock.set((self._t_us + 0.25) / 1e6)
@@ -220,67 +209,19 @@ class Simulator:
         return self.board.ram[ADDR.CALL_DEPTH]
 
     def _wait_periods(self) -> int | None:
-        """Output periods the program will wait at least (None: flags that never clear)."""
-        b = self.board
-        ram = b.ram
-        flags = self._flags()
-        longest = 0
-        for ics in range(ICS_COUNT):
-            if not flags >> ics & 1:
-                continue
-            blk = b.alloc(ics)
-            if (
-                blk == NO_BLOCK
-                or blk + SERVO.SIZE > len(ram)
-                or SERVO.F_TYPE.get(ram, blk) != 0
-                or not SERVO.F_SPEED.get(ram, blk)
-            ):
-                return None
-            longest = max(longest, SERVO.F_REMAINING.get(ram, blk))
-        return longest
+        """Output periods the program will wait at least (None: flags that never clear): the
+        board's own count (:meth:`~rcb4hv.emulator.Board.update_flag_wait`) less the period
+        that clears the last flag."""
+        k = self.board.update_flag_wait()
+        return None if k is None else max(0, k - 1)
 
     def _instruction_at(self, pc: int) -> tuple[Command | None, str]:
-        rom = self.board.rom
-        try:
-            frame = frame_at(rom, pc)
-        except ProtocolError:
-            return None, f".byte {bytes(rom[pc : pc + 16]).hex(' ')}"
-        known = _DECODED.get(frame)
-        if known is not None:
-            return known
-        try:
-            cmd = decode_command(frame)
-        except ProtocolError:
-            result: tuple[Command | None, str] = (None, f".byte {frame[:16].hex(' ')}")
-        else:
-            result = (cmd, format_command(cmd))
-        if len(_DECODED) < 4096:
-            _DECODED[frame] = result
-        return result
+        return instruction_at(self.board.rom, pc)
 
     def _error(self) -> tuple[str, int, str]:
-        """(kind, PC, disassembly) of the instruction that stopped the program.
-
-        The one place the stop reason is read: the board's own record
-        (:attr:`rcb4hv.emulator.Board.last_stop`), in the simulator's words. A stop the board
-        did not record since the play began (the program cleared ROM_F itself) is a plain
-        "program stopped".
-        """
-        b = self.board
-        stop = b.last_stop
-        if stop is None or stop is self._stop_before or not stop.halted:
-            pc = b.pc
-            return "program stopped (ROM_F cleared)", pc, self._instruction_at(pc)[1]
-        pc = stop.where
-        text = self._instruction_at(pc)[1]
-        kind = _STOP_WORDS.get(stop.what)
-        if kind is not None:
-            return kind, pc, text
-        reason = stop.why
-        if stop.instruction is not None:
-            reason = reason.removesuffix(f": {stop.instruction}")
-            return f"command error: {reason}", pc, text
-        return f"invalid instruction ({reason})", pc, text
+        """(kind, PC, disassembly) of the instruction that stopped the program, from the
+        board's own record since the play began (:func:`stop_reason`)."""
+        return stop_reason(self.board, self._stop_before)
 
     # ------------------------------------------------------------------ running
 
@@ -332,7 +273,7 @@ class Simulator:
                 dt = max(STEP_US, n * period)
             else:
                 dt = (n + 1) * period
-        self._run_us(min(dt, max(1, cap_us)))
+        self.run_us(min(dt, max(1, cap_us)))
 
     def _ends_after_wait(self) -> bool:
         """True if the instruction the program waits to fetch returns into the main loop."""
@@ -451,15 +392,15 @@ class Simulator:
             if self._flags():
                 n = self._wait_periods()
                 if n is None:
-                    self._run_us(end - self._t_us)
+                    self.run_us(end - self._t_us)
                     break
-                self._run_us(min(end - self._t_us, max(half, n * self._period_us())))
+                self.run_us(min(end - self._t_us, max(half, n * self._period_us())))
                 while self._flags() and self._t_us < end:
-                    self._run_us(min(end - self._t_us, half))
+                    self.run_us(min(end - self._t_us, half))
                 continue
             pc = b.pc
             pcs[pc] = b.rom[pc]
-            self._run_us(min(end - self._t_us, half))
+            self.run_us(min(end - self._t_us, half))
         inputs: list[str] = []
         for pc in sorted(pcs):
             cmd, _ = self._instruction_at(pc)
@@ -475,30 +416,3 @@ class Simulator:
             return result("holding", entered_us, loop=loop, inputs=sensors, pc=b.pc)
         why = "endless loop" if pcs else "update flags that never clear"
         return result("stalled", entered_us, loop=loop, error=why, pc=b.pc)
-
-    def play_all(
-        self,
-        motions: Sequence[tuple[int, str]],
-        *,
-        limit: float | None = None,
-        hold: int = 0,
-        hold_for: float = 0.0,
-        progress: Callable[[MotionResult], None] | None = None,
-    ) -> list[MotionResult]:
-        """Play motion slots ``(slot, name)`` one after the other (boots first if needed)."""
-        if self.boot_result is None:
-            self.boot()
-        out = []
-        for slot, name in motions:
-            r = self.play(
-                self.layout.address(slot),
-                slot=slot,
-                name=name,
-                hold=hold,
-                hold_for=hold_for,
-                limit=limit,
-            )
-            out.append(r)
-            if progress is not None:
-                progress(r)
-        return out

@@ -10,6 +10,10 @@ to the board and plays the motion (:mod:`rcb4hv.ui.editor_play`); "Preview" play
 in virtual time. "Save" writes the ``.h4p`` atomically and offers it and
 each changed plain-chain motion's flowchart ``.xml`` for download. The browser asks before
 leaving while there are unsaved changes. The trim panel is :mod:`rcb4hv.ui.trim_panel`.
+
+:class:`EditorPage` is one browser tab's page: its widgets, the edit state
+(:class:`~rcb4hv.ui.editor_state.Editor`, no NiceGUI) and the preview player it shares with the
+Project page (:class:`~rcb4hv.ui.preview.PreviewPlayer`).
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ import logging
 import math
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from nicegui import ui
 
@@ -41,10 +46,10 @@ from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
 from rcb4hv.ui.playback import physics_available
-from rcb4hv.ui.preview import FRAME_PERIOD_S, Player, make_playback
+from rcb4hv.ui.preview import PreviewPlayer, make_playback
 from rcb4hv.ui.scene3d import RobotScene
 
-__all__ = ["build"]
+__all__ = ["EditorPage", "build"]
 
 log = logging.getLogger(__name__)
 
@@ -55,201 +60,233 @@ LEAVE_GUARD = (
 
 
 def build(ctx: UiContext) -> None:
-    ed = Editor()
-    loading = [False]
-    guard = [False]  # whether the browser is asked to confirm leaving
-    client = ui.context.client
+    EditorPage(ctx)
 
-    def fail(exc: Exception) -> None:
-        ui.notify(str(exc), type="negative", multi_line=True)
 
-    def edit(fn: object, *args: object, **kw: object) -> None:
-        try:
-            ed.apply(fn, *args, **kw)  # type: ignore[arg-type]
-        except (Rcb4Error, ValueError) as exc:
-            fail(exc)
-        redraw()
+class EditorPage:
+    """The Editor page of one browser tab (see the module docstring)."""
+
+    def __init__(self, ctx: UiContext) -> None:
+        self.ctx = ctx
+        self.ed = Editor()
+        self.loading = False  # True while widgets are set from the state: not user edits
+        self.guard = False  # whether the browser is asked to confirm leaving
+        self.client = ui.context.client
+        self.scene: RobotScene | None = None  # the 3D view, built when a model is known
+        self._layout()
+        self.redraw()
 
     # ------------------------------------------------------------------ layout
-    with ui.row().classes("items-center w-full"):
-        path_in = tid(ui.input("Project file (.h4p) on this computer"), "editor-path")
-        path_in.classes("w-96")
-        tid(ui.button("Open", icon="folder_open"), "editor-open").on_click(lambda: open_path())
-        tid(ui.button("Edit the Project page's project"), "editor-take").on_click(
-            lambda: take_project()
-        )
-        tid(ui.checkbox("override ranges and joint limits"), "editor-force").bind_value(ed, "force")
-        status = tid(ui.label(ed.status()), "editor-status").classes("text-sm")
-    with ui.row().classes("items-center"):
-        motion_sel = tid(ui.select({}, label="Motion", with_input=True), "editor-motion")
-        motion_sel.classes("w-80").on_value_change(lambda e: choose_motion(e.value))
-        pose_sel = tid(ui.select({}, label="Pose"), "editor-pose").classes("w-32")
-        pose_sel.on_value_change(lambda e: choose_pose(e.value))
-        for label, icon, name, action in (
-            ("Insert", "add", "editor-insert", lambda: insert()),
-            ("Duplicate", "content_copy", "editor-duplicate", lambda: on_pose(duplicate_pose)),
-            ("Delete", "delete", "editor-delete", lambda: on_pose(delete_pose)),
-            ("Up", "arrow_upward", "editor-up", lambda: move(-1)),
-            ("Down", "arrow_downward", "editor-down", lambda: move(1)),
-            ("Mirror pose", "flip", "editor-mirror-pose", lambda: mirror_one()),
-            ("Undo", "undo", "editor-undo", lambda: history(ed.undo)),
-            ("Redo", "redo", "editor-redo", lambda: history(ed.redo)),
-        ):
-            tid(ui.button(label, icon=icon).props("dense"), name).on_click(action)
-    with ui.row().classes("w-full no-wrap items-start"):
-        chart = tid(ui.html("", sanitize=False), "editor-flowchart")
-        chart.style("max-height: 640px; overflow-y: auto")
-        chart.on(
-            "click",
-            lambda e: choose_pose(int(e.args)) if e.args not in (None, "") else None,
-            js_handler="(e) => emit(e.target.closest('[data-pose]')?.dataset.pose ?? '')",
-        )
-        with ui.column().classes("items-center"):
-            caption = tid(ui.label(""), "editor-3d-caption").classes("text-sm text-slate-600")
-            holder = ui.column()
-            with ui.row().classes("items-center"):
-                tid(
-                    ui.button("Preview", icon="view_in_ar").props("dense"), "editor-preview"
-                ).on_click(lambda: preview())
-                play = tid(ui.button("Play", icon="play_arrow").props("dense"), "editor-play")
-                play.on_click(lambda: toggle())
-                can_physics = physics_available()
-                physics = tid(ui.checkbox("with physics", value=can_physics), "editor-physics")
-                physics.set_enabled(can_physics)
-            scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "editor-scrubber")
-            scrubber.classes("w-96")
-            preview_status = tid(ui.label(""), "editor-preview-status").classes("text-xs")
-        with ui.column().classes("grow"):
-            frames_in = tid(ui.number("Frames (output periods)", min=1, max=255), "editor-frames")
-            frames_in.on_value_change(lambda e: set_frames(e.value))
-            joints = ui.column().classes("w-full gap-0")
-    with ui.row().classes("items-center"):
-        to_sel = tid(
-            ui.select({}, label="Mirror motion into", with_input=True), "editor-mirror-to"
-        ).classes("w-48")
-        name_in = tid(ui.input("Name of the mirror"), "editor-mirror-name")
-        tid(ui.button("Mirror motion", icon="flip"), "editor-mirror-motion").on_click(
-            lambda: mirror_all()
-        )
-        buttons_sel = tid(
-            ui.select({bit: sym for bit, sym in BUTTON_SYMBOLS}, label="Remote buttons",
-                      multiple=True),
-            "editor-buttons",
-        ).classes("w-56")  # fmt: skip
-        tid(ui.button("Bind", icon="gamepad").props("dense"), "editor-bind").on_click(
-            lambda: bind()
-        )
-        tid(ui.button("Send pose", icon="send"), "editor-send").on_click(lambda: send())
-        tid(ui.button("Play motion", icon="smart_display"), "editor-play-board").on_click(
-            lambda: play_board()
-        )
-        tid(ui.button("Save", icon="save", color="green"), "editor-save").on_click(lambda: save())
-        downloads = ui.row()
-    trims_refresh = trim_panel.build(ctx, ed, on_change=lambda: redraw())
 
-    view: list[RobotScene | None] = [None]  # the RobotScene, built when a model is known
-    player: list[Player] = []
-    ui.timer(FRAME_PERIOD_S, lambda: player[0].tick() if player else None)
+    def _layout(self) -> None:
+        ed = self.ed
+        with ui.row().classes("items-center w-full"):
+            self.path_in = tid(ui.input("Project file (.h4p) on this computer"), "editor-path")
+            self.path_in.classes("w-96")
+            tid(ui.button("Open", icon="folder_open"), "editor-open").on_click(self.open_path)
+            tid(ui.button("Edit the Project page's project"), "editor-take").on_click(
+                self.take_project
+            )
+            tid(ui.checkbox("override ranges and joint limits"), "editor-force").bind_value(
+                ed, "force"
+            )
+            self.status = tid(ui.label(ed.status()), "editor-status").classes("text-sm")
+        with ui.row().classes("items-center"):
+            self.motion_sel = tid(ui.select({}, label="Motion", with_input=True), "editor-motion")
+            self.motion_sel.classes("w-80").on_value_change(lambda e: self.choose_motion(e.value))
+            self.pose_sel = tid(ui.select({}, label="Pose"), "editor-pose").classes("w-32")
+            self.pose_sel.on_value_change(lambda e: self.choose_pose(e.value))
+            for label, icon, name, action in (
+                ("Insert", "add", "editor-insert", self.insert),
+                ("Duplicate", "content_copy", "editor-duplicate",
+                 lambda: self.on_pose(duplicate_pose)),
+                ("Delete", "delete", "editor-delete", lambda: self.on_pose(delete_pose)),
+                ("Up", "arrow_upward", "editor-up", lambda: self.move(-1)),
+                ("Down", "arrow_downward", "editor-down", lambda: self.move(1)),
+                ("Mirror pose", "flip", "editor-mirror-pose", self.mirror_one),
+                ("Undo", "undo", "editor-undo", lambda: self.history(ed.undo)),
+                ("Redo", "redo", "editor-redo", lambda: self.history(ed.redo)),
+            ):  # fmt: skip
+                tid(ui.button(label, icon=icon).props("dense"), name).on_click(action)
+        with ui.row().classes("w-full no-wrap items-start"):
+            self.chart = tid(ui.html("", sanitize=False), "editor-flowchart")
+            self.chart.style("max-height: 640px; overflow-y: auto")
+            self.chart.on(
+                "click",
+                lambda e: self.choose_pose(int(e.args)) if e.args not in (None, "") else None,
+                js_handler="(e) => emit(e.target.closest('[data-pose]')?.dataset.pose ?? '')",
+            )
+            with ui.column().classes("items-center"):
+                self.caption = tid(ui.label(""), "editor-3d-caption")
+                self.caption.classes("text-sm text-slate-600")
+                self.holder = ui.column()
+                with ui.row().classes("items-center"):
+                    tid(
+                        ui.button("Preview", icon="view_in_ar").props("dense"), "editor-preview"
+                    ).on_click(self.preview)
+                    play = tid(ui.button("Play", icon="play_arrow").props("dense"), "editor-play")
+                    can_physics = physics_available()
+                    self.physics = tid(
+                        ui.checkbox("with physics", value=can_physics), "editor-physics"
+                    )
+                    self.physics.set_enabled(can_physics)
+                scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "editor-scrubber")
+                scrubber.classes("w-96")
+                self.preview_status = tid(ui.label(""), "editor-preview-status")
+                self.preview_status.classes("text-xs")
+                self.player = PreviewPlayer(play, scrubber, self.preview_status)
+            with ui.column().classes("grow"):
+                self.frames_in = tid(
+                    ui.number("Frames (output periods)", min=1, max=255), "editor-frames"
+                )
+                self.frames_in.on_value_change(lambda e: self.set_frames(e.value))
+                self.joints = ui.column().classes("w-full gap-0")
+        with ui.row().classes("items-center"):
+            self.to_sel = tid(
+                ui.select({}, label="Mirror motion into", with_input=True), "editor-mirror-to"
+            ).classes("w-48")
+            self.name_in = tid(ui.input("Name of the mirror"), "editor-mirror-name")
+            tid(ui.button("Mirror motion", icon="flip"), "editor-mirror-motion").on_click(
+                self.mirror_all
+            )
+            self.buttons_sel = tid(
+                ui.select({bit: sym for bit, sym in BUTTON_SYMBOLS}, label="Remote buttons",
+                          multiple=True),
+                "editor-buttons",
+            ).classes("w-56")  # fmt: skip
+            tid(ui.button("Bind", icon="gamepad").props("dense"), "editor-bind").on_click(self.bind)
+            tid(ui.button("Send pose", icon="send"), "editor-send").on_click(self.send)
+            tid(ui.button("Play motion", icon="smart_display"), "editor-play-board").on_click(
+                self.play_board
+            )
+            tid(ui.button("Save", icon="save", color="green"), "editor-save").on_click(self.save)
+            self.downloads = ui.row()
+        self.trims_refresh = trim_panel.build(self.ctx, ed, on_change=self.redraw)
 
-    # ------------------------------------------------------------------ actions
-    def named_robot() -> RobotModel | None:
+    # ------------------------------------------------------------------ editing
+
+    def fail(self, exc: Exception) -> None:
+        ui.notify(str(exc), type="negative", multi_line=True)
+
+    def edit(self, fn: Callable[..., Any], *args: object, **kw: object) -> None:
+        """Apply the edit ``fn(project, *args, **kw)`` (one undo step), then redraw."""
+        try:
+            self.ed.apply(fn, *args, **kw)
+        except (Rcb4Error, ValueError) as exc:
+            self.fail(exc)
+        self.redraw()
+
+    def named_robot(self) -> RobotModel | None:
         """The model given with ``rcb4hv ui --robot``; otherwise None: the editor detects
         the robot from the project it edits (a default model must not drive a mirror)."""
+        ctx = self.ctx
         return ctx.robot if ctx.robot_source.startswith("--robot") else None
 
-    def open_path() -> None:
-        path = Path(path_in.value or "").expanduser()
+    def open_path(self) -> None:
+        path = Path(self.path_in.value or "").expanduser()
         if path.suffix.lower() != ".h4p":
-            fail(ValueError(f"{path}: not a .h4p project file"))
+            self.fail(ValueError(f"{path}: not a .h4p project file"))
             return
+        limit = self.ctx.max_upload
         try:
             data = path.read_bytes()
-            if len(data) > ctx.max_upload:
-                raise ValueError(f"{path}: {len(data):,} bytes; the limit is {ctx.max_upload:,}")
-            ed.open(data, path, named_robot())
+            if len(data) > limit:
+                raise ValueError(f"{path}: {len(data):,} bytes; the limit is {limit:,}")
+            self.ed.open(data, path, self.named_robot())
         except (OSError, Rcb4Error, ValueError) as exc:
-            fail(exc)
+            self.fail(exc)
             return
         ui.notify(f"editing {path}")
-        rebuild_view()
-        redraw()
+        self.rebuild_view()
+        self.redraw()
 
-    def take_project() -> None:
-        if ctx.project is None:
-            fail(ValueError("no project is open on the Project page"))
+    def take_project(self) -> None:
+        if self.ctx.project is None:
+            self.fail(ValueError("no project is open on the Project page"))
             return
-        ed.open(dump_project(ctx.project), None, named_robot())
-        rebuild_view()
-        redraw()
+        self.ed.open(dump_project(self.ctx.project), None, self.named_robot())
+        self.rebuild_view()
+        self.redraw()
 
-    def history(step: Callable[[], None]) -> None:
+    def history(self, step: Callable[[], None]) -> None:
         step()
-        redraw()
+        self.redraw()
 
-    def choose_motion(slot: object) -> None:
-        if not loading[0] and slot is not None:
-            ed.select(int(str(slot)))
-            redraw()
+    def choose_motion(self, slot: object) -> None:
+        if not self.loading and slot is not None:
+            self.ed.select(int(str(slot)))
+            self.redraw()
 
-    def choose_pose(index: object) -> None:
-        if not loading[0] and index is not None:
-            ed.select(ed.slot, int(str(index)))
-            redraw()
+    def choose_pose(self, index: object) -> None:
+        if not self.loading and index is not None:
+            self.ed.select(self.ed.slot, int(str(index)))
+            self.redraw()
 
-    def on_pose(fn: object) -> None:
+    def on_pose(self, fn: Callable[..., Any]) -> None:
+        ed = self.ed
         if ed.slot is not None and ed.pose_index is not None:
-            edit(fn, ed.slot, ed.pose_index)
+            self.edit(fn, ed.slot, ed.pose_index)
 
-    def insert() -> None:
+    def insert(self) -> None:
+        ed = self.ed
         pose = ed.pose
         if ed.slot is None or pose is None:
-            fail(ValueError("select a pose: the new one goes after it, as a copy to change"))
+            self.fail(ValueError("select a pose: the new one goes after it, as a copy to change"))
             return
-        edit(insert_pose, ed.slot, pose.index + 1, pose.values, pose.speed, ed.checks)
+        self.edit(insert_pose, ed.slot, pose.index + 1, pose.values, pose.speed, ed.checks)
         ed.select(ed.slot, pose.index + 1)
-        redraw()
+        self.redraw()
 
-    def move(step: int) -> None:
+    def move(self, step: int) -> None:
+        ed = self.ed
         if ed.slot is not None and ed.pose_index is not None:
             to = ed.pose_index + step
-            edit(move_pose, ed.slot, ed.pose_index, to)
+            self.edit(move_pose, ed.slot, ed.pose_index, to)
             if ed.session is not None and ed.session.history[-1:] == ["move pose"]:
                 ed.select(ed.slot, to)
-                redraw()
+                self.redraw()
 
-    def mirror_one() -> None:
+    def mirror_one(self) -> None:
+        ed = self.ed
         if ed.slot is not None and ed.pose_index is not None:
-            edit(mirror_pose, ed.slot, ed.pose_index, ed.model, ed.checks)
+            self.edit(mirror_pose, ed.slot, ed.pose_index, ed.model, ed.checks)
 
-    def mirror_all() -> None:
+    def mirror_all(self) -> None:
+        ed = self.ed
         if ed.slot is None:
             return
-        to = None if to_sel.value in (None, 0) else int(to_sel.value)
-        name = name_in.value or None
-        edit(mirror_motion, ed.slot, ed.model, to=to, name=name, checks=ed.checks)
+        to = None if self.to_sel.value in (None, 0) else int(self.to_sel.value)
+        name = self.name_in.value or None
+        self.edit(mirror_motion, ed.slot, ed.model, to=to, name=name, checks=ed.checks)
 
-    def bind() -> None:
+    def bind(self) -> None:
         """Bind the motion to the chosen buttons (none: unbind)."""
+        ed = self.ed
         if ed.slot is not None:
-            word = sum(int(b) for b in buttons_sel.value or [])
-            edit(bind_button, ed.slot, word, force=ed.force)
+            word = sum(int(b) for b in self.buttons_sel.value or [])
+            self.edit(bind_button, ed.slot, word, force=ed.force)
 
-    def set_value(ics: int, value: object) -> None:
-        if loading[0] or value is None or ed.slot is None or ed.pose_index is None:
+    def set_value(self, ics: int, value: object) -> None:
+        ed = self.ed
+        if self.loading or value is None or ed.slot is None or ed.pose_index is None:
             return
-        edit(set_pose, ed.slot, ed.pose_index, {ics: int(float(str(value)))}, None, ed.checks)
+        values = {ics: int(float(str(value)))}
+        self.edit(set_pose, ed.slot, ed.pose_index, values, None, ed.checks)
 
-    def set_degrees(ics: int, degrees: object) -> None:
-        if not loading[0] and degrees is not None:
-            set_value(ics, ed.value_for(ics, float(str(degrees))))
+    def set_degrees(self, ics: int, degrees: object) -> None:
+        if not self.loading and degrees is not None:
+            self.set_value(ics, self.ed.value_for(ics, float(str(degrees))))
 
-    def set_frames(value: object) -> None:
-        if loading[0] or value is None or ed.slot is None or ed.pose_index is None:
+    def set_frames(self, value: object) -> None:
+        ed = self.ed
+        if self.loading or value is None or ed.slot is None or ed.pose_index is None:
             return
-        edit(set_pose, ed.slot, ed.pose_index, None, int(float(str(value))), ed.checks)
+        self.edit(set_pose, ed.slot, ed.pose_index, None, int(float(str(value))), ed.checks)
 
-    async def send() -> None:
-        pose = ed.pose
+    # ------------------------------------------------------------------ board, files, preview
+
+    async def send(self) -> None:
+        pose = self.ed.pose
         if pose is None:
             return
         values, speed = pose.values, pose.speed
@@ -263,27 +300,29 @@ def build(ctx: UiContext) -> None:
                 speed, {k: v for k, v in values.items() if k in known}
             )
 
-        if await attempt(ctx.session.submit(do, label="send pose"), "Send pose"):
+        if await attempt(self.ctx.session.submit(do, label="send pose"), "Send pose"):
             ui.notify(f"pose {pose.index + 1} sent ({speed} frames)")
 
-    async def play_board() -> None:
+    async def play_board(self) -> None:
+        ed = self.ed
         if ed.session is not None and ed.slot is not None:
-            await play_on_board(ctx, ed.project, ed.slot)
+            await play_on_board(self.ctx, ed.project, ed.slot)
 
-    def save() -> None:
-        target = Path(path_in.value).expanduser() if path_in.value else None
+    def save(self) -> None:
+        path = self.path_in.value
+        target = Path(path).expanduser() if path else None
         if target is not None and target.suffix.lower() != ".h4p":
-            fail(ValueError(f"{target}: save to a .h4p file"))
+            self.fail(ValueError(f"{target}: save to a .h4p file"))
             return
         try:
-            saved, charts = ed.save(target)
+            saved, charts = self.ed.save(target)
         except (OSError, Rcb4Error, ValueError) as exc:
-            fail(exc)
+            self.fail(exc)
             return
-        path_in.value = str(saved)
-        ctx.set_project(ed.project, saved.name)
-        downloads.clear()
-        with downloads:
+        self.path_in.value = str(saved)
+        self.ctx.set_project(self.ed.project, saved.name)
+        self.downloads.clear()
+        with self.downloads:
             data = saved.read_bytes()
             tid(
                 ui.button(f"{saved.name}", icon="download").props("flat dense"),
@@ -294,48 +333,44 @@ def build(ctx: UiContext) -> None:
                     ui.button(name, icon="download").props("flat dense"), f"editor-download-xml-{i}"
                 ).on_click(lambda xml=xml, name=name: ui.download.content(xml, name))
         ui.notify(f"saved {saved}")
-        redraw()
+        self.redraw()
 
-    def toggle() -> None:
-        if player and player[0].playback is not None:
-            player[0].toggle()
-            play.text = "Pause" if player[0].playing else "Play"
-
-    async def preview() -> None:
+    async def preview(self) -> None:
         """Simulate the edited motion in virtual time and play it in the 3D view."""
-        if ed.session is None or ed.slot is None or ed.model is None or not player:
+        ed = self.ed
+        if ed.session is None or ed.slot is None or ed.model is None or self.scene is None:
             ui.notify("open a project with a robot model and pick a motion", type="warning")
             return
-        preview_status.text = f"simulating motion {ed.slot}..."
+        self.preview_status.text = f"simulating motion {ed.slot}..."
         try:
             pb = await asyncio.to_thread(
-                make_playback, ed.project, ed.slot, ed.model, physics=bool(physics.value)
+                make_playback, ed.project, ed.slot, ed.model, physics=bool(self.physics.value)
             )
         except (Rcb4Error, ValueError) as exc:
-            preview_status.text = f"cannot simulate motion {ed.slot}: {exc}"
+            self.preview_status.text = f"cannot simulate motion {ed.slot}: {exc}"
             return
-        player[0].load(pb)
-        toggle()
+        self.player.load(pb)
 
     # ------------------------------------------------------------------ drawing
-    def rebuild_view() -> None:
-        holder.clear()
-        player.clear()
-        view[0] = None
-        if ed.model is None:
-            caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
-            return
-        caption.text = ed.model.title
-        with holder:
-            scene = RobotScene(ed.model, width=420, height=420)
-            tid(scene.scene, "editor-3d")
-        view[0] = scene
-        player.append(Player(scene, preview_status, scrubber))
 
-    def draw_joints() -> None:
-        joints.clear()
-        with joints:
-            for row in ed.joint_rows():
+    def rebuild_view(self) -> None:
+        ed = self.ed
+        self.holder.clear()
+        self.scene = None
+        if ed.model is None:
+            self.caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
+            self.player.show(None)
+            return
+        self.caption.text = ed.model.title
+        with self.holder:
+            self.scene = RobotScene(ed.model, width=420, height=420)
+            tid(self.scene.scene, "editor-3d")
+        self.player.show(self.scene)
+
+    def draw_joints(self) -> None:
+        self.joints.clear()
+        with self.joints:
+            for row in self.ed.joint_rows():
                 with ui.row().classes("items-center w-full no-wrap gap-2"):
                     ui.label(row.label).classes("w-48 text-xs")
                     if not math.isnan(row.degrees):
@@ -344,52 +379,51 @@ def build(ctx: UiContext) -> None:
                             value=round(row.degrees, 1),
                         ).classes("w-64")  # fmt: skip
                         tid(slider, f"editor-joint-{row.ics}")
-                        slider.on("change", lambda e, ics=row.ics: set_degrees(ics, e.args))
+                        slider.on("change", lambda e, ics=row.ics: self.set_degrees(ics, e.args))
                         ui.label(f"{row.degrees:.1f}°").classes("w-14 text-xs")
                     raw = tid(
                         ui.number(value=row.value, format="%d").props("dense").classes("w-24"),
                         f"editor-raw-{row.ics}",
                     )
-                    raw.on_value_change(lambda e, ics=row.ics: set_value(ics, e.value))
+                    raw.on_value_change(lambda e, ics=row.ics: self.set_value(ics, e.value))
 
-    def redraw() -> None:
-        loading[0] = True
+    def redraw(self) -> None:
+        """Show the edit state: every widget, the flowchart, the joints, the 3D pose."""
+        ed = self.ed
+        self.loading = True
         try:
-            status.text = ed.status()
-            motion_sel.options = ed.motion_options()
-            motion_sel.value = ed.slot
-            motion_sel.update()
+            self.status.text = ed.status()
+            self.motion_sel.options = ed.motion_options()
+            self.motion_sel.value = ed.slot
+            self.motion_sel.update()
             poses = ed.poses()
-            pose_sel.options = {p.index: f"pose {p.index + 1}" for p in poses}
-            pose_sel.value = ed.pose_index
-            pose_sel.update()
-            free = {0: "(in place)"} | {s: f"M{s:03d} (free)" for s in ed.free_slots()}
-            to_sel.options = free
-            to_sel.update()
+            self.pose_sel.options = {p.index: f"pose {p.index + 1}" for p in poses}
+            self.pose_sel.value = ed.pose_index
+            self.pose_sel.update()
+            self.to_sel.options = {0: "(in place)"} | {
+                s: f"M{s:03d} (free)" for s in ed.free_slots()
+            }
+            self.to_sel.update()
             if ed.slot is not None:
                 word = ed.project.motion(ed.slot).button_data
-                buttons_sel.value = [bit for bit, _ in BUTTON_SYMBOLS if word & bit]
+                self.buttons_sel.value = [bit for bit, _ in BUTTON_SYMBOLS if word & bit]
             pose = ed.pose
-            frames_in.value = pose.speed if pose is not None else None
+            self.frames_in.value = pose.speed if pose is not None else None
             blocks = ed.blocks()
             if ed.slot is not None and blocks:
                 m = ed.project.motion(ed.slot)
                 selectable = {b.entry: b.pose.index for b in blocks if b.pose is not None}
-                chart.set_content(motion_svg(m.frames, m.address, selectable, ed.pose_index))
+                self.chart.set_content(motion_svg(m.frames, m.address, selectable, ed.pose_index))
             else:
-                chart.set_content("")
-            draw_joints()
-            trims_refresh()
-            scene = view[0]
-            if player:
-                player[0].playing = False
-                play.text = "Play"
-            if scene is not None:
-                scene.update(ed.pose_angles())
-            if ed.dirty != guard[0]:
-                guard[0] = ed.dirty
-                client.run_javascript(LEAVE_GUARD.format(on="true" if ed.dirty else "false"))
+                self.chart.set_content("")
+            self.draw_joints()
+            self.trims_refresh()
+            self.player.stop()  # the view shows the edited pose, not the preview
+            if self.scene is not None:
+                self.scene.update(ed.pose_angles())
+            if ed.dirty != self.guard:
+                self.guard = ed.dirty
+                on = "true" if ed.dirty else "false"
+                self.client.run_javascript(LEAVE_GUARD.format(on=on))
         finally:
-            loading[0] = False
-
-    redraw()
+            self.loading = False

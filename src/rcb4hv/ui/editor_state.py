@@ -16,17 +16,17 @@ from pathlib import Path
 from typing import Concatenate, ParamSpec
 
 from rcb4hv.errors import EditError, Rcb4Error
-from rcb4hv.hth4 import Project, dump_motion_xml, parse_project
-from rcb4hv.hth4.keyframes import Keyframe, flowchart_from_keyframes
+from rcb4hv.hth4 import Project, parse_project
+from rcb4hv.hth4.keyframes import chain_flowchart_xml
 from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.hth4.session import EditSession
-from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, SystemRegister
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 from rcb4hv.robot import RobotModel
 from rcb4hv.robot.servos import TRAVEL_DEG
 
-__all__ = ["Editor", "JointRow", "chain_flowchart_xml"]
+__all__ = ["Editor", "JointRow"]
 
 P = ParamSpec("P")
 
@@ -41,27 +41,6 @@ class JointRow:
     degrees: float
     lower: float
     upper: float
-
-
-def chain_flowchart_xml(project: Project, slot: int) -> bytes | None:
-    """A HeartToHeart4 flowchart (``.xml``) of motion ``slot`` when it is a plain chain of
-    poses (then its boxes are ``Pos`` boxes, as :func:`flowchart_from_keyframes` draws them);
-    None for a motion with other blocks (branches, settings), whose boxes a project does not
-    keep."""
-    m = project.motion(slot)
-    blocks = list(motion_blocks(m))
-    while blocks and blocks[-1].kind == "Return":
-        blocks.pop()
-    if not blocks or any(b.pose is None for b in blocks):
-        return None
-    period = SystemRegister.from_word(project.system_register).frame_period_ms
-    frames = [
-        Keyframe(b.pose.speed * period / 1000, b.pose.values) for b in blocks if b.pose is not None
-    ]
-    try:
-        return dump_motion_xml(flowchart_from_keyframes(frames, period))
-    except ValueError:
-        return None
 
 
 class Editor:

@@ -1,15 +1,17 @@
 """A motion as a sequence of timed poses, for the 3D preview (no browser code here).
 
-A :class:`Playback` is what a simulation of one motion produced: frames of (virtual time,
-joint angles, base pose) and, from physics, when the robot fell. Two sources make them:
+A :class:`Playback` is what a simulation of one motion produced: poses of (virtual time,
+joint angles, base pose) and, from physics, when the robot fell. Both sources run the motion
+through the one run API (:func:`rcb4hv.project.run.run_motions`, its defaults):
 
-* :func:`simulated_playback`: the plain simulator (:mod:`rcb4hv.project.simulate`): the
-  servo values the board sends each output period (output + trim + mixing) less each
-  servo block's trim, through the model's joint map
-  (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). It has no
-  base pose (the 3D view stands the robot on its feet) and cannot tell a fall.
-* :func:`physics_playback`: MuJoCo (:mod:`rcb4hv.physics`, the ``[sim]`` extra): measured
-  joint angles, the base pose and the fall.
+* :func:`simulated_playback`: the plain simulator: the values the board sends each output
+  period to the servos at an angle, less each servo block's trim
+  (:meth:`~rcb4hv.emulator.Board.sent_angles`, the board's one free/hold/angle rule), through
+  the model's joint map (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). It has no base
+  pose (the 3D view stands the robot on its feet) and cannot tell a fall.
+* :func:`physics_playback`: MuJoCo (:mod:`rcb4hv.physics`, the ``[sim]`` extra): the run's
+  :class:`~rcb4hv.project.physicsresult.TrackPoint` of every output period (measured joint
+  angles and the torso's pose) and the fall.
 """
 
 from __future__ import annotations
@@ -18,22 +20,17 @@ import bisect
 import importlib.util
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 from rcb4hv.emulator import Board
 from rcb4hv.hth4 import Project
-from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
-from rcb4hv.protocol.memory import NO_BLOCK, SERVO
+from rcb4hv.project.physicsresult import TrackPoint
+from rcb4hv.project.relocate import project_image
+from rcb4hv.project.run import run_motions
 from rcb4hv.robot import RobotModel, Transform
-from rcb4hv.ui.project_actions import project_image, run_motion
-
-if TYPE_CHECKING:
-    from rcb4hv.physics import PhysicsBackend, PhysicsWorld
 
 __all__ = [
-    "Frame",
     "Playback",
-    "board_trims",
+    "TimedPose",
     "physics_available",
     "physics_playback",
     "simulated_playback",
@@ -41,8 +38,8 @@ __all__ = [
 
 
 @dataclass(frozen=True, slots=True)
-class Frame:
-    """One pose: ``t`` seconds from the motion's start, joint angles in radians by joint
+class TimedPose:
+    """The robot at ``t`` seconds from the motion's start: joint angles in radians by joint
     name, and the base (root link) pose, or None when the source does not know it."""
 
     t: float
@@ -52,11 +49,11 @@ class Frame:
 
 @dataclass(frozen=True)
 class Playback:
-    """A motion's frames in time order; ``fell_at`` (seconds) when physics saw a fall."""
+    """A motion's poses in time order; ``fell_at`` (seconds) when physics saw a fall."""
 
     slot: int
     name: str
-    frames: tuple[Frame, ...]
+    frames: tuple[TimedPose, ...]
     status: str
     source: str = "simulator"
     fell_at: float | None = None
@@ -75,8 +72,8 @@ class Playback:
     def duration(self) -> float:
         return self.frames[-1].t
 
-    def at(self, t: float) -> Frame:
-        """The frame shown at time ``t``: the last one at or before it (the first before 0)."""
+    def at(self, t: float) -> TimedPose:
+        """The pose shown at time ``t``: the last one at or before it (the first before 0)."""
         i = bisect.bisect_right(self.times, t) - 1
         return self.frames[max(i, 0)]
 
@@ -84,78 +81,55 @@ class Playback:
         return self.fell_at is not None and t >= self.fell_at
 
 
-def board_trims(board: Board) -> dict[int, int]:
-    """Each allocated servo's trim (the servo block's base value) by ICS number."""
-    out: dict[int, int] = {}
-    for ics in board.servo_outputs():
-        blk = board.alloc(ics)
-        if blk != NO_BLOCK:
-            out[ics] = SERVO.F_BASE.get(board.ram, blk)
-    return out
-
-
-def _frame(model: RobotModel, t: float, sent: dict[int, int], trims: dict[int, int]) -> Frame:
-    """The pose of the values ``sent`` to the servos: each less its trim is the block's
-    output (motion space; free and hold are sent with the trim added too, spec 9), and free
-    or held servos are left out."""
-    # the board adds in 16-bit words (spec 9), so taking the trim off wraps the same way
-    motion = {k: (v - trims.get(k, 0)) & 0xFFFF for k, v in sent.items()}
-    held = {k: v for k, v in motion.items() if v not in (POSITION_FREE, POSITION_HOLD)}
-    return Frame(round(t, 6), model.motion_angles(held))
-
-
-def simulated_playback(
-    project: Project, slot: int, model: RobotModel, *, limit: float = 60.0
-) -> Playback:
+def simulated_playback(project: Project, slot: int, model: RobotModel) -> Playback:
     """Play motion ``slot`` of ``project`` in the plain simulator (virtual time) and record
     the pose of every output period, from the pose the board holds before the motion."""
-    samples: list[tuple[float, dict[int, int]]] = []
-    result, sim = run_motion(
-        project, slot, lambda t, values: samples.append((t, values)), limit=limit
-    )
-    trims = board_trims(sim.board)
-    frames = [_frame(model, t, v, trims) for t, v in samples]
-    if not frames or frames[0].t > 0:
-        start = samples[0][1] if samples else sim.board.servo_outputs()
-        frames.insert(0, _frame(model, 0.0, start, trims))
-    return Playback(slot, result.name, tuple(frames), result.status)
+    image, layout = project_image(project)
+    samples: list[tuple[float, dict[int, int | None]]] = []
+
+    def listen(t: float, board: Board) -> None:
+        samples.append((t, board.sent_angles(trim=False)))
+
+    name = project.motion(slot).name or ""
+    run = run_motions(image, [slot], names={slot: name}, motion_layout=layout, listener=listen)
+    m = run.motions[0]
+    frames = [
+        TimedPose(
+            round(t - m.start_s, 6),
+            model.motion_angles({k: v for k, v in values.items() if v is not None}),
+        )
+        for t, values in samples
+        if t >= m.start_s
+    ]
+    return Playback(slot, m.result.name, tuple(frames), m.result.status)
 
 
 def physics_playback(project: Project, slot: int, model: RobotModel) -> Playback:
     """Play motion ``slot`` of ``project`` with physics (:mod:`rcb4hv.project.physics_sim`):
-    the robot stands and settles in the pose the board holds after boot, then plays; frames
-    are the simulated joint angles and root pose of every output period, from the motion's
-    start until the robot has settled after it. Raises
+    the robot stands and settles in the pose the board holds after boot, then plays; poses
+    are the run's track (simulated joint angles and root pose of every output period), from
+    the motion's start until the robot has settled after it. Raises
     :class:`~rcb4hv.errors.PhysicsUnavailableError` without MuJoCo."""
-    from rcb4hv.project.physics_sim import PhysicsSimulator
-    from rcb4hv.project.relocate import project_layout
-
-    sim = PhysicsSimulator(project_image(project), model, motion_layout=project_layout(project))
-    sim.boot()
-    assert sim.backend is not None  # boot() attaches it
-    frames: list[Frame] = []
-    t0 = sim.backend.board_time
-    world = sim.world
-
-    def observe(backend: PhysicsBackend) -> None:
-        frames.append(Frame(round(backend.board_time - t0, 6), world.joint_angles(), _root(world)))
-
-    frames.append(Frame(0.0, world.joint_angles(), _root(world)))
-    sim.backend.observers.append(observe)
-    m = project.motion(slot)
-    result = sim.play(m.address, slot=slot, name=m.name or "")
-    outcome = sim.outcomes[-1]
-    return Playback(slot, result.name, tuple(frames), result.status, "physics", outcome.fell_at_s)
+    image, layout = project_image(project)
+    name = project.motion(slot).name or ""
+    run = run_motions(
+        image, [slot], names={slot: name}, motion_layout=layout, robot=model, track=True
+    )
+    m = run.motions[0]
+    assert m.outcome is not None and m.track  # a physics run with track
+    t0 = m.track[0].t
+    frames = tuple(TimedPose(round(p.t - t0, 6), dict(p.angles), _root(p)) for p in m.track)
+    return Playback(slot, m.result.name, frames, m.result.status, "physics", m.outcome.fell_at_s)
 
 
-def _root(world: PhysicsWorld) -> Transform:
-    """The root link's world transform (MuJoCo's free joint: position, then the unit
-    quaternion w, x, y, z)."""
-    x, y, z, w, qx, qy, qz = (float(v) for v in world.d.qpos[0:7])
+def _root(p: TrackPoint) -> Transform:
+    """The root link's world transform from its position and unit quaternion (w, x, y, z).
+    (To move into ``rcb4hv.robot.geometry`` once that module lands.)"""
+    w, qx, qy, qz = p.quat
     return (
-        (1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - w * qz), 2 * (qx * qz + w * qy), x),
-        (2 * (qx * qy + w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - w * qx), y),
-        (2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy), z),
+        (1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - w * qz), 2 * (qx * qz + w * qy), p.x),
+        (2 * (qx * qy + w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - w * qx), p.y),
+        (2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy), p.z),
         (0.0, 0.0, 0.0, 1.0),
     )
 

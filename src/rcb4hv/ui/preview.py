@@ -3,6 +3,9 @@ played in the 3D view with play / pause and a time scrubber; a fall (from physic
 
 The simulation runs once (in a worker thread) and gives a :class:`~rcb4hv.ui.playback.Playback`;
 playing only picks its frames by time, so scrubbing back and forth costs nothing.
+:class:`PreviewPlayer` is the one preview player: its Play / Pause button, scrubber, status and
+clock (which runs only while a motion plays) around a :class:`Player`; this page and the
+Editor page both use it.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from rcb4hv.ui.playback import (
 )
 from rcb4hv.ui.scene3d import RobotScene
 
-__all__ = ["FRAME_PERIOD_S", "Player", "build", "make_playback"]
+__all__ = ["FRAME_PERIOD_S", "Player", "PreviewPlayer", "build", "make_playback"]
 
 FRAME_PERIOD_S = 1 / 30
 """The player's clock tick: 30 frames a second, twice the rate the eye needs to see smooth
@@ -50,7 +53,6 @@ class Player:
         self.playing = False
         self._wall: float | None = None
         self._quiet = False
-        scrubber.on_value_change(lambda e: self._scrubbed(e.value))
 
     def load(self, playback: Playback) -> None:
         self.playback = playback
@@ -74,7 +76,8 @@ class Player:
         fall = "" if pb.fell_at is None else f" - FELL at {pb.fell_at:.2f} s"
         self.status.text = f"t = {self.t:.2f} / {pb.duration:.2f} s{fall}"
 
-    def _scrubbed(self, value: float | None) -> None:
+    def scrubbed(self, value: float | None) -> None:
+        """The user moved the scrubber to ``value``: pause there."""
         if not self._quiet and value is not None:
             self.playing = False
             self.seek(float(value))
@@ -101,6 +104,64 @@ class Player:
             self.playing = False
 
 
+class PreviewPlayer:
+    """The preview player's controls around a :class:`Player`: the Play / Pause button
+    (``play``, its text and icon follow the player), the ``scrubber`` and ``status``, and the
+    clock, active only while a motion plays. :meth:`show` puts a new 3D view behind the
+    controls (None: none), :meth:`load` plays a new playback from its start, :meth:`stop`
+    pauses (e.g. when the pose it shows is edited)."""
+
+    def __init__(self, play: ui.button, scrubber: ui.slider, status: ui.label) -> None:
+        self.play = play
+        self.scrubber = scrubber
+        self.status = status
+        self.player: Player | None = None
+        self.clock = ui.timer(FRAME_PERIOD_S, self._tick, active=False)
+        play.on_click(self.toggle)
+        scrubber.on_value_change(lambda e: self._scrubbed(e.value))
+
+    def show(self, view: RobotScene | None) -> None:
+        self.player = None if view is None else Player(view, self.status, self.scrubber)
+        self._show_state()
+
+    def load(self, playback: Playback) -> None:
+        if self.player is not None:
+            self.player.load(playback)
+            self.toggle()
+
+    def toggle(self) -> None:
+        if self.player is not None and self.player.playback is not None:
+            self.player.toggle()
+        self._show_state()
+
+    def stop(self) -> None:
+        if self.player is not None:
+            self.player.playing = False
+        self._show_state()
+
+    @property
+    def playing(self) -> bool:
+        return self.player is not None and self.player.playing
+
+    def _scrubbed(self, value: float | None) -> None:
+        if self.player is not None:
+            self.player.scrubbed(value)
+            self._show_state()
+
+    def _tick(self) -> None:
+        if self.player is not None:
+            self.player.tick()
+        self._show_state()
+
+    def _show_state(self) -> None:
+        playing = self.playing
+        self.clock.active = playing  # the clock only runs while a motion plays
+        text = "Pause" if playing else "Play"
+        if self.play.text != text:
+            self.play.text = text
+            self.play.props(f"icon={'pause' if playing else 'play_arrow'}")
+
+
 def build(ctx: UiContext, motions: ui.table) -> None:
     with ui.row().classes("items-center"):
         run = tid(ui.button("Preview selected motion", icon="view_in_ar"), "preview-run")
@@ -115,21 +176,21 @@ def build(ctx: UiContext, motions: ui.table) -> None:
     scrubber.classes("w-full")
     status = tid(ui.label(""), "preview-status")
     holder = ui.column()
-    player: list[Player] = []
+    player = PreviewPlayer(play, scrubber, status)
     shown: list[RobotModel | None] = [None]
 
     def make_view() -> None:
         holder.clear()
-        player.clear()
         shown[0] = ctx.robot
         if ctx.robot is None:
+            player.show(None)
             with holder:
                 ui.label("no robot model (rcb4hv ui --robot NAME|FILE)")
             return
         with holder:
             view = RobotScene(ctx.robot, width=560, height=480)
             tid(view.scene, "preview-3d")
-        player.append(Player(view, status, scrubber))
+        player.show(view)
 
     def model_changed() -> None:
         if holder.is_deleted:  # its browser tab is gone
@@ -140,31 +201,9 @@ def build(ctx: UiContext, motions: ui.table) -> None:
     make_view()
     ctx.on_project(model_changed)
 
-    def show_state() -> None:
-        playing = bool(player) and player[0].playing
-        clock.active = playing  # the clock only runs while a motion plays
-        text = "Pause" if playing else "Play"
-        if play.text != text:
-            play.text = text
-            play.props(f"icon={'pause' if playing else 'play_arrow'}")
-
-    def tick() -> None:
-        if player:
-            player[0].tick()
-            show_state()
-
-    clock = ui.timer(FRAME_PERIOD_S, tick, active=False)
-
-    def toggle() -> None:
-        if player:
-            player[0].toggle()
-            show_state()
-
-    play.on_click(toggle)
-
     async def preview() -> None:
         project, model = ctx.project, ctx.robot
-        if project is None or model is None or not player:
+        if project is None or model is None or player.player is None:
             ui.notify("open a project (and give a robot model) first", type="warning")
             return
         slot = int(motions.selected[0]["slot"]) if motions.selected else None
@@ -181,11 +220,10 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         except (Rcb4Error, ValueError) as exc:
             info.text = f"cannot simulate motion {slot}: {exc}"
             return
-        player[0].load(pb)
+        player.load(pb)
         info.text = (
             f"motion {pb.slot} {pb.name}: {pb.status}, {pb.duration:.2f} s, "
             f"{len(pb.frames)} frames ({pb.source})"
         )
-        toggle()
 
     run.on_click(preview)

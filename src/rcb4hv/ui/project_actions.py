@@ -11,12 +11,13 @@ from dataclasses import dataclass, field
 from nicegui import ui
 
 from rcb4hv.client import Robot
+from rcb4hv.emulator import Board
 from rcb4hv.hth4 import Project
-from rcb4hv.project.image import build_project_image
-from rcb4hv.project.relocate import project_layout
-from rcb4hv.project.simulate import MotionResult, SampleListener, Simulator
+from rcb4hv.project.relocate import project_image
+from rcb4hv.project.run import run_motions
+from rcb4hv.project.simresult import MotionResult
 from rcb4hv.project.upload import UploadResult, upload_image
-from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, position_to_degrees
+from rcb4hv.protocol import position_to_degrees
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.plot import angle_chart, set_series
 
@@ -26,8 +27,6 @@ __all__ = [
     "build",
     "built_image",
     "confirm",
-    "project_image",
-    "run_motion",
     "simulate_motion",
 ]
 
@@ -39,15 +38,12 @@ SAMPLE_EVERY = 2
 """Keep every 2nd output period of a simulation for the plot."""
 
 
-def project_image(project: Project) -> bytes:
-    """The ROM image of ``project`` in its own HeartToHeart4 layout."""
-    return build_project_image(project, project_layout(project))
-
-
 def built_image(project: Project) -> bytes | None:
-    """:func:`project_image`, or None after telling the user why it cannot be built."""
+    """The ROM image of ``project`` in its own HeartToHeart4 layout
+    (:func:`rcb4hv.project.relocate.project_image`), or None after telling the user why it
+    cannot be built."""
     try:
-        return project_image(project)
+        return project_image(project)[0]
     except ValueError as exc:
         ui.notify(f"cannot build: {exc}", type="negative", multi_line=True)
         return None
@@ -78,42 +74,27 @@ class SimulationTrace:
     series: dict[int, list[tuple[float, float]]] = field(default_factory=dict)
 
 
-def run_motion(
-    project: Project, slot: int, listen: SampleListener, *, limit: float = 60.0
-) -> tuple[MotionResult, Simulator]:
-    """Boot the project's image in a virtual-time emulator, then play ``slot``;
-    ``listen(t, {ics: sent value})`` hears every output period of the play, ``t`` in seconds
-    from its start. Returns the result and the simulator (its board holds the end state)."""
-    t0: list[float | None] = [None]
+def simulate_motion(project: Project, slot: int) -> SimulationTrace:
+    """Boot the project's image in a virtual-time emulator and play ``slot`` (the one run
+    API, :func:`rcb4hv.project.run.run_motions`, and its defaults); record the angle of every
+    servo at an angle (the board's own free/hold rule) each other output period, from the
+    motion's start."""
+    samples: list[tuple[float, dict[int, int | None]]] = []
 
-    def relay(t: float, values: dict[int, int]) -> None:
-        if t0[0] is not None:
-            listen(t - t0[0], values)
+    def listen(t: float, board: Board) -> None:
+        samples.append((t, board.sent_angles()))
 
-    sim = Simulator(project_image(project), listener=relay)
-    sim.boot()
-    m = project.motion(slot)
-    t0[0] = sim.now
-    return sim.play(m.address, slot=slot, name=m.name or "", limit=limit), sim
-
-
-def simulate_motion(project: Project, slot: int, *, limit: float = 60.0) -> SimulationTrace:
-    """Boot the project's image in a virtual-time emulator and play ``slot``; record the
-    angle of every servo each other output period."""
+    image, layout = project_image(project)
+    name = project.motion(slot).name or ""
+    run = run_motions(image, [slot], names={slot: name}, motion_layout=layout, listener=listen)
+    m = run.motions[0]
     series: dict[int, list[tuple[float, float]]] = {}
-    count = [0]
-
-    def listen(t: float, values: dict[int, int]) -> None:
-        count[0] += 1
-        if count[0] % SAMPLE_EVERY:
-            return
+    played = [(t - m.start_s, values) for t, values in samples if t >= m.start_s]
+    for t, values in played[::SAMPLE_EVERY]:
         for k, v in values.items():
-            if v in (POSITION_HOLD, POSITION_FREE):
-                continue
-            series.setdefault(k, []).append((round(t, 3), round(position_to_degrees(v), 2)))
-
-    result, _ = run_motion(project, slot, listen, limit=limit)
-    return SimulationTrace(result, series)
+            if v is not None:
+                series.setdefault(k, []).append((round(t, 3), round(position_to_degrees(v), 2)))
+    return SimulationTrace(m.result, series)
 
 
 def build(ctx: UiContext, motions: ui.table) -> None:

@@ -18,9 +18,9 @@ from rcb4hv.hth4.keyframes import (
     free_slots,
     motion_from_keyframes,
 )
-from rcb4hv.project.image import build_project_image
-from rcb4hv.project.relocate import project_layout
-from rcb4hv.project.simulate import MotionResult, Simulator
+from rcb4hv.project.relocate import project_image, project_layout
+from rcb4hv.project.run import run_motions
+from rcb4hv.project.simresult import MotionResult
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, SystemRegister
 from rcb4hv.session import StepJob
 from rcb4hv.ui.context import UiContext, guarded, tid
@@ -54,9 +54,8 @@ def save_keyframes(
     again = parse_project(data)
     if dump_project(again) != data:
         raise ValueError("the saved project does not round-trip byte for byte")
-    sim = Simulator(build_project_image(again, layout), motion_layout=layout)
-    sim.boot()
-    result = sim.play(motion.address, slot=slot, name=name)
+    image, built = project_image(again)
+    result = run_motions(image, [slot], names={slot: name}, motion_layout=built).results[0]
     if result.status != "completed":
         raise ValueError(
             f"the new motion did not complete in simulation: {result.status} {result.detail}"

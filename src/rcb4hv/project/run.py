@@ -1,0 +1,184 @@
+"""The one way to run a project's motions in simulation: :func:`run_motions`.
+
+The CLI (``project simulate``, ``project check --physics``), the dashboard (the Project page's
+simulation and the 3D preview), the benchmarks and the tests all call it, so one set of
+defaults holds everywhere:
+
+* ``limit=None`` (the default): a plain run lets a motion go on while it makes progress
+  (:data:`~rcb4hv.project.simulate.PROGRESS_WINDOW`, at most
+  :data:`~rcb4hv.project.simulate.MAX_LIMIT`); a physics run stops each motion after
+  :data:`~rcb4hv.project.simulate.DEFAULT_LIMIT` (a robot in physics never stops changing its
+  measured positions and sensors for certain, so the motion's own progress cannot end it);
+* the board boots once (``Simulator.boot``) and the motions play one after another on it; with
+  physics (``robot``) each motion gets a freshly booted robot stood on the floor in ``start``
+  unless ``sequence`` (one robot for all, as a user plays them);
+* ``listener(board_time_s, board)`` hears every output period of the run and each motion's
+  start: ask the board what it sends (:meth:`~rcb4hv.emulator.Board.sent_angles`, the one
+  free/hold/angle rule);
+* ``progress`` hears each motion as it ends.
+
+The answer, :class:`~rcb4hv.project.runresult.SimulationRun`, has one JSON form (``--json``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING
+
+from rcb4hv.emulator import Board
+from rcb4hv.project.runresult import MotionRun, SimulationRun
+from rcb4hv.project.simulate import DEFAULT_LIMIT, Simulator
+
+if TYPE_CHECKING:
+    from rcb4hv.project.physics_sim import PhysicsSimulator, StartPose
+    from rcb4hv.robot.model import RobotModel
+    from rcb4hv.rom.layout import MotionLayout
+
+__all__ = ["RunListener", "run_motions"]
+
+RunListener = Callable[[float, Board], None]
+"""Called with the board time (s) and the board after every output period, and at each
+motion's start."""
+
+
+def run_motions(
+    image: bytes,
+    slots: Sequence[int],
+    *,
+    names: Mapping[int, str] | None = None,
+    motion_layout: MotionLayout | None = None,
+    limit: float | None = None,
+    hold: int = 0,
+    hold_for: float = 0.0,
+    robot: RobotModel | None = None,
+    sequence: bool = False,
+    start: StartPose = "upright",
+    track: bool = False,
+    listener: RunListener | None = None,
+    progress: Callable[[MotionRun], None] | None = None,
+) -> SimulationRun:
+    """Boot ``image`` and play motion ``slots`` (see the module docstring for the defaults).
+
+    ``names``: motion names by slot; ``hold``: a button word held for ``hold_for`` seconds as
+    each motion starts; ``robot``: play on this robot in MuJoCo (``start``, ``sequence``,
+    ``track``: keep the robot's path and pictures). A boot that fails is reported in the
+    answer and the motions are still played from the host (spec 11.4).
+    """
+    names = names or {}
+    t0 = time.perf_counter()
+    if robot is None:
+        if sequence or track or start != "upright":
+            raise ValueError("sequence, track and start set up the robot of a physics run")
+        sim = Simulator(image, motion_layout=motion_layout)
+        return _play(sim, slots, names, limit, hold, hold_for, listener, progress, t0)
+    return _run_physics(
+        image, slots, names, motion_layout, robot, limit if limit is not None else DEFAULT_LIMIT,
+        hold, hold_for, sequence, start, track, listener, progress, t0,
+    )  # fmt: skip
+
+
+def _play(
+    sim: Simulator,
+    slots: Sequence[int],
+    names: Mapping[int, str],
+    limit: float | None,
+    hold: int,
+    hold_for: float,
+    listener: RunListener | None,
+    progress: Callable[[MotionRun], None] | None,
+    t0: float,
+) -> SimulationRun:
+    if listener is not None:
+        _attach(listener, sim.board)
+    boot = sim.boot()
+    runs = []
+    for slot in slots:
+        run = _one(sim, slot, names, limit, hold, hold_for, listener)
+        runs.append(run)
+        if progress is not None:
+            progress(run)
+    return SimulationRun(boot, tuple(runs), sim.now, time.perf_counter() - t0)
+
+
+def _attach(listener: RunListener, board: Board) -> None:
+    """Let ``listener`` hear every output period of ``board``."""
+
+    def relay(t: float, _outs: dict[int, int]) -> None:
+        listener(t, board)
+
+    board.add_output_listener(relay)
+
+
+def _one(
+    sim: Simulator,
+    slot: int,
+    names: Mapping[int, str],
+    limit: float | None,
+    hold: int,
+    hold_for: float,
+    listener: RunListener | None,
+) -> MotionRun:
+    """Play ``slot`` on ``sim``: a :class:`MotionRun` (with physics: the simulator's own)."""
+    from rcb4hv.project.physics_sim import PhysicsSimulator  # no MuJoCo needed to import
+
+    start_s = sim.now
+    if listener is not None:
+        listener(start_s, sim.board)
+    address = sim.layout.address(slot)
+    name = names.get(slot, "")
+    r = sim.play(address, slot=slot, name=name, hold=hold, hold_for=hold_for, limit=limit)
+    if isinstance(sim, PhysicsSimulator):
+        return sim.runs[-1]
+    return MotionRun(r, start_s=start_s)
+
+
+def _run_physics(
+    image: bytes,
+    slots: Sequence[int],
+    names: Mapping[int, str],
+    motion_layout: MotionLayout | None,
+    robot: RobotModel,
+    limit: float,
+    hold: int,
+    hold_for: float,
+    sequence: bool,
+    start: StartPose,
+    track: bool,
+    listener: RunListener | None,
+    progress: Callable[[MotionRun], None] | None,
+    t0: float,
+) -> SimulationRun:
+    from rcb4hv.physics import engine_version
+    from rcb4hv.project.physics_sim import SETTLE_S, PhysicsSimulator, pose_name
+    from rcb4hv.project.physicsresult import PhysicsSetup
+
+    engine = engine_version()
+    runs: list[MotionRun] = []
+    virtual = 0.0
+    first: PhysicsSimulator | None = None
+    sim: PhysicsSimulator | None = None
+    for slot in slots:
+        if sim is None or not sequence:
+            if sim is not None:
+                virtual += sim.now
+            sim = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track,
+                                   start=start)  # fmt: skip
+            if listener is not None:
+                _attach(listener, sim.board)
+            sim.boot()
+            first = first or sim
+        run = _one(sim, slot, names, limit, hold, hold_for, listener)
+        runs.append(run)
+        if progress is not None:
+            progress(run)
+    if sim is None or first is None or first.boot_result is None or first.settled is None:
+        raise ValueError("no motions to play")
+    virtual += sim.now
+    settled = first.settled
+    setup = PhysicsSetup(
+        robot.name, engine, start, SETTLE_S, pose_name(settled), math.degrees(settled.tilt)
+    )
+    wall = time.perf_counter() - t0
+    return SimulationRun(first.boot_result, tuple(runs), virtual, wall, setup)
