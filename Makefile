@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test docs package bench fuzz reliability screenshots clean
+.PHONY: demo test docs package bench fuzz reliability sensitivity screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -58,16 +58,22 @@ bench: $(VENV)/.installed-bench
 screenshots: $(VENV)/.installed-dev
 	rm -rf build/screenshots
 	tools/ensure-browser $(BIN)/python
-	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py
+	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py tests/ui/test_posing_browser.py
 	mkdir -p docs
 	cp build/screenshots/servos.png build/screenshots/remote.png build/screenshots/project.png docs/
 	cp build/screenshots/3d-view.png build/screenshots/3d-preview.png docs/
+	cp build/screenshots/posing-handles.png build/screenshots/posing-balance.png docs/
 
 fuzz: $(VENV)/.installed-dev
 	HYPOTHESIS_PROFILE=fuzz RCB4HV_FUZZ_EXAMPLES=20000 $(BIN)/pytest -q tests/reliability -k fuzz --timeout=0
 
 reliability: $(VENV)/.installed-dev
 	$(BIN)/python -m bench.reliability
+
+# which physics verdicts flip when a chosen constant changes (~10 CPU-minutes; docs/physics.md)
+# SENSITIVITY_EXTRA=DIR adds every .h4p below DIR (e.g. local copies of Kondo's samples)
+sensitivity: $(VENV)/.installed-dev
+	nice -n 10 $(BIN)/python -m bench.sensitivity $(if $(SENSITIVITY_EXTRA),--extra $(SENSITIVITY_EXTRA))
 
 clean:
 	rm -rf $(VENV) .build .mypy_cache .pytest_cache .ruff_cache build/screenshots

@@ -28,6 +28,7 @@ MODULES = (
     "bench.bench_peer",
     "bench.bench_ui",
     "bench.bench_view3d",
+    "bench.bench_ik",
 )
 
 RESULTS = Path(__file__).resolve().parent / "results.json"

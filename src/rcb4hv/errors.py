@@ -19,7 +19,9 @@
     ├── EditError                  a motion edit that is refused (range, joint limit, slot in
     │   │                          use, a block that is not a pose); also a ValueError
     │   └── NoRobotModelError      an edit that needs a robot model (mirroring) without one;
-    │                              also a RobotModelError
+    │       │                      also a RobotModelError
+    │       └── AmbiguousRobotError  a project whose kit evidence fits several models: lists
+    │                              the candidates (``--robot`` picks one)
     ├── SimulationError            the emulated board refused a host frame in a simulation
     ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
     │                              unknown robot name, a link without inertia, a joint map
@@ -40,6 +42,7 @@ escapes is a bug.
 from __future__ import annotations
 
 __all__ = [
+    "AmbiguousRobotError",
     "AsmError",
     "ChecksumError",
     "CommandNotAllowedError",
@@ -50,6 +53,7 @@ __all__ = [
     "Hth4FormatError",
     "IcsError",
     "IcsNoReply",
+    "JointLimitError",
     "LayoutError",
     "NakError",
     "NoRobotModelError",
@@ -171,9 +175,23 @@ class EditError(Rcb4Error, ValueError):
     limits (without the override), a slot in use, a block that is not a pose."""
 
 
+class JointLimitError(EditError):
+    """A pose value beyond a joint's hard (mechanical) limits, without the override. A value
+    only outside the joint's advisory range is never refused: it warns."""
+
+
 class NoRobotModelError(EditError, RobotModelError):
     """An edit that needs the robot's joint map (mirroring, joint angles) on a project whose
     robot has no model: name one (``--robot``)."""
+
+
+class AmbiguousRobotError(NoRobotModelError):
+    """A project whose title and servo names fit more than one robot model: detection stops
+    and lists them (``candidates``: model names for ``--robot``) rather than guess."""
+
+    def __init__(self, message: str, candidates: tuple[str, ...] = ()) -> None:
+        super().__init__(message)
+        self.candidates = candidates
 
 
 class PhysicsError(Rcb4Error):

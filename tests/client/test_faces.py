@@ -69,6 +69,7 @@ K = 2
 """An ICS number with a servo in the emulator's default image."""
 
 CALLS: dict[str, Callable[[Any], Any]] = {
+    "ad_readings": lambda r: r.ad_readings(),
     "ad_values": lambda r: r.ad_values(),
     "allocation_table": lambda r: r.allocation_table(),
     "angles": lambda r: r.angles([K, 3], kind="output"),

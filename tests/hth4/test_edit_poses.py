@@ -82,12 +82,15 @@ def test_set_pose_changes_one_entry_only(project: hth4.Project) -> None:
 
 
 def test_edits_check_documented_ranges_and_joint_limits(project: hth4.Project) -> None:
-    with pytest.raises(EditError, match=r"outside the documented 3500\.\.11500"):
-        set_pose(project, TURN_LEFT, 0, {10: 12000})
+    # past the documented 3500..11500 only warns (Kondo's own motions command 12700)
+    kept = set_pose(project, TURN_LEFT, 0, {10: 12000})
+    assert motion_poses(kept.motion(TURN_LEFT))[0].values[10] == 12000
+    with pytest.raises(EditError, match=r"20000 is no ICS position"):
+        set_pose(project, TURN_LEFT, 0, {10: 20000})
     with pytest.raises(EditError, match="frame count 0"):
         set_pose(project, TURN_LEFT, 0, speed=0)
-    forced = set_pose(project, TURN_LEFT, 0, {10: 12000}, checks=Checks(force=True))
-    assert motion_poses(forced.motion(TURN_LEFT))[0].values[10] == 12000
+    forced = set_pose(project, TURN_LEFT, 0, {10: 20000}, checks=Checks(force=True))
+    assert motion_poses(forced.motion(TURN_LEFT))[0].values[10] == 20000
     narrow = kxr_like(limit=0.1)  # +-5.7 degrees: 8150 counts is 21.9 degrees
     with pytest.raises(EditError, match=r"hip_pitch\): 8150 is 21.9 deg"):
         set_pose(project, TURN_LEFT, 0, {10: 8150}, checks=Checks(narrow))

@@ -51,8 +51,8 @@ def test_undo_redo_and_dirty(copy: Path) -> None:
     s.redo()
     s.apply(set_trim, 10, -240)  # a new edit drops what could be redone
     assert not s.can_redo and s.history == ["set pose", "set trim"]
-    with pytest.raises(EditError, match="outside the documented"):
-        s.apply(set_pose, 69, 0, {10: 1})
+    with pytest.raises(EditError, match="no ICS position"):
+        s.apply(set_pose, 69, 0, {10: 20000})
     assert s.history == ["set pose", "set trim"]  # a refused edit changes nothing
     s.save()
     assert not s.dirty

@@ -33,10 +33,16 @@ def test_detects_names_and_checks_the_project(project: hth4.Project) -> None:
 
 
 def test_nothing_matching_is_a_clear_error(project: hth4.Project) -> None:
+    # one gripper only: the servo names still describe a KXR humanoid (a kit model)
     odd = replace(project, servos=tuple(s for s in project.servos if s.device_number != 19))
+    assert project_model(odd).name == "kxr:L2L5A3G"
+    # names that say nothing, and an index set no built-in model has
+    mute = replace(
+        odd, servos=tuple(replace(s, name=f"servo {s.device_number}") for s in odd.servos)
+    )
     with pytest.raises(NoRobotModelError, match=r"matches this project's servos \[2, 3,") as e:
-        project_model(odd)
-    assert "--robot khr3hv|khr3hv-22|kxr-l2|kxr-l2-gripper|FILE" in str(e.value)
+        project_model(mute)
+    assert "--robot khr3hv|khr3hv-22|kxr-l2|kxr-l2-gripper|kxr:CODE|FILE" in str(e.value)
     with pytest.raises(NoRobotModelError, match="no project servo table"):
         project_model(None, indices=[2, 3])
 
@@ -46,7 +52,10 @@ def test_every_caller_uses_the_same_rule(project: hth4.Project, kxr_project_path
     model, why = choose_robot(None, project, DEFAULT_ICS)
     assert (model.name, why) == ("kxr-l2-gripper", "detected from the project")
     odd = replace(project, servos=tuple(s for s in project.servos if s.device_number != 19))
-    model, why = choose_robot(None, odd, DEFAULT_ICS)
+    model, why = choose_robot(None, odd, DEFAULT_ICS)  # the servo names describe a KXR kit
+    assert (model.name, why) == ("kxr:L2L5A3G", "detected from the project")
+    mute = replace(odd, servos=tuple(replace(s, name="") for s in odd.servos))
+    model, why = choose_robot(None, mute, DEFAULT_ICS)
     assert (model.name, why) == ("khr3hv-22", "matches the board's servos")
     # physics (`project simulate --physics`): a project file, or a bare ROM image (no names)
     rom, _ = project_image(project, None)

@@ -63,18 +63,17 @@ def test_the_60_degree_lean_falls_on_its_front() -> None:
     sim = simulator()
     pitch_rates: list[int] = []
     assert sim.backend is not None
-    sim.backend.observers.append(
-        lambda _: pitch_rates.append(int.from_bytes(sim.board.ram[0x22 + 4 : 0x22 + 6], "little"))
-    )
+    sim.backend.observers.append(lambda _: pitch_rates.append(sim.board.ad_measured(2)))
     sim.play(LAYOUT.address(BAD_SLOT))
-    # the pitch gyro (AD2) saw the fall: pitching forward is a positive rate about y
-    assert max(pitch_rates) > DEFAULT_SENSORS.gyro_zero + 90 * DEFAULT_SENSORS.gyro_counts_per_dps
+    # the pitch gyro (AD2, calibrated: measured = input - reference) saw the fall: pitching
+    # forward is a positive rate about y, which the gyro reads as a falling value (sign -1)
+    assert min(pitch_rates) < -90 * DEFAULT_SENSORS.gyro_counts_per_dps
     out = sim.outcomes[-1]
     assert out.fell and out.fell_at_s is not None and 0.0 < out.fell_at_s < 2.0
     assert out.end_pose == "on_front"
     assert out.max_tilt_deg > 60.0
     # lying on the front the forward accelerometer axis points down: about -1 g on AD5
-    ad5 = int.from_bytes(sim.board.ram[0x22 + 10 : 0x22 + 12], "little")
+    ad5 = sim.board.ad_input(5)
     assert ad5 < DEFAULT_SENSORS.accel_zero - 0.8 * DEFAULT_SENSORS.accel_counts_per_g
 
 

@@ -12,7 +12,6 @@ from rcb4hv.cli.project_common import load_image
 from rcb4hv.emulator import EmulatorConfig
 from rcb4hv.physics import DEFAULT_SENSORS
 from rcb4hv.project.physics_sim import PhysicsSimulator, StartPose
-from rcb4hv.protocol.memory import ADDR
 from rcb4hv.robot.builtin import load_builtin
 from tests.physics.conftest import PROJECT
 
@@ -22,8 +21,7 @@ DETECT, FROM_BACK, FROM_FRONT = 17, 15, 16  # XL2G_117, XL2G_115, XL2G_116
 
 
 def ad(sim: PhysicsSimulator, channel: int) -> int:
-    a = ADDR.AD_VALUES + 2 * channel
-    return int.from_bytes(sim.board.ram[a : a + 2], "little")
+    return sim.board.ad_input(channel)
 
 
 @pytest.mark.parametrize(

@@ -85,10 +85,12 @@ def test_edit_diff_build_simulate(kxr_project_path: Path, tmp_path: Path) -> Non
 
 
 def test_mirror_cli_refuses_without_model(kxr_project_path: Path, tmp_path: Path) -> None:
-    # a project whose servo table matches no built-in model (one servo less)
+    # a project whose servo table matches no built-in model (one servo less) and whose servo
+    # names say nothing (with Kondo's names it is a KXR kit model: rcb4hv.robot.kit)
     p = hth4.load_project(kxr_project_path)
     odd = tmp_path / "odd.h4p"
-    hth4.save_project(replace(p, servos=tuple(s for s in p.servos if s.device_number != 19)), odd)
+    servos = tuple(replace(s, name="") for s in p.servos if s.device_number != 19)
+    hth4.save_project(replace(p, servos=servos), odd)
     kxr_project_path = odd
     out = tmp_path / "x.h4p"
     r = CliRunner().invoke(

@@ -98,7 +98,7 @@ def test_priority_address_minus_one_is_none(xml: str) -> None:
     # low battery: the configured check fires and calls nothing; the original calls slot 40
     for image, depth in ((stub, 0), (skip, 0), (build_project_image(load(xml)), 1)):
         board = _board(image)
-        board.set_ad(0, 100)  # about 2.4 V: below the check's 223
+        board.set_ad_input(0, 100)  # about 2.4 V: below the check's 223
         board.run_for(0.5)
         assert board.system_register & SYS.ROM_RUN
         assert not board.system_register & SYS.ROM_ERROR

@@ -67,17 +67,24 @@ def test_khr_joint_map_matches_facts() -> None:
             assert s.servo is not None and s.servo.name == "KRS-2552RHV"
 
 
-def test_khr_limits_match_facts() -> None:
+def test_khr_limits_hard_is_generous_advisory_covers_robotlearn() -> None:
     for m in (_model("khr3hv"), _model("khr3hv-22")):
         for s in m.servos:
-            if s.index not in KHR_LIMITS_DEG:
-                continue
-            lo, hi = KHR_LIMITS_DEG[s.index]
             j = m.joint(s.joint)
-            # joint angle = sign x servo angle
-            want = sorted((s.sign * lo, s.sign * hi))
-            assert math.degrees(j.lower) == pytest.approx(want[0])
-            assert math.degrees(j.upper) == pytest.approx(want[1])
+            # hard: no public bracket stops, so a generous +-180 deg
+            assert math.degrees(j.lower) == pytest.approx(-180.0)
+            assert math.degrees(j.upper) == pytest.approx(180.0)
+            if s.index not in KHR_LIMITS_DEG:
+                assert j.advisory is None
+                continue
+            # advisory: robotlearn's software limits (joint = sign x servo), widened to what
+            # Kondo's own sample motions use
+            lo, hi = sorted(s.sign * a for a in KHR_LIMITS_DEG[s.index])
+            a_lo, a_hi = (math.degrees(a) for a in j.advisory_range)
+            assert a_lo <= lo + 1e-9 and a_hi >= hi - 1e-9
+    # the hip roll: robotlearn stops it at 0 deg inward; Kondo's walks go 2-4 deg past that
+    lo, hi = _model("khr3hv").joint("l_hip_roll").advisory_range
+    assert math.degrees(lo) < -3.4 and math.degrees(hi) == pytest.approx(30.0)
 
 
 def test_kxr_joint_map_right_is_even() -> None:

@@ -85,6 +85,9 @@ def test_a_side_word_is_read_where_it_stands() -> None:
     assert side_of_name("shoulder_pitch") is None
     assert side_of_name("右肩（ピッチ）") == "right" and side_of_name("左膝") == "left"
     assert side_of_name("Left-Elbow") == "left" and side_of_name("elbow_R") == "right"
+    assert side_of_name("rear left leg roll") == "left"  # "rear" starts with r, names no side
+    assert side_of_name("leg roll") is None and side_of_name("lKnee") == "left"
+    assert side_of_name("bright") is None and side_of_name("左右") is None
     assert even_side({2: "l_shoulder_pitch", 3: "r_shoulder_pitch"}) == "left"
     assert even_side({2: "r_shoulder_pitch", 3: "l_shoulder_pitch"}) == "right"
 
@@ -149,12 +152,15 @@ def test_cli_list_show_export(tmp_path: Path) -> None:
     runner = CliRunner()
     out = runner.invoke(cli, ["robot", "list", "--json"])
     assert out.exit_code == 0, out.output
-    assert [r["name"] for r in json.loads(out.output)] == list(BUILTIN)
+    rows = json.loads(out.output)
+    assert [r["name"] for r in rows if r["family"] is None] == list(BUILTIN)
+    assert {r["family"] for r in rows} >= {"humanoid", "L4D", "L4N", "L4R", "L4T", "L6", "R4LL"}
     out = runner.invoke(cli, ["robot", "show", "khr3hv", "--json"])
     data = json.loads(out.output)
     assert data["servos"] == 17 and data["mass_kg"] == pytest.approx(1.493)
     knee = next(j for j in data["joints"] if j["joint"] == "l_knee_pitch")
-    assert (knee["index"], knee["sign"], knee["lower_deg"], knee["upper_deg"]) == (16, 1, -60, 135)
+    assert (knee["index"], knee["sign"], knee["lower_deg"], knee["upper_deg"]) == (16, 1, -180, 180)
+    assert knee["advisory_deg"] == [-60, 135]  # robotlearn's software limits
     out = runner.invoke(cli, ["robot", "show", "kxr-l2-gripper"])
     assert out.exit_code == 0 and "r_gripper" in out.output
     urdf, jmap = tmp_path / "k.urdf", tmp_path / "k.toml"

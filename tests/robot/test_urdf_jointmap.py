@@ -81,6 +81,9 @@ def test_urdf_round_trip(name: str, tmp_path: Path) -> None:
             assert a.xyz == pytest.approx(b.xyz, abs=1e-9)
             assert a.axis == pytest.approx(b.axis)
             assert (a.lower, a.upper) == pytest.approx((b.lower, b.upper), abs=1e-8)
+            # the advisory range travels as <safety_controller>'s soft limits
+            assert a.advisory_range == pytest.approx(b.advisory_range, abs=1e-8)
+            assert (a.advisory is None) == (b.advisory is None)
         assert [(s.index, s.joint, s.sign, s.offset) for s in back.servos] == [
             (s.index, s.joint, s.sign, s.offset) for s in model.servos
         ]

@@ -37,9 +37,9 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         one(user, "editor-raw-10").set_value(7700)
         await until(lambda: "1 edits" in one(user, "editor-status").text)
         assert "unsaved" in one(user, "editor-status").text
-        # out of the documented range: refused with the reason, nothing changes
+        # past the hip's mechanical limit: refused with the reason, nothing changes
         one(user, "editor-raw-10").set_value(12000)
-        await user.should_see("outside the documented 3500..11500")
+        await user.should_see("outside the joint's hard (mechanical) limits")
         assert "1 edits" in one(user, "editor-status").text
         # undo / redo
         user.find(marker="editor-undo").click()

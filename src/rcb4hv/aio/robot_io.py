@@ -12,16 +12,17 @@ from asyncio import sleep
 
 from rcb4hv.aio.client import AsyncRcb4Client
 from rcb4hv.protocol.memory import (
-    AD_CHANNELS,
-    AD_MASK,
+    AD_READINGS,
     ADDR,
     PA_VALUES,
     PIO_MASK,
     PIO_WORDS,
     U16_BE,
     USER_VARIABLES,
+    AdReadings,
     Button,
     TimerState,
+    ad_readings,
     ad_volts,
     read_buttons,
     read_s16,
@@ -76,9 +77,13 @@ class AsyncRobotIO:
     # ------------------------------------------------------------------ sensors and PIO
 
     async def ad_values(self) -> list[int]:
-        """AD0-AD10 (10-bit) in one frame."""
-        raw = await self.client.read_ram(ADDR.AD_VALUES, AD_CHANNELS.size)
-        return [v & AD_MASK for v in AD_CHANNELS.unpack(raw)]
+        """AD0-AD10's measured registers in one frame: the input minus the channel's reference
+        (spec 10.4), signed (a gyro at rest reads about 0)."""
+        return list((await self.ad_readings()).measured)
+
+    async def ad_readings(self) -> AdReadings:
+        """AD0-AD10's references, measured values and inputs in one frame."""
+        return ad_readings(await self.client.read_ram(ADDR.AD_REFERENCE, AD_READINGS.size), 0)
 
     async def battery_voltage(self) -> float:
         """Supply voltage from AD0: AD0 * 25 / 1024 volts."""

@@ -18,8 +18,9 @@ ROBOT_OPTION = click.option(
     "robot_name",
     default=None,
     metavar="NAME",
-    help="Robot model (khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, or a URDF file with its "
-    "joint map); default: detected from the project's servos.",
+    help="Robot model (khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, a KXR kit code such as "
+    "kxr:L6, or a URDF file with its joint map); default: detected from the project's title "
+    "and servo names.",
 )
 
 

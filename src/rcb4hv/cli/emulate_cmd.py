@@ -30,6 +30,14 @@ def _parse_hostport(value: str) -> tuple[str, int]:
     return host or "127.0.0.1", int(port)
 
 
+def _parse_ad(value: str) -> tuple[int, int]:
+    ch, sep, counts = value.partition("=")
+    ch = ch.strip().upper().removeprefix("AD")
+    if not sep or not ch.isdigit() or not counts.strip().isdigit():
+        raise ValueError(f"expected CH=COUNTS, e.g. 1=300, got {value!r}")
+    return int(ch), int(counts)
+
+
 @click.command("emulate")
 @click.option("--pty", "use_pty", is_flag=True, help="Serve on a new pseudo-terminal.")
 @click.option("--tcp", "tcp", metavar="HOST:PORT", help="Serve on TCP (e.g. 127.0.0.1:0).")
@@ -69,6 +77,15 @@ def _parse_hostport(value: str) -> tuple[str, int]:
     help="Answer 0Eh (ICS communication) from emulated ICS servos on the SIO lines "
     "(the servo slots' servos); without it 0Eh is NAKed as before.",
 )
+@click.option(
+    "--ad",
+    "ad",
+    multiple=True,
+    metavar="CH=COUNTS",
+    help="The input of AD channel CH (1-10), 0..1023 counts of 0-5 V (repeatable). The "
+    "measured register reads the input minus the channel's reference (e.g. a gyro at rest "
+    "reads its reference: measured 0).",
+)
 def emulate(
     use_pty: bool,
     tcp: str | None,
@@ -80,18 +97,24 @@ def emulate(
     pace: bool,
     frame_timeout: float | None,
     ics_comm: bool,
+    ad: tuple[str, ...],
 ) -> None:
     """Run the board emulator until interrupted (SIGINT/SIGTERM: clean exit 0).
 
     Prints one line, ``PTY <path>`` or ``TCP <host>:<port>``, as soon as it is ready.
     """
     from rcb4hv.emulator import Board, BootClock, EmulatorConfig, boot_to_main_loop
+    from rcb4hv.emulator.config import ad_inputs_from
 
     if use_pty == (tcp is not None):
         raise click.UsageError("give exactly one of --pty or --tcp HOST:PORT")
     if not speed > 0:
         raise click.BadParameter("must be > 0", param_hint="--speed")
     kwargs: dict[str, object] = {"pace_replies": pace, "ics_comm": ics_comm}
+    try:
+        kwargs["ad_inputs"] = ad_inputs_from(_parse_ad(a) for a in ad)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--ad") from exc
     if latency is not None:
         kwargs["min_reply_latency_s"] = latency
     if frame_timeout is not None:

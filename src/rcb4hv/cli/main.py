@@ -30,6 +30,7 @@ COMMAND_MODULES = (
     "rcb4hv.cli.hardware_cmd",
     "rcb4hv.cli.trim_cmd",
     "rcb4hv.cli.robot_cmd",
+    "rcb4hv.cli.robot_pose_cmd",  # adds fk and ik to the robot group: after robot_cmd
     "rcb4hv.cli.ics_cmd",
 )
 

@@ -73,29 +73,49 @@ def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
     "falls and joints at their torque limit.",
 )
 @click.option(
+    "--balance",
+    is_flag=True,
+    help="Also warn of poses that cannot stand still (centre of mass outside the support) "
+    "and of servos a pose loads beyond their stall torque (static, no physics needed).",
+)
+@click.option(
     "--robot",
     metavar="NAME|FILE",
-    help="Robot for --physics [default: detected from the servo table].",
+    help="Robot for the joint limits, --physics and --balance [default: detected].",
 )
 @handle_errors
-def check(file: Path, as_json: bool, physics: bool, robot: str | None) -> None:
+def check(file: Path, as_json: bool, physics: bool, balance: bool, robot: str | None) -> None:
     """Lint FILE (.h4p) before it goes on a robot.
 
     Reports targets (startup, priority, low-power, buttons, JUMP/CALL) in empty slots or
     outside motions, positions outside 3500-11500, 12h values outside 1-127, speeds of 0,
     motions without a final RETURN, ICS numbers missing from the servo table, unreachable
-    code and buttons bound twice. With --physics each motion is also played on the robot
-    in MuJoCo (from standing, as ``project simulate --physics``): "motion N makes the robot
-    fall at t s" and "joint X saturates" are warnings. Exit status 0 when clean or only
+    code and buttons bound twice; with a robot model (--robot, or detected), joint angles
+    beyond a joint's hard (mechanical) limits or outside its advisory range (warnings).
+    With --physics each motion is also played on the robot in MuJoCo (from standing, as
+    ``project simulate --physics``): "motion N makes the robot fall at t s" and "joint X
+    saturates" are warnings. With --balance every pose is checked statically: "pose cannot
+    stand still" (its centre of mass outside its support) and "joint X needs N% of its
+    stall torque" are warnings. Exit status 0 when clean or only
     warnings, 1 on errors.
     """
+    from rcb4hv.errors import NoRobotModelError
     from rcb4hv.hth4 import load_project
+    from rcb4hv.hth4.robotpick import project_model
     from rcb4hv.project.check import check_project
 
     project = load_project(file)
-    findings = check_project(project)
+    try:  # joint limits need the robot: --robot, or detected from the servo table
+        model = project_model(project, robot)
+    except NoRobotModelError:
+        model = None
+    findings = check_project(project, model)
     if physics:
         findings += _physics_findings(file, robot)
+    if balance:
+        from rcb4hv.project.posebalance import balance_findings
+
+        findings += balance_findings(project, project_model(project, robot))
     errors = sum(f.severity == "error" for f in findings)
     warnings = len(findings) - errors
     if as_json:

@@ -52,10 +52,12 @@ def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     from rcb4hv.rom import layout
 
     names = None
+    project = None
     if file.suffix.lower() == ".h4p":
         from rcb4hv.hth4 import load_project
 
-        names = servo_table(load_project(file))
+        project = load_project(file)  # its title and home pose are evidence too
+        names = servo_table(project)
     used = [
         n
         for n in range(layout.SERVO_BLOCK_COPY_COUNT)
@@ -63,7 +65,7 @@ def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     ]
     if names is not None:
         used = [n for n in used if n in names]
-    return project_model(names, robot, used)
+    return project_model(project if project is not None else names, robot, used)
 
 
 def print_physics(run: SimulationRun, as_json: bool) -> None:

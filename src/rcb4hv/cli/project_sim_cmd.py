@@ -72,8 +72,8 @@ if TYPE_CHECKING:
 @click.option(
     "--robot",
     metavar="NAME|FILE",
-    help="Robot for --physics: khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper or a URDF file "
-    "[default: detected from the project's servo table].",
+    help="Robot for --physics: khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, a KXR kit code "
+    "(kxr:L6) or a URDF file [default: detected from the project's title and servo table].",
 )
 @click.option(
     "--start",

@@ -46,8 +46,8 @@ def register(cli: click.Group) -> None:
     default=None,
     metavar="NAME|FILE",
     help="Robot model of the 3D view and joint names: khr3hv, khr3hv-22, kxr-l2, "
-    "kxr-l2-gripper or a URDF file (with its .toml joint map). Default: detected from the "
-    "open project or the board's servos.",
+    "kxr-l2-gripper, a KXR kit code (kxr:L6) or a URDF file (with its .toml joint map). "
+    "Default: detected from the open project or the board's servos.",
 )
 def ui_command(
     url: str,

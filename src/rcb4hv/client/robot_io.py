@@ -14,16 +14,17 @@ from time import sleep
 
 from rcb4hv.client.core import Rcb4Client
 from rcb4hv.protocol.memory import (
-    AD_CHANNELS,
-    AD_MASK,
+    AD_READINGS,
     ADDR,
     PA_VALUES,
     PIO_MASK,
     PIO_WORDS,
     U16_BE,
     USER_VARIABLES,
+    AdReadings,
     Button,
     TimerState,
+    ad_readings,
     ad_volts,
     read_buttons,
     read_s16,
@@ -78,9 +79,13 @@ class RobotIO:
     # ------------------------------------------------------------------ sensors and PIO
 
     def ad_values(self) -> list[int]:
-        """AD0-AD10 (10-bit) in one frame."""
-        raw = self.client.read_ram(ADDR.AD_VALUES, AD_CHANNELS.size)
-        return [v & AD_MASK for v in AD_CHANNELS.unpack(raw)]
+        """AD0-AD10's measured registers in one frame: the input minus the channel's reference
+        (spec 10.4), signed (a gyro at rest reads about 0)."""
+        return list((self.ad_readings()).measured)
+
+    def ad_readings(self) -> AdReadings:
+        """AD0-AD10's references, measured values and inputs in one frame."""
+        return ad_readings(self.client.read_ram(ADDR.AD_REFERENCE, AD_READINGS.size), 0)
 
     def battery_voltage(self) -> float:
         """Supply voltage from AD0: AD0 * 25 / 1024 volts."""

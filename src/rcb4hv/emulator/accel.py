@@ -20,6 +20,8 @@ from typing import Final, Protocol
 from rcb4hv.emulator.alu import ALU, C_BIT, OP_OF, Z_BIT, AluOp, condition_table
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.memmap import (
+    AD_REFERENCE,
+    AD_REFERENCE_END,
     B_END,
     B_END_HI,
     B_OUTPUT,
@@ -131,9 +133,15 @@ def _compile_jump(cmd: Jump, interp: Machine) -> Executor:
     return jump
 
 
+def _writes_ad_reference(a: int, n: int) -> bool:
+    """A write to an AD reference makes the board sample its inputs (spec 10.4): such a
+    command runs through ``execute`` (:meth:`Interpreter.write` tells the board)."""
+    return a < AD_REFERENCE_END and a + n > AD_REFERENCE
+
+
 def _compile_move(cmd: Move, interp: Machine) -> Executor | None:
     dst, src = cmd.dst, cmd.src
-    if type(dst) is not Ram:
+    if type(dst) is not Ram or _writes_ad_reference(dst.address, cmd.nbytes):
         return None
     a = dst.address
     ram = interp.ram
@@ -173,6 +181,8 @@ def _compile_binary(
     dst, src = cmd.dst, cmd.src
     size = cmd.nbytes
     if type(dst) is not Ram or dst.address + size > RAM_SIZE:
+        return None
+    if not cmd.no_write and _writes_ad_reference(dst.address, size):
         return None
     a = dst.address
     const: int | None = None

@@ -9,6 +9,7 @@
 * :class:`~rcb4hv.emulator.servos.Servos`: servo blocks, interpolation, virtual servos;
 * :class:`~rcb4hv.emulator.vectors.Vectors`: the vector-jump table;
 * :mod:`~rcb4hv.emulator.timers`: the four 100 ms timers;
+* :class:`~rcb4hv.emulator.adc.AdConverter`: the AD inputs and their sampling;
 * :class:`~rcb4hv.emulator.romstore.RomStore`: the persistent ROM image.
 
 The speed work (:mod:`~rcb4hv.emulator.accel`) is on by default; ``accelerate=False`` builds
@@ -23,6 +24,7 @@ from pathlib import Path
 from typing import Final
 
 from rcb4hv.emulator import accel
+from rcb4hv.emulator.adc import AdConverter
 from rcb4hv.emulator.clock import Clock, VirtualClock
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import Stop
@@ -30,6 +32,7 @@ from rcb4hv.emulator.icslines import IcsLines
 from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
 from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
+    AD_CHANNELS,
     AD_VALUES,
     ALLOC,
     ALLOC_END,
@@ -117,6 +120,7 @@ class Board:
             self._vectors,
             on_rom_write=self._rom_written,
             on_reset=self.power_on,
+            on_ad_reference=self._sample_ad,
             accelerate=accelerate,
         )
         self.ics_lines: IcsLines | None = None  # the SIO lines' ICS servos, for 0Eh
@@ -125,6 +129,8 @@ class Board:
             self._interp.ics_comm = self.ics_lines.exchange
         self.frames_handled = 0
         self._closed = False
+        # what the AD pins see: the world outside the board, which a reset leaves alone
+        self._adc = AdConverter(self.ram, [self.config.ad0, *self.config.ad_inputs])
         self.power_on()
 
     # ------------------------------------------------------------------ lifecycle
@@ -135,8 +141,7 @@ class Board:
         r = self.ram
         r[:] = bytes(RAM_SIZE)
         write_system(r, cfg.power_on_system_register)
-        for i, v in enumerate((cfg.ad0, *cfg.ad_values)):
-            write_u16(r, AD_VALUES + 2 * i, v)
+        self._sample_ad()
         write_u16(r, PIO_DIRECTION, PIO_MASK)  # every PIO pin an output
         reset_timers(r)
         r[ALLOC:ALLOC_END] = pack_alloc(())
@@ -252,7 +257,13 @@ class Board:
         run(t)
         self._now = t
 
+    def _sample_ad(self) -> None:
+        """The board samples its AD inputs (:meth:`AdConverter.sample`, spec 10.4)."""
+        self._adc.sample()
+        self._touch(AD_VALUES, 2 * AD_CHANNELS)
+
     def _period(self) -> None:
+        self._sample_ad()
         self._servos.period()
         if self.ram[SYSTEM] & SYS_ICS:
             self._servos.report()
@@ -379,13 +390,35 @@ class Board:
         self.ram[PA[n - 1]] = value
         self._touch(PA[n - 1], 1)
 
-    def set_ad(self, channel: int, value: int) -> None:
-        """Set the measured value of AD0-AD10."""
-        if not 0 <= channel <= 10 or not 0 <= value <= 1023:
-            raise ValueError("AD channels 0-10 take 0..1023")
+    def set_ad_input(self, channel: int, counts: int) -> None:
+        """Set the input of AD0-AD10 (0..1023 counts of 0-5 V, what the pin sees). The measured
+        register (0022h) then reads the input minus the channel's reference (spec 10.4)."""
+        AdConverter.check(channel, counts)
         self.tick()
-        write_u16(self.ram, AD_VALUES + 2 * channel, value)
-        self._touch(AD_VALUES + 2 * channel, 2)
+        self._adc.inputs[channel] = counts
+        self._sample_ad()
+
+    def sensors_at_rest(self) -> None:
+        """The robot stands still: each calibrated channel of the ROM image (reference
+        1..1023, :func:`~rcb4hv.rom.calibration.calibrated_ad_inputs`) whose input is unset
+        (0) reads its reference, as HeartToHeart4's calibration recorded it."""
+        from rcb4hv.rom.calibration import calibrated_ad_inputs
+
+        for ch, counts in calibrated_ad_inputs(self.rom).items():
+            if not self._adc.inputs[ch]:
+                self.set_ad_input(ch, counts)
+
+    def ad_input(self, channel: int) -> int:
+        """The input of AD``channel`` (0..1023 counts), as set by the host or a backend."""
+        return self._adc.inputs[channel]
+
+    def ad_reference(self, channel: int) -> int:
+        """The reference word of AD``channel`` (RAM 000Ch + 2 x channel)."""
+        return self._adc.reference(channel)
+
+    def ad_measured(self, channel: int) -> int:
+        """The measured register of AD``channel`` (RAM 0022h + 2 x channel), signed."""
+        return self._adc.measured(channel)
 
     def set_servo_position(self, ics: int, position: int) -> None:
         """Move a virtual servo by hand (as if pushed while free)."""
@@ -408,17 +441,17 @@ class Board:
 
     def measure(self, positions: Mapping[int, int], ad: Mapping[int, int]) -> None:
         """A servo backend's measurements: virtual servo positions (ICS -> position, reported
-        at the next output period) and AD channel values. Unlike :meth:`set_servo_position`
-        and :meth:`set_ad` this does not tick, so an output listener may call it."""
+        at the next output period) and AD channel inputs (counts, clamped to 0..1023). Unlike
+        :meth:`set_servo_position` and :meth:`set_ad_input` this does not tick, so an output
+        listener may call it."""
         physical = self._servos.physical
         for ics, p in positions.items():
             if ics in physical:
                 physical[ics] = min(max(p, 0), 0xFFFF)
         for ch, v in ad.items():
-            if not 0 <= ch <= 10:
-                raise ValueError("AD channels are 0-10")
-            write_u16(self.ram, AD_VALUES + 2 * ch, min(max(v, 0), 1023))
-            self._touch(AD_VALUES + 2 * ch, 2)
+            self._adc.clamp(ch, v)
+        if ad:
+            self._sample_ad()
 
     def add_output_listener(self, callback: OutputListener) -> None:
         """Call ``callback(board_time_s, {ics: sent value})`` after every output period."""

@@ -39,10 +39,11 @@ reference says 0Eh must not be used ("a problem in the specification"), so it is
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final, Literal
 
-__all__ = ["DEFAULT_VERSION", "EmulatorConfig"]
+__all__ = ["DEFAULT_VERSION", "EmulatorConfig", "ad_inputs_from"]
 
 DEFAULT_VERSION: Final = b"CB-4 V1.0      090715          \xc7"
 _DEFAULT_SERVOS: Final = (0, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19)
@@ -88,7 +89,8 @@ class EmulatorConfig:
     virtual_servos: tuple[int, ...] = _DEFAULT_SERVOS
     servo_initial_position: int = 7500
     supply_voltage: float = 11.1
-    ad_values: tuple[int, ...] = (0,) * 10
+    # AD1-AD10 inputs (counts of 0-5 V); the measured registers read input - reference (10.4)
+    ad_inputs: tuple[int, ...] = (0,) * 10
     ics_comm: bool = False
     # --- serving
     min_reply_latency_s: float = 0.001
@@ -136,10 +138,10 @@ class EmulatorConfig:
             0 <= self.servo_initial_position <= 0xFFFF
         ):
             raise ValueError("servo_initial_position must be 0..65535")
-        ads = tuple(self.ad_values)
+        ads = tuple(self.ad_inputs)
         if len(ads) != 10 or any(not isinstance(v, int) or not 0 <= v <= 1023 for v in ads):
-            raise ValueError("ad_values are 10 values (AD1-AD10) of 0..1023")
-        object.__setattr__(self, "ad_values", ads)
+            raise ValueError("ad_inputs are 10 values (AD1-AD10) of 0..1023")
+        object.__setattr__(self, "ad_inputs", ads)
         if round(self.supply_voltage * 1024 / 25) > 1023:
             raise ValueError("supply_voltage above the AD0 range (< 25 V)")
         if not isinstance(self.ics_comm, bool):
@@ -151,3 +153,17 @@ class EmulatorConfig:
     def ad0(self) -> int:
         """The AD0 reading of ``supply_voltage`` (volts = AD0 x 25 / 1024)."""
         return round(self.supply_voltage * 1024 / 25)
+
+
+def ad_inputs_from(settings: Iterable[tuple[int, int]]) -> tuple[int, ...]:
+    """``EmulatorConfig.ad_inputs`` from (channel 1-10, counts 0-1023) pairs (the rest 0), as
+    ``rcb4hv emulate --ad CH=COUNTS`` and ``rcb4emu://?adCH=COUNTS`` give them. AD0 is the
+    supply: its input follows ``supply_voltage``."""
+    inputs = [0] * 10
+    for channel, counts in settings:
+        if not 1 <= channel <= 10:
+            raise ValueError(f"AD{channel}: inputs are set on AD1-AD10 (AD0 is the supply)")
+        if not 0 <= counts <= 1023:
+            raise ValueError(f"AD{channel}: {counts} is outside 0..1023")
+        inputs[channel - 1] = counts
+    return tuple(inputs)

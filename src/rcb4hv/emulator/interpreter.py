@@ -22,6 +22,8 @@ from rcb4hv.emulator.alu import OP_OF, AluOp, alu, condition_table, set_flags
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import Stop, StopKind, stop_kind
 from rcb4hv.emulator.memmap import (
+    AD_REFERENCE,
+    AD_REFERENCE_END,
     ALLOC,
     CALL_DEPTH,
     NO_BLOCK,
@@ -108,6 +110,7 @@ class Interpreter:
         *,
         on_rom_write: Callable[[], None],
         on_reset: Callable[[], None],
+        on_ad_reference: Callable[[], None] = lambda: None,
         accelerate: bool = True,
     ) -> None:
         self.ram = ram
@@ -118,6 +121,7 @@ class Interpreter:
         self.accelerate = accelerate
         self._on_rom_write = on_rom_write
         self._on_reset = on_reset
+        self._on_ad_reference = on_ad_reference  # an AD reference was written (spec 10.4)
         # 0Eh: (ICS number, bytes sent) -> the device's answer or None (set by the board)
         self.ics_comm: Callable[[int, bytes], bytes | None] | None = None
         self._any = config.branch_condition == "or"
@@ -209,6 +213,8 @@ class Interpreter:
         a = self.ram_address(op, n)
         self.ram[a : a + n] = data
         self.servos.wrote(a, n)
+        if a < AD_REFERENCE_END and a + n > AD_REFERENCE:
+            self._on_ad_reference()
 
     # ------------------------------------------------------------------ execution
 

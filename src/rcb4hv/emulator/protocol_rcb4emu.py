@@ -15,6 +15,9 @@ Options (query string):
 * ``board=N``   serve a Board registered with :func:`emulator_url` instead of a new one
   (tests use this to drive a board on a virtual clock and inspect its RAM);
 * ``ics_comm=1``: answer 0Eh from emulated ICS servos (``EmulatorConfig.ics_comm``);
+* ``adN=COUNTS`` (N = 1-10, repeatable over channels): the input of ADN, 0..1023
+  (``EmulatorConfig.ad_inputs``); the measured register reads it minus the channel's
+  reference (spec 10.4);
 * ``boot=ready`` (default) or ``boot=live``: a new board first runs its start-up program
   in virtual time, so the port opens on a board whose ROM program has reached its main
   loop (servo table in RAM, servos homed) — a command sent right after opening finds the
@@ -40,7 +43,7 @@ from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
-from rcb4hv.emulator.config import EmulatorConfig
+from rcb4hv.emulator.config import EmulatorConfig, ad_inputs_from
 from rcb4hv.rom.default import default_image
 from rcb4hv.rom.layout import LAYOUTS
 
@@ -124,7 +127,9 @@ class Serial(SerialBase):
                 if self._layout is not None:
                     lay = LAYOUTS[self._layout]
                     image = default_image(lay)
-                config = EmulatorConfig(ics_comm=self._ics_comm)
+                config = EmulatorConfig(
+                    ics_comm=self._ics_comm, ad_inputs=ad_inputs_from(self._ad.items())
+                )
                 self.board = Board(config, clock=clock, rom_image=image, rom_path=self._rom)
                 if self._boot_ready:
                     boot_to_main_loop(self.board, clock, lay)
@@ -155,6 +160,7 @@ class Serial(SerialBase):
         self._boot_ready = True
         self._layout = None
         self._ics_comm = False
+        self._ad: dict[int, int] = {}
         try:
             for key, values in urllib.parse.parse_qs(parts.query, True).items():
                 value = values[-1]
@@ -176,6 +182,9 @@ class Serial(SerialBase):
                     if value not in ("0", "1"):
                         raise ValueError("ics_comm must be 0 or 1")
                     self._ics_comm = value == "1"
+                elif key.startswith("ad") and key[2:].isdigit():
+                    self._ad[int(key[2:])] = int(value)
+                    ad_inputs_from(self._ad.items())  # a bad channel or value fails here
                 elif key == "board":
                     self._board_id = int(value)
                 elif key == "boot":

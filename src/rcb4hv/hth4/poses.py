@@ -12,21 +12,26 @@ addresses for every JUMP / CALL in the project. The rule: a branch keeps pointin
 instruction it pointed at; a branch to a deleted pose goes to what followed it; the motion's
 start (its first byte, where the remote, the startup hook and CALLs enter) stays its start.
 
-Value checks (:class:`Checks`): positions inside the documented 3500-11500 (or hold / free),
-speeds inside 1-255 (:mod:`rcb4hv.protocol.ranges`), and, given a robot model, joint angles
-inside the model's limits. A motion value ``v`` is the servo's output before the board adds
-the trim (spec 9: value sent = output + base), so its joint angle is
-:meth:`RobotModel.motion_angle` ``(i, v)``, whatever the trim.
+Value checks (:class:`Checks`): speeds inside 1-255 (:mod:`rcb4hv.protocol.ranges`),
+positions the ICS wire carries and, given a robot model, joint angles inside the joints' hard
+(mechanical) limits are required; a position outside the documented 3500-11500 or an angle
+outside a joint's narrower advisory range only warns (the robot maker's own motions use
+both). A motion value ``v`` is the servo's output before the board adds the trim (spec 9:
+value sent = output + base), so its joint angle is :meth:`RobotModel.motion_angle` ``(i, v)``,
+whatever the trim.
 """
 
 from __future__ import annotations
 
+import logging
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
-from rcb4hv.errors import EditError, ProtocolError
+from rcb4hv.errors import EditError, JointLimitError, ProtocolError
 from rcb4hv.hth4.model import Motion
 from rcb4hv.hth4.motioncode import branch_target, split_frames
+from rcb4hv.ics.codec import WIRE_MAX
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, RunConstFrameServo, decode_command
 from rcb4hv.protocol.describe import describe_command
 from rcb4hv.protocol.ranges import documented_position, documented_servo_speed
@@ -46,6 +51,8 @@ __all__ = [
     "pose_entry",
     "set_pose_entries",
 ]
+
+_log = logging.getLogger(__name__)
 
 SPECIAL_POSITIONS = (POSITION_HOLD, POSITION_FREE)
 """Hold (7FFFh) and free (8000h) are commands, not angles (spec 8): never converted."""
@@ -136,39 +143,87 @@ def pose_entry(pose_positions: Mapping[int, int], speed: int, update: bool = Tru
 
 @dataclass(frozen=True)
 class Checks:
-    """What pose values must respect. ``force`` keeps out-of-range values (an override)."""
+    """What pose values must respect. ``force`` keeps refused values (an override).
+
+    Refused (:class:`EditError`; :class:`JointLimitError` when a joint's hard limit is
+    among the reasons): frame counts outside 1..255, positions the ICS wire cannot carry
+    (above 3FFFh, besides hold and free) and, given a robot model, joint angles beyond the
+    joint's hard (mechanical) limits. Only warned (:meth:`advisories`, logged by
+    :meth:`check`): positions outside the documented 3500..11500 (the servo stops at the end
+    of its travel; Kondo's own motions command 2100 or 12700 to push a joint to its end) and
+    joint angles inside the hard limits but outside the joint's advisory range
+    (:meth:`RobotModel.limit_check`). The robot maker's own motions are never refused."""
 
     model: RobotModel | None = None
     force: bool = False
 
+    def _angles(self, positions: Mapping[int, int]) -> list[tuple[int, int, str, float]]:
+        """(ics, value, joint, angle) of every mapped servo at a position (not hold/free)."""
+        if self.model is None:
+            return []
+        mapped = set(self.model.indices)
+        return [
+            (ics, v, self.model.servo(ics).joint, self.model.motion_angle(ics, v))
+            for ics, v in sorted(positions.items())
+            if ics in mapped and v not in SPECIAL_POSITIONS and 0 <= v <= WIRE_MAX
+        ]
+
+    def _limit_text(self, ics: int, value: int, joint: str, angle: float, hard: bool) -> str:
+        assert self.model is not None
+        j = self.model.joint(joint)
+        lo, hi = (j.lower, j.upper) if hard else j.advisory_range
+        what = "hard (mechanical) limits" if hard else "advisory range"
+        return (
+            f"ICS {ics} ({joint}): {value} is {_deg(angle)} deg, outside the joint's {what} "
+            f"{_deg(lo)}..{_deg(hi)} deg"
+        )
+
     def problems(self, positions: Mapping[int, int], speed: int | None) -> list[str]:
+        """What is refused (see the class docstring)."""
         out: list[str] = []
         if speed is not None and not documented_servo_speed(speed):
             out.append(f"frame count {speed} outside the documented 1..255")
-        mapped = set() if self.model is None else {s.index for s in self.model.servos}
         for ics, value in sorted(positions.items()):
-            if not documented_position(value):
-                out.append(f"ICS {ics}: {value} outside the documented 3500..11500")
-            elif self.model is not None and ics in mapped and value not in SPECIAL_POSITIONS:
-                joint = self.model.joint(self.model.servo(ics).joint)
-                a = self.model.motion_angle(ics, value)
-                if not joint.lower <= a <= joint.upper:
-                    out.append(
-                        f"ICS {ics} ({joint.name}): {value} is {_deg(a)} deg, outside the "
-                        f"joint's {_deg(joint.lower)}..{_deg(joint.upper)} deg"
-                    )
+            if value not in SPECIAL_POSITIONS and not 0 <= value <= WIRE_MAX:
+                out.append(f"ICS {ics}: {value} is no ICS position (0..{WIRE_MAX})")
+        for ics, value, joint, angle in self._angles(positions):
+            assert self.model is not None
+            if self.model.limit_check(joint, angle) == "hard":
+                out.append(self._limit_text(ics, value, joint, angle, hard=True))
         return out
 
-    def check(self, positions: Mapping[int, int], speed: int | None, what: str) -> None:
-        """EditError naming every problem, unless :attr:`force`."""
+    def advisories(self, positions: Mapping[int, int]) -> list[str]:
+        """What only warns: positions outside the documented range, angles outside a joint's
+        advisory range (inside its hard limits)."""
+        out: list[str] = []
+        for ics, value in sorted(positions.items()):
+            if not documented_position(value) and 0 <= value <= WIRE_MAX:
+                out.append(
+                    f"ICS {ics}: {value} outside the documented 3500..11500 (the servo stops "
+                    "at the end of its travel)"
+                )
+        for ics, value, joint, angle in self._angles(positions):
+            assert self.model is not None
+            if self.model.limit_check(joint, angle) == "advisory":
+                out.append(self._limit_text(ics, value, joint, angle, hard=False))
+        return out
+
+    def check(self, positions: Mapping[int, int], speed: int | None, what: str) -> list[str]:
+        """Raise naming every problem, unless :attr:`force`; log the advisories (a warning
+        each) and return them."""
         problems = self.problems(positions, speed)
         if problems and not self.force:
-            raise EditError(f"{what}: " + "; ".join(problems) + " (force to keep them)")
+            text = f"{what}: " + "; ".join(problems) + " (force to keep them)"
+            if any("hard (mechanical) limits" in p for p in problems):
+                raise JointLimitError(text)
+            raise EditError(text)
+        advisories = self.advisories(positions)
+        for line in advisories:
+            _log.warning("%s: %s (kept: only a warning)", what, line)
+        return advisories
 
 
 def _deg(radians: float) -> str:
-    import math
-
     return f"{math.degrees(radians):.1f}"
 
 

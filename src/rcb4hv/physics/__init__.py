@@ -4,7 +4,8 @@
 * :class:`PhysicsBackend` - hangs on an emulated :class:`~rcb4hv.emulator.Board`: its servo
   outputs drive the simulated servos, the joint angles and the IMU come back as measured
   positions and AD values;
-* :class:`SensorLayout` - the gyro's and accelerometer's AD channels and scales.
+* :class:`SensorLayout` - the gyro's and accelerometer's AD channels and scales;
+* :class:`PhysicsOptions` - factors on the model's chosen figures (sensitivity studies).
 
 MuJoCo is imported when a world is built: without ``pip install 'rcb4hv[sim]'`` that raises
 :class:`~rcb4hv.errors.PhysicsUnavailableError`; importing this package never needs it.
@@ -14,6 +15,7 @@ documentation page "Physics" lists them with their sources.
 """
 
 from rcb4hv.physics.backend import PhysicsBackend
+from rcb4hv.physics.options import PhysicsOptions
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import BasePose, PhysicsWorld, engine_version, require_mujoco
 
@@ -21,6 +23,7 @@ __all__ = [
     "DEFAULT_SENSORS",
     "BasePose",
     "PhysicsBackend",
+    "PhysicsOptions",
     "PhysicsWorld",
     "SensorLayout",
     "engine_version",

@@ -8,14 +8,17 @@ After every output period (the moment a real RCB-4 sends its servo frame on the 
 2. each mapped servo's state is read from its block: **free** (8000h, or 7FFFh where the
    board's config treats hold as free) goes limp, **hold** (7FFFh) keeps the angle it has,
    any other value is a target angle, ``RobotModel.angle(index, sent, base)`` (the value
-   sent includes the block's base, the servo's trim: the model's one conversion rule);
+   sent includes the block's base, the servo's trim: the model's one conversion rule); a
+   value past the servo's travel (3500..11500 sent, +-135 deg) stops at its end, as the
+   servo does (Kondo's own motions command 2100 or 12700 to push a joint to its end);
 3. a target moves towards the command at most at the servo's speed cap (its SetSpeed value
    as a fraction of the no-load speed), and the servo's stiffness follows its SetStretch
    value (:func:`rcb4hv.robot.servos.stiffness`);
 4. the simulated joint angles go back into the board as the servos' measured positions
    (``RobotModel.value``), reported into the blocks at the next period as the ICS reply
-   would be, and the gyro and accelerometer into their AD channels
-   (:mod:`rcb4hv.physics.sensors`).
+   would be, and the gyro and accelerometer into their AD channels as inputs: a calibrated
+   channel reads its image reference at rest plus the signal (:mod:`rcb4hv.physics.sensors`),
+   and the board's measured register the signal alone (spec 10.4).
 
 So a host reading a servo sees where the joint is, a free limb falls and reads back where it
 fell to, and a limb pushed by hand (or by the floor) can be read.
@@ -29,9 +32,11 @@ from typing import Final
 from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
-from rcb4hv.protocol.memory import NO_BLOCK, S16, SERVO, U16
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
+from rcb4hv.protocol.memory import CENTER, NO_BLOCK, S16, SERVO, U16
 from rcb4hv.protocol.servomode import output_mode
-from rcb4hv.robot.servos import speed_cap
+from rcb4hv.robot.servos import speed_cap, wheel_duty
+from rcb4hv.rom.calibration import calibrated_ad_inputs
 
 __all__ = ["PhysicsBackend"]
 
@@ -60,19 +65,23 @@ class PhysicsBackend:
         self.board = board
         self.world = world
         self.sensors = sensors
+        self.rest = calibrated_ad_inputs(board.rom)
+        """The calibrated channels' readings at rest (the image's AD references)."""
         self.observers: list[Observer] = []
         self._t0_us = round(board.now * _US)
         self._dt_us = round(world.timestep * _US)
         self._steps = 0
         self._last_us = self._t0_us
         self.commanded: dict[int, float | None] = {}
-        """The board's target angle (rad) of each servo at the last period (None: free)."""
+        """The board's target angle (rad) of each servo at the last period (None: free;
+        wheel servos are not listed: their value is a speed, see :meth:`_spin`)."""
         self._effective: dict[int, float] = {}
         self._hold: dict[int, float] = {}
         self._angles: dict[tuple[int, int, int], float] = {}
         self._gains: dict[tuple[int, int | None], float] = {}
         self._caps: dict[tuple[int, int | None], float] = {}
         self._hold_is_free = board.config.position_7fff == "free"
+        self._wheel_sent: dict[int, int] = {}
         board.external_servos = True
         blocks = self._blocks()
         self._command(0.0, board.servo_outputs(), blocks)
@@ -135,7 +144,8 @@ class PhysicsBackend:
         if a is None:
             if len(self._angles) > _ANGLES_KEPT:
                 self._angles.clear()
-            a = self._angles[key] = self.world.model.angle(index, sent, base)
+            travel = max(POSITION_MIN, min(POSITION_MAX, sent))  # the servo's own end stops
+            a = self._angles[key] = self.world.model.angle(index, travel, base)
         return a
 
     def _gain(self, index: int, stretch: int | None) -> float:
@@ -149,7 +159,8 @@ class PhysicsBackend:
         key = (index, speed)
         v = self._caps.get(key)
         if v is None:
-            v = self._caps[key] = speed_cap(self.world.servos[index].spec, speed)
+            cap = speed_cap(self.world.servos[index].spec, speed)
+            v = self._caps[key] = cap * self.world.options.speed_cap
         return v
 
     def _command(self, dt: float, outs: dict[int, int], blocks: list[tuple[int, int, int]]) -> None:
@@ -163,8 +174,12 @@ class PhysicsBackend:
         commanded = self.commanded
         effective = self._effective
         hold = self._hold
+        servos = world.servos
         for index, blk, base in blocks:
             out = _u16(ram, blk + SERVO.OUTPUT)[0]
+            if servos[index].wheel:
+                self._spin(index, out, outs.get(index, out + base), base)
+                continue
             mode = output_mode(out, self._hold_is_free)
             if mode == "free":
                 world.release(index)
@@ -192,10 +207,26 @@ class PhysicsBackend:
             effective[index] = eff
             world.drive(index, eff, self._gain(index, stretch.get(index)))
 
+    def _spin(self, index: int, out: int, sent: int, base: int) -> None:
+        """A wheel servo: the value sent sets its speed (free: limp; hold: keeps turning)."""
+        mode = output_mode(out, self._hold_is_free)
+        if mode == "free":
+            self.world.release(index)
+            self._wheel_sent.pop(index, None)
+        elif mode == "angle":
+            self.world.spin(index, wheel_duty(self._angle(index, sent, base)))
+            self._wheel_sent[index] = sent
+
     def _measure(self, blocks: list[tuple[int, int, int]]) -> None:
         b = self.board
         model = self.world.model
         angles = self.world.servo_angles()
-        positions = {index: model.value(index, angles[index], base) for index, _, base in blocks}
+        wheels = self._wheel_sent
+        positions = {  # a wheel reports the speed it was sent (its angle grows without end)
+            index: wheels.get(index, base + CENTER)
+            if self.world.servos[index].wheel
+            else model.value(index, angles[index], base)
+            for index, _, base in blocks
+        }
         gyro, accel = self.world.imu()
-        b.measure(positions, self.sensors.channels(gyro, accel))
+        b.measure(positions, self.sensors.channels(gyro, accel, self.rest))

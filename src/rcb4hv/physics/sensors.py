@@ -1,9 +1,16 @@
-"""The gyro and the accelerometer as the board reads them: AD channel values (10 bits).
+"""The gyro and the accelerometer as the board reads them: AD channel inputs (10 bits).
 
-The RCB-4HV reads analog sensors on AD1-AD10 (10-bit, 0-1023 over 0-5 V). Where the sensors
-sit and how they scale is a property of the robot's wiring, so it is a :class:`SensorLayout`
-with documented defaults:
+The RCB-4HV reads analog sensors on AD1-AD10 (10-bit, 0-1023 over 0-5 V). The board's
+measured register is the input minus the channel's reference (spec 10.4); this module gives
+the *inputs*, what the pins see. Where the sensors sit and how they scale is a property of
+the robot's wiring, so it is a :class:`SensorLayout` with documented defaults:
 
+* **At rest** a sensor reads what HeartToHeart4's analog calibration recorded for its
+  channel: the calibration stores the reading at rest as the channel's reference, so a
+  calibrated channel (image reference 1..1023,
+  :func:`~rcb4hv.rom.calibration.calibrated_ad_inputs`) reads its reference plus the signal,
+  and its measured register reads the signal alone. Kondo's KXR samples and the fixture
+  calibrate the gyro (AD1, AD2) to 273. An uncalibrated channel rests at the layout's zero.
 * **Accelerometer** (two axes): forward (x) on **AD5**, left (y) on **AD3**. The channels
   and the scale come from the robot's own program: the fixture's "which side am I lying
   on?" motion (KXR-L2 standard set, ``XL2G_117``) reads AD5 to tell lying on the back
@@ -15,10 +22,33 @@ with documented defaults:
   so the program tells the poses apart within about 20° of lying flat, as a program
   written for such a sensor would. The reading is the specific force (acceleration minus
   gravity): lying on the back the forward axis points up and reads +1 g (AD5 = 530).
-* **Gyro** (two axes): roll rate (about x) on **AD1**, pitch rate (about y) on **AD2**.
-  Chosen: the fixture's ankle servos carry mixing rates but no mixing source, and no public
-  source gives a KRG-4's wiring or scale. Zero at the accelerometer's zero (the same sensor
-  supply) and ±300 °/s over ±1.5 V (a common MEMS gyro range), so 1.024 counts per °/s.
+  (Those channels are uncalibrated in the fixture: their references are 0.)
+* **Gyro** (two axes): roll rate (about x) on **AD1**, pitch rate (about y) on **AD2**:
+  Kondo's "Hello KXR-L2" sample mixes AD2 into both ankle pitch servos (x 9) and AD1 into
+  both ankle roll servos (x 8), so AD2 is the pitch axis and AD1 the roll axis.
+
+  *Sign* (derived, not chosen): the firmware adds measured x multiplier to the value sent
+  to the servo (spec 9), Kondo's multipliers are positive on both sides, and the mixing
+  damps sway on the real robot. With the KXR's joint map (ankle pitch and roll both sign
+  -1: +counts turn the foot by a negative angle about +y / +x relative to the shank), a
+  forward pitch rate (+y, the head moving towards +x) is damped by turning the shank back
+  over the foot, i.e. the foot by a positive angle relative to the shank: -counts, so the
+  measured value must fall as the pitch rate rises: **sign -1**. The roll axis alike
+  (+x rate: the head moving right; the damping ankle roll is +angle, -counts): **sign -1**.
+  ``tests/physics/test_gyro_mixing.py`` shows the push experiment: with these signs the
+  mixing damps sway, with the opposite signs it excites it.
+
+  *Scale* (chosen: no public figure exists for Kondo's KRG-3 / KRG-4 gyros):
+  **0.05 counts per °/s** (0.24 mV per °/s). Kondo chose its multipliers (x 8, x 9) on the
+  real robot so that the mixing damps sway without shaking it; a feedback loop tuned by hand
+  keeps a gain margin of about 2 (6 dB). In this model Kondo's x 9 into the KXR's ankles
+  starts a 5 Hz oscillation of the torso from 0.105-0.11 counts per °/s (a push
+  experiment, docs/physics.md); half of that is 0.05. For comparison, the calibrated rest
+  reading, 273 counts = 1.33 V, is the null output of Murata's ENC-03 family of piezo gyros
+  (1.35 V), whose raw scale factor, 0.67 mV per °/s, would be 0.137 counts per °/s: past the
+  onset in this model. At 0.05 Kondo's x 9 moves an ankle 0.45 counts (0.015°) per °/s of
+  sway. How much the outcomes depend on the figure is in the sensitivity table of
+  docs/physics.md (``make sensitivity``).
 
 Values are clamped to 0..1023 like a real ADC.
 """
@@ -26,19 +56,22 @@ Values are clamped to 0..1023 like a real ADC.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
-__all__ = ["DEFAULT_SENSORS", "SensorLayout"]
+__all__ = ["DEFAULT_SENSORS", "GYRO_COUNTS_PER_DPS", "SensorLayout"]
 
 _COUNTS_PER_VOLT = 1024 / 5.0  # 10-bit ADC over 0-5 V
-_ZERO = 325.0  # counts at 0 g / 0 °/s: the middle of the fixture program's thresholds
+_ZERO = 325.0  # counts at 0 g: the middle of the fixture program's thresholds
 _G = 9.81
+GYRO_COUNTS_PER_DPS = 0.05  # chosen (see the module docstring)
+_NO_REST: Mapping[int, int] = {}
 
 
 @dataclass(frozen=True, slots=True)
 class SensorLayout:
-    """Which AD channel reads which sensor axis, and the scales (see the module docstring).
-    A channel of ``None`` is not wired."""
+    """Which AD channel reads which sensor axis, the scales and the gyro's signs (see the
+    module docstring). A channel of ``None`` is not wired."""
 
     accel_x: int | None = 5
     accel_y: int | None = 3
@@ -47,21 +80,29 @@ class SensorLayout:
     accel_zero: float = _ZERO
     accel_counts_per_g: float = 1.0 * _COUNTS_PER_VOLT
     gyro_zero: float = _ZERO
-    gyro_counts_per_dps: float = 1.5 * _COUNTS_PER_VOLT / 300.0
+    """The rest reading of an uncalibrated gyro channel."""
+    gyro_counts_per_dps: float = GYRO_COUNTS_PER_DPS
+    gyro_x_sign: int = -1
+    gyro_y_sign: int = -1
 
     def channels(
-        self, gyro: tuple[float, float, float], accel: tuple[float, float, float]
+        self,
+        gyro: tuple[float, float, float],
+        accel: tuple[float, float, float],
+        rest: Mapping[int, int] = _NO_REST,
     ) -> dict[int, int]:
-        """AD values from angular velocity (rad/s) and specific force (m/s²), root frame."""
+        """AD inputs from angular velocity (rad/s) and specific force (m/s²) in the root
+        frame; ``rest`` the calibrated channels' readings at rest (``{channel: counts}``)."""
         out: dict[int, int] = {}
-        for ch, v in (
-            (self.accel_x, self.accel_zero + accel[0] / _G * self.accel_counts_per_g),
-            (self.accel_y, self.accel_zero + accel[1] / _G * self.accel_counts_per_g),
-            (self.gyro_x, self.gyro_zero + math.degrees(gyro[0]) * self.gyro_counts_per_dps),
-            (self.gyro_y, self.gyro_zero + math.degrees(gyro[1]) * self.gyro_counts_per_dps),
+        g = self.gyro_counts_per_dps
+        for ch, zero, v in (
+            (self.accel_x, self.accel_zero, accel[0] / _G * self.accel_counts_per_g),
+            (self.accel_y, self.accel_zero, accel[1] / _G * self.accel_counts_per_g),
+            (self.gyro_x, self.gyro_zero, self.gyro_x_sign * math.degrees(gyro[0]) * g),
+            (self.gyro_y, self.gyro_zero, self.gyro_y_sign * math.degrees(gyro[1]) * g),
         ):
             if ch is not None:
-                out[ch] = min(1023, max(0, round(v)))
+                out[ch] = min(1023, max(0, round(rest.get(ch, zero) + v)))
         return out
 
 

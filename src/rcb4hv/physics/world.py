@@ -13,8 +13,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
+from rcb4hv.physics.options import PhysicsOptions
 from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
-from rcb4hv.robot.mjcf import TIMESTEP, to_mjcf
+from rcb4hv.robot.mjcf import FLOOR_FRICTION, TIMESTEP, to_mjcf
 from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import (
     DEFAULT_SERVO,
@@ -69,18 +70,33 @@ class _Servo:
     qpos: int
     dof: int
     actuator: int
+    wheel: bool = False
 
 
 class PhysicsWorld:
     """One robot on a flat floor in MuJoCo, stepped by :meth:`step` (``timestep`` s each)."""
 
-    def __init__(self, model: RobotModel, *, timestep: float = TIMESTEP) -> None:
+    def __init__(
+        self,
+        model: RobotModel,
+        *,
+        timestep: float = TIMESTEP,
+        options: PhysicsOptions | None = None,
+    ) -> None:
         mj = require_mujoco()
         self._mj = mj
         self.model = model
         self.timestep = timestep
+        self.options = opts = options or PhysicsOptions()
+        """Factors on the model's chosen figures (default: none)."""
+        mjcf = to_mjcf(
+            model,
+            timestep=timestep,
+            floor_friction=FLOOR_FRICTION * opts.friction,
+            armature_scale=opts.armature,
+        )
         try:
-            self.m = mj.MjModel.from_xml_string(to_mjcf(model, timestep=timestep))
+            self.m = mj.MjModel.from_xml_string(mjcf)
         except ValueError as exc:
             raise PhysicsError(f"{model.name}: MuJoCo refuses the model: {exc}") from exc
         self.d = mj.MjData(self.m)
@@ -95,6 +111,7 @@ class PhysicsWorld:
                 int(j.qposadr[0]),
                 int(j.dofadr[0]),
                 int(m.actuator(f"servo{s.index}").id),
+                model.joint(s.joint).kind == "wheel",
             )
         self._indices = list(self.servos)
         self._qpos = [s.qpos for s in self.servos.values()]
@@ -102,6 +119,7 @@ class PhysicsWorld:
         self._gyro = int(m.sensor("gyro").adr[0])
         self._accel = int(m.sensor("accelerometer").adr[0])
         self._floor = int(m.geom("floor").id)
+        self._root = int(m.jnt_bodyid[0])  # the free joint's body: the root link
         self._powered: dict[int, bool] = dict.fromkeys(self.servos, True)
         self._kp: dict[int, float] = {}
 
@@ -133,7 +151,10 @@ class PhysicsWorld:
             adr = self._joint_qpos.get(name)
             if adr is not None:
                 d.qpos[adr] = a
-        d.ctrl[:] = [angles.get(self.servos[i].joint, 0.0) for i in self._actuator_order()]
+        d.ctrl[:] = [
+            0.0 if self.servos[i].wheel else angles.get(self.servos[i].joint, 0.0)
+            for i in self._actuator_order()
+        ]
         self._mj.mj_forward(self.m, d)
         d.qpos[2] = -self.lowest_point()
         d.time = 0.0
@@ -217,18 +238,35 @@ class PhysicsWorld:
             self._kp[index] = kp
         self.d.ctrl[s.actuator] = target
 
+    def spin(self, index: int, duty: float) -> None:
+        """Wheel servo ``index`` drives its motor at ``duty`` (-1..1): torque ``duty x
+        stall`` against its back-EMF damping (:data:`rcb4hv.robot.servos.WHEEL_FULL_SCALE_DEG`)."""
+        s = self.servos[index]
+        m = self.m
+        if not self._powered[index]:
+            m.dof_damping[s.dof] = back_emf_damping(s.spec)
+            self._powered[index] = True
+        m.actuator_gainprm[s.actuator, 0] = s.spec.stall_torque
+        self._kp[index] = -1.0  # not a position gain: the next drive() sets its own
+        self.d.ctrl[s.actuator] = duty
+
+    def wheel_speed(self, index: int) -> float:
+        """Wheel servo ``index``'s turning speed (rad/s)."""
+        return float(self.d.qvel[self.servos[index].dof])
+
     def release(self, index: int) -> None:
         """Servo ``index`` goes limp: no torque, only the gear train's passive damping."""
         s = self.servos[index]
         if self._powered[index]:
-            self.m.dof_damping[s.dof] = FREE_DAMPING_FRACTION * back_emf_damping(s.spec)
+            free = FREE_DAMPING_FRACTION * self.options.free_damping
+            self.m.dof_damping[s.dof] = free * back_emf_damping(s.spec)
             self.m.actuator_gainprm[s.actuator, 0] = 0.0
             self.m.actuator_biasprm[s.actuator, 1] = 0.0
             self._kp[index] = 0.0
             self._powered[index] = False
 
     def stiffness(self, index: int, stretch: int | None) -> float:
-        return stiffness(self.servos[index].spec, stretch)
+        return self.options.stiffness * stiffness(self.servos[index].spec, stretch)
 
     def torque(self, index: int) -> float:
         """The servo's motor torque (N·m) at the last step."""
@@ -237,6 +275,11 @@ class PhysicsWorld:
     def saturated(self, index: int) -> bool:
         s = self.servos[index]
         return abs(self.torque(index)) >= SATURATION * s.spec.stall_torque
+
+    def push(self, force: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+        """Push the root link with ``force`` (N, world frame, at its centre of mass) at every
+        step from now until the next call (the default: no push)."""
+        self.d.xfrc_applied[self._root, :3] = force
 
     # ------------------------------------------------------------------ sensors
 

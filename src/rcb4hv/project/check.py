@@ -35,10 +35,17 @@ data command, which stops the program)
     wins and the other never plays from the remote.
 ``button-on-empty-slot`` (warning)
     A slot with no motion keeps a button binding.
+``joint-limit`` (warning), ``joint-advisory`` (warning)
+    Given the robot model: a servo position beyond its joint's hard (mechanical) limits, where
+    the brackets collide or the servo's travel ends; or inside them but outside the joint's
+    narrower advisory range (e.g. a library's software limits, which the robot maker's own
+    motions may exceed). One finding per motion and joint, at its first instruction
+    (:meth:`rcb4hv.robot.model.RobotModel.limit_check`).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Final, Literal
@@ -65,6 +72,7 @@ from rcb4hv.protocol.ranges import (
     documented_servo_speed,
     documented_stretch,
 )
+from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom import layout
 
 __all__ = ["Finding", "Severity", "check_project"]
@@ -210,8 +218,63 @@ def _value_findings(cmd: object, allocated: set[int]) -> list[tuple[Severity, st
     return out
 
 
-def check_project(project: Project) -> list[Finding]:
-    """Every finding for ``project``, errors first, then by slot and address."""
+def _moves(cmd: object) -> list[tuple[int, int]]:
+    """(ICS, position) of every servo a servo-moving instruction sets."""
+    if isinstance(cmd, RunSingleServo):
+        return [(cmd.ics, cmd.position)]
+    if isinstance(cmd, RunConstFrameServo):
+        return list(cmd.positions)
+    if isinstance(cmd, RunSeriesServo):
+        return [(k, p) for k, _, p in cmd.moves]
+    return []
+
+
+def _limit_findings(
+    m: Motion, code: MotionCode, model: RobotModel, add: Callable[..., None]
+) -> None:
+    """``joint-limit`` / ``joint-advisory``: one per motion and joint, at the first
+    instruction, with the extreme value and how many instructions go there."""
+    mapped = set(model.indices)
+    seen: dict[tuple[str, str], tuple[int, str, int, int, float]] = {}
+    for addr, cmd in code.instructions:
+        for ics, value in _moves(cmd):
+            if ics not in mapped or not documented_position(value) or value in (0x7FFF, 0x8000):
+                continue
+            joint = model.servo(ics).joint
+            angle = model.motion_angle(ics, value)
+            verdict = model.limit_check(joint, angle)
+            if verdict == "ok":
+                continue
+            first = seen.get((verdict, joint))
+            if first is None:
+                seen[(verdict, joint)] = (addr, format_command(cmd), 1, value, angle)
+            else:
+                far = abs(angle) > abs(first[4])
+                seen[(verdict, joint)] = (
+                    first[0], first[1], first[2] + 1,
+                    value if far else first[3], angle if far else first[4],
+                )  # fmt: skip
+    for (kind, joint), (addr, text, count, value, angle) in seen.items():
+        j = model.joint(joint)
+        hard = kind == "hard"
+        lo, hi = (j.lower, j.upper) if hard else j.advisory_range
+        what = "hard (mechanical) limits" if hard else "advisory range"
+        add(
+            "warning",
+            "joint-limit" if hard else "joint-advisory",
+            f"{joint} at {math.degrees(angle):.1f} deg (value {value}), outside the joint's "
+            f"{what} {math.degrees(lo):.1f}..{math.degrees(hi):.1f} deg, in {count} "
+            f"instruction{'s' if count > 1 else ''} (the first here)",
+            address=addr,
+            instruction=text,
+            slot=m.slot,
+            name=_name(m),
+        )
+
+
+def check_project(project: Project, model: RobotModel | None = None) -> list[Finding]:
+    """Every finding for ``project``, errors first, then by slot and address. With the
+    robot ``model``, joint angles are checked against its hard limits and advisory ranges."""
     findings: list[Finding] = []
 
     def add(
@@ -294,6 +357,8 @@ def check_project(project: Project) -> list[Finding]:
 
     for m in project.used_motions:
         _check_motion(m, codes[m.slot], rom, allocated, add)
+        if model is not None:
+            _limit_findings(m, codes[m.slot], model, add)
     order = {"error": 0, "warning": 1}
     findings.sort(key=lambda f: (order[f.severity], f.slot or 0, f.address or 0))
     return findings

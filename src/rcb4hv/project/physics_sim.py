@@ -37,7 +37,14 @@ from dataclasses import dataclass, field
 from typing import Any, Final, Literal
 
 from rcb4hv.emulator import EmulatorConfig
-from rcb4hv.physics import DEFAULT_SENSORS, BasePose, PhysicsBackend, PhysicsWorld, SensorLayout
+from rcb4hv.physics import (
+    DEFAULT_SENSORS,
+    BasePose,
+    PhysicsBackend,
+    PhysicsOptions,
+    PhysicsWorld,
+    SensorLayout,
+)
 from rcb4hv.project.check import Finding
 from rcb4hv.project.physicsresult import PhysicsOutcome, ShapeFrame, TrackPoint
 from rcb4hv.project.runresult import MotionRun
@@ -129,12 +136,13 @@ class PhysicsSimulator(Simulator):
         timestep: float = TIMESTEP,
         start: StartPose = "upright",
         config: EmulatorConfig | None = None,
+        options: PhysicsOptions | None = None,
     ) -> None:
         super().__init__(image, motion_layout=motion_layout, listener=listener, config=config)
         self.start = start
         self.robot = robot
-        self.world = PhysicsWorld(robot, timestep=timestep)
-        self._sensors = sensors
+        self.world = PhysicsWorld(robot, timestep=timestep, options=options)
+        self._sensors = self.world.options.sensors(sensors)
         self.backend: PhysicsBackend | None = None
         self._watch: _Watch | None = None
         self.track: list[TrackPoint] | None = [] if track else None

@@ -32,6 +32,7 @@ from rcb4hv.project.runresult import MotionRun, SimulationRun
 from rcb4hv.project.simulate import DEFAULT_LIMIT, Simulator
 
 if TYPE_CHECKING:
+    from rcb4hv.physics import PhysicsOptions
     from rcb4hv.project.physics_sim import PhysicsSimulator, StartPose
     from rcb4hv.robot.model import RobotModel
     from rcb4hv.rom.layout import MotionLayout
@@ -58,24 +59,26 @@ def run_motions(
     track: bool = False,
     listener: RunListener | None = None,
     progress: Callable[[MotionRun], None] | None = None,
+    options: PhysicsOptions | None = None,
 ) -> SimulationRun:
     """Boot ``image`` and play motion ``slots`` (see the module docstring for the defaults).
 
     ``names``: motion names by slot; ``hold``: a button word held for ``hold_for`` seconds as
     each motion starts; ``robot``: play on this robot in MuJoCo (``start``, ``sequence``,
-    ``track``: keep the robot's path and pictures). A boot that fails is reported in the
+    ``track``: keep the robot's path and pictures; ``options``: factors on the physics'
+    chosen figures, :class:`~rcb4hv.physics.PhysicsOptions`). A boot that fails is reported in the
     answer and the motions are still played from the host (spec 11.4).
     """
     names = names or {}
     t0 = time.perf_counter()
     if robot is None:
-        if sequence or track or start != "upright":
+        if sequence or track or start != "upright" or options is not None:
             raise ValueError("sequence, track and start set up the robot of a physics run")
         sim = Simulator(image, motion_layout=motion_layout)
         return _play(sim, slots, names, limit, hold, hold_for, listener, progress, t0)
     return _run_physics(
         image, slots, names, motion_layout, robot, limit if limit is not None else DEFAULT_LIMIT,
-        hold, hold_for, sequence, start, track, listener, progress, t0,
+        hold, hold_for, sequence, start, track, listener, progress, t0, options,
     )  # fmt: skip
 
 
@@ -149,6 +152,7 @@ def _run_physics(
     listener: RunListener | None,
     progress: Callable[[MotionRun], None] | None,
     t0: float,
+    options: PhysicsOptions | None,
 ) -> SimulationRun:
     from rcb4hv.physics import engine_version
     from rcb4hv.project.physics_sim import SETTLE_S, PhysicsSimulator, pose_name
@@ -164,7 +168,7 @@ def _run_physics(
             if sim is not None:
                 virtual += sim.now
             sim = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track,
-                                   start=start)  # fmt: skip
+                                   start=start, options=options)  # fmt: skip
             if listener is not None:
                 _attach(listener, sim.board)
             sim.boot()

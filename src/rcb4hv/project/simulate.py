@@ -151,6 +151,7 @@ class Simulator:
         self.clock = VirtualClock()
         self._t_us = 0
         self.board = Board(config, clock=self.clock, rom_image=image)
+        self.board.sensors_at_rest()  # a still robot's calibrated sensors read their reference
         if listener is not None:
             self.board.add_output_listener(listener)
         self.boot_result: MotionResult | None = None

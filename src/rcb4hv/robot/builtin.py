@@ -51,12 +51,26 @@ def load_builtin(name: str) -> RobotModel:
     return factory()
 
 
+@cache
+def _kit(text: str) -> RobotModel:
+    """The stock build of a kit code ``kxr:CODE`` (:mod:`rcb4hv.robot.kit`)."""
+    from rcb4hv.robot.kit import kit_model, parse_kit_code
+
+    code = parse_kit_code(text)
+    if code is None:
+        raise RobotModelError(f"{text}: not a KXR kit code (e.g. kxr:L2W2L6A4H2, kxr:L6)")
+    return kit_model(code)
+
+
 def load_robot(name_or_path: str | os.PathLike[str], joint_map: str | None = None) -> RobotModel:
-    """A built-in model by name, or a URDF file (``.urdf``) with its joint-map file (TOML;
-    by default the URDF's path with ``.toml``, see :mod:`rcb4hv.robot.jointmap`)."""
+    """A built-in model by name, a KXR kit code (``kxr:L6``), or a URDF file (``.urdf``)
+    with its joint-map file (TOML; by default the URDF's path with ``.toml``, see
+    :mod:`rcb4hv.robot.jointmap`)."""
     text = os.fspath(name_or_path)
     if text in _FACTORIES:
         return load_builtin(text)
+    if text.lower().startswith("kxr:"):
+        return _kit(text)
     path = Path(text)
     if path.is_file():
         from rcb4hv.robot.jointmap import load_urdf_robot

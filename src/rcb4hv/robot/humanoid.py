@@ -42,7 +42,9 @@ class LimbJoint:
     the left joint's limits, radians. ``geoms``: the child link's shapes (left side);
     ``mass``: the child link's mass, kg, spread uniformly through ``geoms``; ``com``, when
     given, is the link's measured centre of mass (m, left side, link frame), which replaces
-    the boxes' centroid (their inertia about it is kept).
+    the boxes' centroid (their inertia about it is kept). ``advisory``: the left joint's
+    advisory range (radians; warn outside it, see :class:`~rcb4hv.robot.model.Joint`), None
+    for the hard range.
     """
 
     name: str
@@ -57,6 +59,7 @@ class LimbJoint:
     mass: float
     centre: bool = False
     com: Vec3 | None = None
+    advisory: tuple[float, float] | None = None
 
 
 def mirror_geom(g: Geom) -> Geom:
@@ -76,7 +79,7 @@ def _side_joint(spec: LimbJoint, prefix: str, centre_links: set[str]) -> tuple[J
     if spec.com is not None:
         inertial = replace(inertial, com=spec.com)
     x, y, z = spec.xyz
-    axis, lower, upper = spec.axis, spec.lower, spec.upper
+    axis, lower, upper, advisory = spec.axis, spec.lower, spec.upper, spec.advisory
     side: str = "left"
     other = RIGHT + spec.name
     if prefix == RIGHT:
@@ -86,6 +89,8 @@ def _side_joint(spec: LimbJoint, prefix: str, centre_links: set[str]) -> tuple[J
         inertial = _mirror_inertial(inertial)
         if spec.kind in ("roll", "yaw"):
             lower, upper = -upper, -lower
+            if advisory is not None:
+                advisory = (-advisory[1], -advisory[0])
         elif spec.kind == "grip":
             axis = (-axis[0], -axis[1], -axis[2])
     joint = Joint(
@@ -100,6 +105,7 @@ def _side_joint(spec: LimbJoint, prefix: str, centre_links: set[str]) -> tuple[J
         kind=spec.kind,
         side="left" if side == "left" else "right",
         mirror=other,
+        advisory=advisory,
     )
     return joint, Link(prefix + spec.link, inertial, geoms)
 
@@ -133,6 +139,7 @@ def build_humanoid(
                     lower=spec.lower,
                     upper=spec.upper,
                     kind=spec.kind,
+                    advisory=spec.advisory,
                 )
             )
             links.append(Link(spec.link, solid_many(spec.mass, spec.geoms), spec.geoms))

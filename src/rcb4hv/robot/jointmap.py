@@ -166,6 +166,7 @@ def build_model(urdf: UrdfRobot, jmap: Mapping[str, Any], name: str) -> RobotMod
                 kind,
                 side,
                 mirror,
+                j.advisory,
             )
         )
     servo_data = jmap.get("servo")

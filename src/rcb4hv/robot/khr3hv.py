@@ -2,10 +2,12 @@
 
 Every figure has its source (see docs/robots.md for the tables):
 
-* joint map (servo index, sign) and joint limits: shared/robots/FACTS.md — index = 2 × ICS ID
-  + side, side 0 (SIO1-4) the robot's LEFT; signs from kxreus ``rcb4robotconfig.l`` "khr" /
-  "khr20"; limits (servo degrees) from robotlearn/khr3hv ``docs/limits.png``. A joint angle is
-  ``sign × servo angle``, so a joint's limits are the servo limits times its sign.
+* joint map (servo index, sign): shared/robots/FACTS.md — index = 2 × ICS ID + side, side 0
+  (SIO1-4) the robot's LEFT (Kondo's own sample names servo 2 左肩 = left shoulder); signs from
+  kxreus ``rcb4robotconfig.l`` "khr" / "khr20", checked against Kondo's sample motions
+  (docs/robots.md). A joint angle is ``sign × servo angle``.
+* limits: hard +-180° (no public bracket stops); advisory: robotlearn/khr3hv
+  ``docs/limits.png`` (software limits) widened to Kondo's sample motions (see HARD_DEG).
 * distances (mm): FACTS.md's KHRBan CAD table for the shoulder span (97.8), hip span (43.4),
   shoulder-to-hip height (87.5), thigh (65.0) and shin (65.0). Hip yaw → roll (22.35),
   roll → pitch (38.7), ankle pitch → roll (37.0), the sole (26.5 below the ankle-roll axis),
@@ -21,15 +23,15 @@ from __future__ import annotations
 
 import math
 
+from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, Vec3
 from rcb4hv.robot.servos import KRS_2552RHV
 from rcb4hv.robot.shapes import solid_many
 
-__all__ = ["KHR_LIMITS_DEG", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
+__all__ = ["KHR_LIMITS_DEG", "KHR_SAMPLE_COUNTS", "KHR_SIGNS", "khr3hv", "khr3hv_22"]
 
 MM = 0.001
-SERVO_RANGE_DEG = 135.0  # ±135°: 3500..11500 counts around 7500 (FACTS.md)
 
 # servo index -> sign (kxreus "khr" and "khr20"; FACTS.md)
 KHR_SIGNS: dict[int, int] = {
@@ -59,8 +61,18 @@ KHR_SIGNS: dict[int, int] = {
     7: 1,
 }
 
-# servo index -> (lower, upper) servo degrees (robotlearn docs/limits.png; FACTS.md);
-# indices it omits (1, 6, 7, 10, 11) get the servo's ±135°
+# Joint limits (docs/robots.md, "Hard limits and advisory ranges"), by servo index in servo
+# degrees (a joint angle is sign x servo angle).
+#
+# Hard (refused, and where MuJoCo stops the joint): where the brackets collide. No public
+# drawing gives the KHR-3HV's bracket stops, so the hard range is a generous +-180 deg (the
+# links fold onto each other there): nothing a servo can reach with any trim is refused. The
+# servo's own travel (+-135 deg about its centre, 3500..11500 sent) is no refusal either: a
+# servo commanded past it stops at its end (the physics clamps the value sent), and Kondo's
+# KXR samples command 2100 or 12900 on purpose.
+HARD_DEG = 180.0
+# Advisory (warn outside): robotlearn/khr3hv docs/limits.png, a library's software limits
+# (FACTS.md's correction) ...
 KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {
     0: (-135, 135),
     2: (-90, 105),
@@ -80,6 +92,29 @@ KHR_LIMITS_DEG: dict[int, tuple[float, float]] = {
     20: (-25, 90),
     21: (-90, 25),
 }
+# ... widened to the extremes of Kondo's own KHR-3HV sample project (kxreus projects/
+# Hello_khr3/Hello_KHR3(V2.3).h4p, every pose of every motion), which are valid by definition:
+# counts from 7500 (motion values, before the trim)
+KHR_SAMPLE_COUNTS: dict[int, tuple[int, int]] = {
+    0: (-2000, 2000),  # BTC001 head shake
+    2: (-2500, 4000),  # get up from the front .. handstand
+    3: (-4500, 2500),  # frustrated (3000) .. get up from the front
+    4: (-750, 4500),  # .. side punch left (12000)
+    5: (-4500, 750),  # side punch right (3000) ..
+    8: (-3800, 0),  # handstand
+    9: (0, 3800),
+    12: (-500, 850),  # handstand .. side kick (left leg)
+    13: (-850, 600),  # frustrated .. cheer
+    14: (-2000, 3500),  # frustrated .. handstand
+    15: (-3500, 3000),
+    16: (-1200, 4000),  # get up from the back (knee 40.5 deg past straight) .. handstand
+    17: (-4000, 1200),
+    18: (-2800, 3500),  # frustrated .. get up from the back
+    19: (-3500, 2800),
+    20: (-300, 800),  # safety walk .. side kick
+    21: (-800, 400),
+}
+
 
 # joint name -> left/right (or centre) servo index (FACTS.md table)
 _JOINTS: dict[str, tuple[int, int | None]] = {
@@ -124,10 +159,18 @@ ARM_YAW_TO_ELBOW = 11.7 * MM
 FOREARM = 106.0 * MM
 HEAD_ABOVE_SHOULDER = 14.3 * MM
 MASS_17 = 1.493  # kg, kxreus eusview khr3.json
+# the leg's sideways offsets (SIP's kondo_khr3hv.xml body positions): the hip-roll axis sits
+# 4.55 mm inward of the hip-yaw axis, the pitch chain (hip pitch, knee, ankle pitch) 11.3 mm
+# outward of the hip-roll axis, the ankle-roll axis 11.25 mm inward of the pitch chain again,
+# and the sole 11.25 mm outward of the ankle-roll axis (under the pitch chain)
+HIP_ROLL_INWARD = 4.55 * MM
+PITCH_CHAIN_OUTWARD = 11.3 * MM
+ANKLE_ROLL_INWARD = 11.25 * MM
 # sole: SIP's foot contact corners, x -30..+40 mm and y -5..+30 mm around the ankle, plus
 # their 4 mm contact radius: 78 x 43 mm, 16.5 mm thick
 SOLE = (78.0 * MM, 43.0 * MM, 16.5 * MM)
 SOLE_X = 5.0 * MM
+SOLE_Y = ANKLE_ROLL_INWARD
 
 _Y, _X, _Z = (0.0, 1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
 _DARK, _LIGHT = (0.25, 0.25, 0.28, 1.0), (0.85, 0.85, 0.88, 1.0)
@@ -151,11 +194,35 @@ def _box(
     )
 
 
-def _limits(index: int) -> tuple[float, float]:
-    lo, hi = KHR_LIMITS_DEG.get(index, (-SERVO_RANGE_DEG, SERVO_RANGE_DEG))
+def _joint_range(index: int, servo_deg: tuple[float, float]) -> tuple[float, float]:
+    """A servo-degree range of servo ``index`` in joint radians (joint = sign x servo)."""
+    lo, hi = servo_deg
     if KHR_SIGNS[index] < 0:
         lo, hi = -hi, -lo
     return math.radians(lo), math.radians(hi)
+
+
+def _sample_deg(index: int) -> tuple[float, float]:
+    lo, hi = KHR_SAMPLE_COUNTS[index]
+    return lo / COUNTS_PER_DEGREE, hi / COUNTS_PER_DEGREE
+
+
+def _limits(
+    left: int, right: int | None, kind: JointKind
+) -> tuple[float, float, tuple[float, float] | None]:
+    """The left (or centre) joint's hard limits and advisory range (the comment at
+    HARD_DEG). The advisory range is the hull of robotlearn's and the sample's on both sides
+    (the right side's mirrored), so mirroring Kondo's own motions never warns."""
+    lower, upper = math.radians(-HARD_DEG), math.radians(HARD_DEG)
+    if left not in KHR_LIMITS_DEG:
+        return lower, upper, None
+    spans = [_joint_range(left, KHR_LIMITS_DEG[left]), _joint_range(left, _sample_deg(left))]
+    if right is not None:
+        for deg in (KHR_LIMITS_DEG[right], _sample_deg(right)):
+            lo, hi = _joint_range(right, deg)
+            spans.append((lo, hi) if kind == "pitch" else (-hi, -lo))
+    advisory = (max(lower, min(a for a, _ in spans)), min(upper, max(b for _, b in spans)))
+    return lower, upper, advisory
 
 
 def _build(axes: int) -> RobotModel:
@@ -164,7 +231,7 @@ def _build(axes: int) -> RobotModel:
     chest = "chest" if full else "torso"
     pelvis_geom = _box((50.5, 76.0, 36.0), 18.0)
     chest_geom = _box((80.5, 89.0, 60.5), 66.4, rgba=_LIGHT)
-    sole = Geom("box", SOLE, (SOLE_X, 0.0, -SOLE_BELOW_ANKLE_ROLL + SOLE[2] / 2), rgba=_LIGHT)
+    sole = Geom("box", SOLE, (SOLE_X, SOLE_Y, -SOLE_BELOW_ANKLE_ROLL + SOLE[2] / 2), rgba=_LIGHT)
     rows: list[_Row] = [
         (
             "head_yaw",
@@ -240,17 +307,17 @@ def _build(axes: int) -> RobotModel:
             "hip_roll",
             "hip",
             "hip_bracket" if full else "torso",
-            (0.0, 0.0 if full else HIP_Y, -HIP_YAW_TO_ROLL),
+            (0.0, (0.0 if full else HIP_Y) - HIP_ROLL_INWARD, -HIP_YAW_TO_ROLL),
             _X,
             "roll",
-            (_box((32.0, 42.5, 38.7), -19.35),),
+            (_box((32.0, 42.5, 38.7), -19.35, y_mm=PITCH_CHAIN_OUTWARD / MM / 2),),
             1,
         ),
         (
             "hip_pitch",
             "thigh",
             "hip",
-            (0.0, 0.0, -HIP_ROLL_TO_PITCH),
+            (0.0, PITCH_CHAIN_OUTWARD, -HIP_ROLL_TO_PITCH),
             _Y,
             "pitch",
             (_box((32.0, 42.0, THIGH / MM), -THIGH / MM / 2, rgba=_LIGHT),),
@@ -273,10 +340,25 @@ def _build(axes: int) -> RobotModel:
             (0.0, 0.0, -SHIN),
             _Y,
             "pitch",
-            (_box((32.0, 42.5, ANKLE_PITCH_TO_ROLL / MM), -ANKLE_PITCH_TO_ROLL / MM / 2),),
+            (
+                _box(
+                    (32.0, 42.5, ANKLE_PITCH_TO_ROLL / MM),
+                    -ANKLE_PITCH_TO_ROLL / MM / 2,
+                    y_mm=-ANKLE_ROLL_INWARD / MM / 2,
+                ),
+            ),
             1,
         ),
-        ("ankle_roll", "foot", "ankle", (0.0, 0.0, -ANKLE_PITCH_TO_ROLL), _X, "roll", (sole,), 0),
+        (
+            "ankle_roll",
+            "foot",
+            "ankle",
+            (0.0, -ANKLE_ROLL_INWARD, -ANKLE_PITCH_TO_ROLL),
+            _X,
+            "roll",
+            (sole,),
+            0,
+        ),
     ]
     root_name = "pelvis" if full else "torso"
     root_geoms = (pelvis_geom,) if full else (pelvis_geom, chest_geom)
@@ -298,7 +380,7 @@ def _build(axes: int) -> RobotModel:
             continue
         left, right = _JOINTS[name]
         centre = right is None
-        lower, upper = _limits(left)
+        lower, upper, advisory = _limits(left, right, kind)
         specs.append(
             LimbJoint(
                 name,
@@ -312,6 +394,7 @@ def _build(axes: int) -> RobotModel:
                 geoms,
                 masses[link],
                 centre=centre,
+                advisory=advisory,
             )
         )
         if centre:
@@ -332,7 +415,8 @@ def _build(axes: int) -> RobotModel:
             "joint map": "FACTS.md: index = 2 x ICS ID + side, side 0 = left (kxreus "
             "rcb4robotconfig.l, robotlearn/khr3hv docs/ids.png, Meridian, KHRBan)",
             "signs": "kxreus rcb4robotconfig.l 'khr'/'khr20' (6, 7: chosen +1)",
-            "limits": "robotlearn/khr3hv docs/limits.png (servo degrees x sign)",
+            "limits": "hard: +-180 deg (no public bracket stops); advisory: robotlearn/khr3hv "
+            "docs/limits.png and the extremes of Kondo's Hello_KHR3 sample motions",
             "dimensions": "FACTS.md KHRBan CAD table; hip, ankle, arm, head and boxes from "
             "sunilgora/SIP2HumnWalking kondo/kondo_khr3hv.xml (Apache-2.0)",
             "mass": f"{total:.4f} kg: 1.493 kg (kxreus eusview khr3.json)"

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.model import RobotModel, Vec3, chain
 
 __all__ = [
@@ -19,7 +20,12 @@ __all__ = [
     "compose",
     "forward",
     "from_xyz_rpy",
+    "invert",
+    "link_pose",
+    "position",
+    "require_link",
     "rotation_about",
+    "translation",
 ]
 
 Transform = tuple[
@@ -96,6 +102,34 @@ def apply(t: Transform, p: Vec3) -> Vec3:
     )
 
 
+def invert(t: Transform) -> Transform:
+    """The inverse of the rigid transform ``t`` (rotation transposed, translation undone)."""
+    r = ((t[0][0], t[1][0], t[2][0]), (t[0][1], t[1][1], t[2][1]), (t[0][2], t[1][2], t[2][2]))
+    p = (t[0][3], t[1][3], t[2][3])
+    back = [-(r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2]) for i in range(3)]
+    return (
+        (r[0][0], r[0][1], r[0][2], back[0]),
+        (r[1][0], r[1][1], r[1][2], back[1]),
+        (r[2][0], r[2][1], r[2][2], back[2]),
+        (0.0, 0.0, 0.0, 1.0),
+    )
+
+
+def translation(p: Vec3) -> Transform:
+    """A pure translation by ``p``."""
+    return (
+        (1.0, 0.0, 0.0, p[0]),
+        (0.0, 1.0, 0.0, p[1]),
+        (0.0, 0.0, 1.0, p[2]),
+        (0.0, 0.0, 0.0, 1.0),
+    )
+
+
+def position(t: Transform) -> Vec3:
+    """The translation part of ``t``."""
+    return (t[0][3], t[1][3], t[2][3])
+
+
 def forward(
     model: RobotModel, angles: Mapping[str, float], base: Transform = IDENTITY
 ) -> dict[str, Transform]:
@@ -106,6 +140,23 @@ def forward(
         origin = compose(out[j.parent], from_xyz_rpy(j.xyz, j.rpy))
         out[j.child] = compose(origin, rotation_about(j.axis, angles.get(j.name, 0.0)))
     return out
+
+
+def link_pose(
+    model: RobotModel, link: str, angles: Mapping[str, float], base: Transform = IDENTITY
+) -> Transform:
+    """Forward kinematics of one link: its transform in the frame of ``base`` (default the
+    root link's frame, e.g. the torso) for joint ``angles``; :class:`RobotModelError` for a
+    link the model lacks."""
+    require_link(model, link)
+    return forward(model, angles, base)[link]
+
+
+def require_link(model: RobotModel, link: str) -> None:
+    """Raise :class:`RobotModelError` naming the model's links when it has no ``link``."""
+    names = [lk.name for lk in model.links]
+    if link not in names:
+        raise RobotModelError(f"{model.name} has no link {link!r}; its links: {', '.join(names)}")
 
 
 def center_of_mass(model: RobotModel, frames: Mapping[str, Transform]) -> Vec3:

@@ -19,8 +19,9 @@ Sources (tables in docs/robots.md):
   bends both elbows by -1200, as kxreus's reset pose bends them to -40° (elbow +1); hip
   roll spreads the legs with right -2500 / left +2500 (+1) and ankle roll levels the sole
   against it (-1).
-* limits: kxreus's frame limits, intersected with the servo's ±135° travel around the joint
-  zero of Kondo's standard trim (``KXR-L2G標準トリム.h4t``), taken alike on both sides.
+* limits: hard, kxreus's frame limits (mechanical); advisory, those intersected with the
+  servo's ±135° travel around the joint zero of Kondo's standard trim
+  (``KXR-L2G標準トリム.h4t``), taken alike on both sides.
 * servo: KRS-3304R2 (FACTS.md).
 """
 
@@ -134,10 +135,14 @@ def _box(size: Vec3, pos: Vec3, rgba: tuple[float, float, float, float] = _DARK)
     )
 
 
-def _limits(name: str) -> tuple[float, float]:
-    """Left joint limits (radians): the frame's, within the servo's travel on both sides."""
+def _limits(name: str) -> tuple[float, float, tuple[float, float]]:
+    """Left joint limits (radians): hard, the frame's (mechanical); advisory, within them the
+    servo's travel about Kondo's standard trim on both sides. Past its travel a servo stops
+    at its end (Kondo's own motions command that on purpose, e.g. 2100 or 12900 to push a
+    shoulder to its end), so the travel only warns."""
     ics = _MAP[name][0]
-    lo, hi = _FRAME_LIMITS[name]
+    frame = _FRAME_LIMITS[name]
+    lo, hi = frame
     for index in (2 * ics, 2 * ics + 1):
         sign, trim = KXR_SIGNS[index], KXR_STANDARD_TRIM[index]
         a = sign * (POSITION_MIN - CENTER - trim) / COUNTS_PER_DEGREE
@@ -147,7 +152,7 @@ def _limits(name: str) -> tuple[float, float]:
             if kind in ("roll", "yaw"):
                 a, b = -a, -b
         lo, hi = max(lo, min(a, b)), min(hi, max(a, b))
-    return math.radians(lo), math.radians(hi)
+    return math.radians(frame[0]), math.radians(frame[1]), (math.radians(lo), math.radians(hi))
 
 
 _KINDS: dict[str, JointKind] = {
@@ -174,7 +179,7 @@ def _build(gripper: bool) -> RobotModel:
         mass_g: float,
         com: Vec3 | None = None,
     ) -> LimbJoint:
-        lo, hi = _limits(name)
+        lo, hi, advisory = _limits(name)
         return LimbJoint(
             name,
             link,
@@ -187,6 +192,7 @@ def _build(gripper: bool) -> RobotModel:
             geoms,
             mass_g * G,
             com=None if com is None else (com[0] * MM, com[1] * MM, com[2] * MM),
+            advisory=advisory,
         )
 
     forearm = [_box((30.0, 26.0, 60.0), (0.0, 0.0, -30.0), _LIGHT)]
@@ -339,8 +345,8 @@ def _build(gripper: bool) -> RobotModel:
             "dimensions": "inabajsk/kxreus models/kxrl2g.l joint positions",
             "mass": "inabajsk/kxreus models/kxrl2g.l link masses"
             + ("" if gripper else " - gripper servo (33.7 g) and fingers (2 x 25.94 g) per arm"),
-            "limits": "kxrl2g.l frame limits within the servo's ±135° around Kondo's "
-            "standard trim (KXR-L2G標準トリム.h4t)",
+            "limits": "hard: kxrl2g.l frame limits; advisory: within them the servo's ±135° "
+            "around Kondo's standard trim (KXR-L2G標準トリム.h4t)",
             "servo": KRS_3304R2.source,
         },
         home=home,

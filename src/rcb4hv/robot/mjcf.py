@@ -1,12 +1,14 @@
 """MJCF (MuJoCo's XML) of a :class:`~rcb4hv.robot.model.RobotModel`.
 
-:func:`to_mjcf` writes one self-contained document: a ground plane, the robot on a free joint
-(its root link), one body per link with the link's inertial and geoms, one hinge per joint
-with its limits, one servo actuator per mapped joint and an IMU site on the root link with a
-gyro and an accelerometer. The physics of :mod:`rcb4hv.physics` loads it and drives the
-actuators itself (stiffness from each servo's stretch, limp when free); exported on its own
-(``rcb4hv robot export NAME --format mjcf``) the actuators are plain position servos at the
-default stretch, ready for MuJoCo's viewer or a controller.
+:func:`to_mjcf` writes one self-contained document: a ground plane, the robot on a free
+joint (its root link), one body per link with the link's inertial and geoms, one hinge per
+joint with its limits (a ``wheel`` joint turns without limits), one servo actuator per
+mapped joint (a wheel's drives its speed, :data:`rcb4hv.robot.servos.WHEEL_FULL_SCALE_DEG`)
+and an IMU site on the root link with a gyro and an accelerometer. The physics of
+:mod:`rcb4hv.physics` loads it and drives the actuators itself (stiffness from each servo's
+stretch, limp when free); exported on its own (``rcb4hv robot export NAME --format mjcf``)
+the actuators are plain position servos at the default stretch, ready for MuJoCo's viewer or
+a controller.
 
 Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q)`` clamped to the servo's
 stall torque, on a hinge with the servo's back-EMF damping ``stall_torque / no_load_speed`` and
@@ -132,13 +134,17 @@ def _spec(model: RobotModel, joint: str) -> ServoSpec | None:
     return s.servo or DEFAULT_SERVO
 
 
-def _hinge(model: RobotModel, j: Joint) -> str:
+def _hinge(model: RobotModel, j: Joint, armature_scale: float) -> str:
     spec = _spec(model, j.name)
     damping = back_emf_damping(spec) if spec is not None else 0.0
-    inertia = armature(spec) if spec is not None else 0.0
+    inertia = armature_scale * armature(spec) if spec is not None else 0.0
+    limits = (
+        'limited="false"'
+        if j.kind == "wheel"
+        else f'range="{_f(j.lower)} {_f(j.upper)}" limited="true"'
+    )
     return (
-        f'<joint name={quoteattr(j.name)} type="hinge" axis="{_v(j.axis)}" '
-        f'range="{_f(j.lower)} {_f(j.upper)}" limited="true" '
+        f'<joint name={quoteattr(j.name)} type="hinge" axis="{_v(j.axis)}" {limits} '
         f'damping="{_f(damping)}" armature="{_f(inertia)}"/>'
     )
 
@@ -163,13 +169,15 @@ def to_mjcf(
     floor_friction: float = FLOOR_FRICTION,
     stretch: int = DEFAULT_STRETCH,
     base_height: float | None = None,
+    armature_scale: float = 1.0,
 ) -> str:
     """The MJCF document of ``model`` (see the module docstring).
 
     ``timestep`` is the physics step (s), ``floor_friction`` the sliding friction coefficient
     of the robot's feet on the floor, ``stretch`` the ICS stretch (1-127) the exported
     position servos get, ``base_height`` the root link's start height above the floor (m;
-    default: the zero pose standing on the floor).
+    default: the zero pose standing on the floor), ``armature_scale`` a factor on each
+    servo's reflected inertia (1: :func:`armature`; for sensitivity studies).
     """
     if base_height is None:
         base_height = -lowest_point(model)
@@ -201,7 +209,7 @@ def to_mjcf(
     def walk(parent: str, indent: str) -> None:
         for j in by_parent.get(parent, []):
             lines.append(f"{indent}<body name={quoteattr(j.child)} {_pose(j.xyz, j.rpy)}>")
-            lines.append(indent + "  " + _hinge(model, j))
+            lines.append(indent + "  " + _hinge(model, j, armature_scale))
             _body(model, model.link(j.child), indent + "  ", lines)
             walk(j.child, indent + "  ")
             lines.append(f"{indent}</body>")
@@ -210,6 +218,13 @@ def to_mjcf(
     lines += ["    </body>", "  </worldbody>", "  <actuator>"]
     for s in sorted(model.servos, key=lambda s: s.index):
         spec = s.servo or DEFAULT_SERVO
+        if model.joint(s.joint).kind == "wheel":  # duty-driven motor (WHEEL_FULL_SCALE_DEG)
+            lines.append(
+                f'    <general name="servo{s.index}" joint={quoteattr(s.joint)} '
+                f'gaintype="fixed" gainprm="{_f(spec.stall_torque)}" ctrlrange="-1 1" '
+                f'forcerange="{_f(-spec.stall_torque)} {_f(spec.stall_torque)}"/>'
+            )
+            continue
         kp = stiffness(spec, stretch)
         lines.append(
             f'    <general name="servo{s.index}" joint={quoteattr(s.joint)} gaintype="fixed" '

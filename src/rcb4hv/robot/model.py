@@ -47,6 +47,7 @@ __all__ = [
     "Inertial",
     "Joint",
     "JointKind",
+    "LimitVerdict",
     "Link",
     "RobotModel",
     "ServoJoint",
@@ -58,24 +59,38 @@ __all__ = [
 ]
 
 Vec3 = tuple[float, float, float]
-JointKind = Literal["pitch", "roll", "yaw", "grip"]
+JointKind = Literal["pitch", "roll", "yaw", "grip", "wheel"]
 Side = Literal["left", "right", "centre"]
 
+
+def _side_words(kanji: str, word: str) -> re.Pattern[str]:
+    c = word[0]
+    return re.compile(
+        rf"{kanji}"  # HeartToHeart4's 左 / 右, wherever it stands
+        rf"|(?<![A-Za-z])(?i:{word})(?![A-Za-z])"  # the whole word: left_knee, front left leg
+        rf"|^[{c}{c.upper()}](?=[\s_\-.])|[\s_\-.][{c}{c.upper()}]$"  # l_knee, knee_L
+        rf"|^{c}(?=[A-Z])"  # camel case: lKnee
+    )
+
+
 _SIDE_WORDS: dict[Literal["left", "right"], re.Pattern[str]] = {
-    "left": re.compile(r"^(l|left)[_\-]|[_\-](l|left)$|^left|left$|^左", re.IGNORECASE),
-    "right": re.compile(r"^(r|right)[_\-]|[_\-](r|right)$|^right|right$|^右", re.IGNORECASE),
+    "left": _side_words("左", "left"),
+    "right": _side_words("右", "right"),
 }
 
 
 def side_of_name(name: str) -> Literal["left", "right"] | None:
-    """The side a joint's or servo's name states, by a side word at either end: ``l_`` /
-    ``left`` / ``_l`` / ``-left`` (any case), or HeartToHeart4's 左 / 右 in front; None when
-    it states none (``shoulder_pitch`` holds ``r_`` but names no side) or both."""
+    """The side a joint's or servo's name states: HeartToHeart4's 左 / 右, the word ``left`` /
+    ``right`` (any case, not inside another word), or ``l`` / ``r`` set off at either end
+    (``l_knee``, ``R shoulder``, ``knee_l``, ``lKnee``); None when it states none
+    (``shoulder_pitch`` holds ``r_`` and ``leg`` starts with ``l``, but neither names a side)
+    or both."""
     found = [side for side, word in _SIDE_WORDS.items() if word.search(name.strip())]
     return found[0] if len(found) == 1 else None
 
 
 GeomShape = Literal["box", "cylinder", "sphere"]
+LimitVerdict = Literal["ok", "advisory", "hard"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,8 +130,17 @@ class Joint:
     """A revolute joint from ``parent`` to ``child``.
 
     ``xyz``/``rpy``: the child frame's origin in the parent frame at angle 0 (URDF
-    ``<origin>``); ``axis`` in the child frame; ``lower``/``upper`` in radians. ``mirror`` names
-    the joint on the other side (None for a centre joint, which mirrors onto itself).
+    ``<origin>``); ``axis`` in the child frame. ``mirror`` names the joint on the other side
+    (None for a centre joint, which mirrors onto itself).
+
+    Two ranges, radians (see :meth:`RobotModel.limit_check`):
+
+    * ``lower``/``upper``, the **hard** limits: mechanical only, where the brackets collide or
+      the servo's own travel ends. A value beyond them is refused (and MuJoCo stops the
+      joint there).
+    * ``advisory``, a narrower **advisory** range (e.g. a library's software limits): a value
+      outside it only warns, because the robot maker's own motions may use it. None: the
+      hard range.
     """
 
     name: str
@@ -130,6 +154,15 @@ class Joint:
     kind: JointKind
     side: Side = "centre"
     mirror: str | None = None
+    advisory: tuple[float, float] | None = None
+
+    @property
+    def advisory_range(self) -> tuple[float, float]:
+        """The advisory range (radians), inside the hard limits; the hard range when the joint
+        has none."""
+        if self.advisory is None:
+            return self.lower, self.upper
+        return max(self.lower, self.advisory[0]), min(self.upper, self.advisory[1])
 
 
 @dataclass(frozen=True, slots=True)
@@ -179,6 +212,13 @@ class RobotModel:
                 raise RobotModelError(f"{self.name}: joint {j.name!r} links an unknown link")
             if j.mirror is not None and j.mirror not in joints:
                 raise RobotModelError(f"{self.name}: joint {j.name!r} mirrors unknown {j.mirror!r}")
+            if j.lower > j.upper or (
+                j.advisory is not None and not j.lower <= j.advisory[0] <= j.advisory[1] <= j.upper
+            ):
+                raise RobotModelError(
+                    f"{self.name}: joint {j.name!r} needs lower <= upper and its advisory range "
+                    "inside them"
+                )
         seen: set[int] = set()
         for s in self.servos:
             if s.joint not in joints:
@@ -292,8 +332,24 @@ class RobotModel:
         return out
 
     def out_of_limits(self, angles: Mapping[str, float]) -> list[str]:
-        """Names of the joints whose angle lies outside the model's limits."""
-        return [n for n, a in angles.items() if not self.joint(n).lower <= a <= self.joint(n).upper]
+        """Names of the joints whose angle lies outside their hard (mechanical) limits."""
+        return [n for n, a in angles.items() if self.limit_check(n, a) == "hard"]
+
+    def outside_advisory(self, angles: Mapping[str, float]) -> list[str]:
+        """Names of the joints whose angle lies inside the hard limits but outside the
+        advisory range (a warning, never a refusal)."""
+        return [n for n, a in angles.items() if self.limit_check(n, a) == "advisory"]
+
+    def limit_check(self, joint: str, angle: float) -> LimitVerdict:
+        """Where ``angle`` (radians) of ``joint`` lies: ``"ok"`` inside the advisory range,
+        ``"advisory"`` outside it but inside the hard limits (warn), ``"hard"`` beyond the
+        hard (mechanical) limits (refuse). The one rule for the editor, the mirror and
+        ``project check``."""
+        j = self.joint(joint)
+        if not j.lower <= angle <= j.upper:
+            return "hard"
+        lo, hi = j.advisory_range
+        return "ok" if lo <= angle <= hi else "advisory"
 
 
 def chain(joints: Iterable[Joint], root: str) -> list[Joint]:

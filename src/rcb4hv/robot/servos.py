@@ -36,11 +36,13 @@ __all__ = [
     "KRS_3304R2",
     "MOTOR_TIME_CONSTANT",
     "TRAVEL_DEG",
+    "WHEEL_FULL_SCALE_DEG",
     "armature",
     "back_emf_damping",
     "speed_cap",
     "speed_from_s_per_60deg",
     "stiffness",
+    "wheel_duty",
 ]
 
 # ---------------------------------------------------------------------------- figures
@@ -135,3 +137,21 @@ def back_emf_damping(spec: ServoSpec) -> float:
     """Viscous damping (N·m·s/rad) of a powered servo: a DC motor's torque falls linearly
     from the stall torque at rest to 0 at the no-load speed, so b = stall / no-load speed."""
     return spec.stall_torque / spec.no_load_speed
+
+
+WHEEL_FULL_SCALE_DEG = TRAVEL_DEG
+"""A servo in wheel (rotation) mode turns continuously; the value sent sets its speed: 7500
+stops it, the distance from 7500 is the speed and its sign the direction, 3500 and 11500
+are full speed (the ICS tools step the command within 3500-11500 in rotation mode,
+KXR-KITS.md §5). Kondo publishes no value-to-speed scale, so it is taken linear: the
+command's joint-angle equivalent (the model's one conversion, sign and trim included) over
+the servo's travel (:data:`TRAVEL_DEG`, 135° = 4000 counts) is the motor's duty, -1..1. A
+``wheel`` joint's actuator applies ``duty x stall torque``; with the hinge's back-EMF damping
+(stall / no-load speed) that is a DC motor's torque-speed line, so an unloaded wheel settles
+at ``duty x no-load speed``."""
+
+
+def wheel_duty(angle: float) -> float:
+    """The motor duty (-1..1) of a wheel servo sent the value whose joint-angle equivalent is
+    ``angle`` (rad; see :data:`WHEEL_FULL_SCALE_DEG`)."""
+    return max(-1.0, min(1.0, angle / math.radians(WHEEL_FULL_SCALE_DEG)))

@@ -1,7 +1,8 @@
 """URDF export and import of a :class:`RobotModel`'s links and joints.
 
 :func:`to_urdf` writes links (inertial, and each shape as visual and collision) and revolute
-joints (origin, axis, limits; effort and velocity from the joint's servo). :func:`parse_urdf`
+joints (origin, axis, limits; effort and velocity from the joint's servo; the advisory range
+as ``<safety_controller>``'s soft limits). :func:`parse_urdf`
 reads a URDF's links and revolute, continuous and fixed joints with ``xml.etree``; the joint
 map (servo index, sign, offset, kind, side, mirror) comes from a separate file, see
 :mod:`rcb4hv.robot.jointmap`. A fixed joint with a pure translation merges its child into
@@ -86,8 +87,13 @@ def to_urdf(model: RobotModel) -> str:
             f'    <axis xyz="{_v(j.axis)}"/>',
             f'    <limit lower="{_f(j.lower)}" upper="{_f(j.upper)}" effort="{_f(effort)}" '
             f'velocity="{_f(velocity)}"/>',
-            "  </joint>",
         ]
+        if j.advisory is not None:  # URDF's soft limits: the advisory range
+            out.append(
+                f'    <safety_controller soft_lower_limit="{_f(j.advisory[0])}" '
+                f'soft_upper_limit="{_f(j.advisory[1])}" k_velocity="0"/>'
+            )
+        out.append("  </joint>")
     out.append("</robot>")
     return "\n".join(out) + "\n"
 
@@ -113,6 +119,8 @@ class UrdfJoint:
     upper: float
     effort: float
     velocity: float
+    advisory: tuple[float, float] | None = None
+    """``<safety_controller>``'s soft limits: the joint's advisory range (warn outside)."""
 
 
 @dataclass(frozen=True)
@@ -260,8 +268,15 @@ def parse_urdf(text: str | bytes, source: str = "URDF") -> UrdfRobot:
             lower, upper = -math.pi, math.pi
         effort = float(limit.get("effort", "0")) if limit is not None else 0.0
         velocity = float(limit.get("velocity", "0")) if limit is not None else 0.0
+        safety = e.find("safety_controller")
+        advisory = None
+        if safety is not None and safety.get("soft_lower_limit") is not None:
+            advisory = (
+                max(lower, float(safety.get("soft_lower_limit", "0"))),
+                min(upper, float(safety.get("soft_upper_limit", "0"))),
+            )
         joints.append(
-            UrdfJoint(name, parent, child, xyz, rpy, axis, lower, upper, effort, velocity)
+            UrdfJoint(name, parent, child, xyz, rpy, axis, lower, upper, effort, velocity, advisory)
         )
     roots = [n for n in links if n not in children]
     if len(roots) != 1:

@@ -39,7 +39,6 @@ from rcb4hv.protocol import (
     frame_at,
 )
 from rcb4hv.protocol.memory import (
-    AD_CHANNELS,
     ADDR,
     NO_BLOCK,
     SERVO,
@@ -53,6 +52,7 @@ from rcb4hv.protocol.memory import (
     u16_bytes,
 )
 from rcb4hv.rom import layout as L
+from rcb4hv.rom.calibration import ad_references
 
 __all__ = [
     "Compare",
@@ -477,7 +477,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
             pc += len(f)
         if frames:
             motions.append(ImageMotion(n, frames))
-    ad = AD_CHANNELS.unpack_from(rom, L.AD_REFERENCE_IMAGE)
+    ad = ad_references(rom)
     return ImageDescription(
         system_register=sysreg,
         pio_direction=_literal_of(rom, L.PIO_DIRECTION_WRITE),

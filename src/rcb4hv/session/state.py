@@ -1,6 +1,7 @@
 """What a :class:`~rcb4hv.session.BoardSession` knows about the board: immutable snapshots.
 
-One poll reads the head of RAM (system register, PC, call depth, update flags, AD0) in one
+One poll reads the head of RAM (system register, PC, call depth, update flags, the AD
+references and measured values) in one
 frame, the servo blocks in the fewest frames (:func:`~rcb4hv.client.plan_reads`) and the
 remote's button word and PA1-PA4 in one frame.
 """
@@ -15,8 +16,11 @@ from dataclasses import dataclass, field
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
 from rcb4hv.protocol import ADDR, POSITION_FREE, POSITION_HOLD, SystemRegister
 from rcb4hv.protocol.memory import (
+    AD_READINGS,
     PA_VALUES,
+    AdReadings,
     ProgramState,
+    ad_readings,
     ad_volts,
     read_buttons,
     read_u16,
@@ -24,8 +28,8 @@ from rcb4hv.protocol.memory import (
 
 __all__ = ["AngleHistory", "BoardState", "ServoRow", "poll_state"]
 
-HEAD_SIZE = ADDR.AD_VALUES + 2
-"""Bytes 0000h..0023h: system register, PC, depth, update flags, AD references, AD0."""
+HEAD_SIZE = ADDR.AD_REFERENCE + AD_READINGS.size
+"""Bytes 0000h..0037h: system register, PC, depth, update flags, AD references, measured."""
 REMOTE_SIZE = ADDR.PA[-1] + 1 - ADDR.BUTTONS
 """Button word (2) and PA1-PA4 at 0350h."""
 
@@ -73,6 +77,8 @@ class BoardState:
     pa: tuple[int, int, int, int] = (0, 0, 0, 0)
     servos: tuple[ServoRow, ...] = ()
     polls: int = 0
+    ad: AdReadings | None = None
+    """AD0-AD10: references, measured values (input - reference) and inputs."""
 
     @property
     def rom_running(self) -> bool:
@@ -105,6 +111,13 @@ class BoardState:
             "rom_program": "running" if self.rom_running else "stopped",
             "buttons": f"{self.buttons:04X}",
             "pa": list(self.pa),
+            "ad": None
+            if self.ad is None
+            else {
+                "input": list(self.ad.inputs),
+                "reference": list(self.ad.references),
+                "measured": list(self.ad.measured),
+            },
         }
 
 
@@ -143,6 +156,7 @@ def poll_state(
         pa=PA_VALUES.unpack_from(remote, ADDR.PA[0] - ADDR.BUTTONS),
         servos=tuple(ServoRow.from_info(robot, s) for s in servos),
         polls=base.polls + 1,
+        ad=ad_readings(head, ADDR.AD_REFERENCE - ADDR.SYSTEM),
     )
 
 

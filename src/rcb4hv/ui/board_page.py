@@ -27,6 +27,13 @@ def state_rows(state: BoardState) -> list[dict[str, str]]:
         ("button word", f"{state.buttons:04X}h"),
         ("polls", str(state.polls)),
     ]
+    if state.ad is not None:
+        ad = state.ad
+        rows += [
+            (f"AD{ch}", f"input {i}, measured {m} (reference {r})")
+            for ch, (i, m, r) in enumerate(zip(ad.inputs, ad.measured, ad.references, strict=True))
+            if ch
+        ]
     if sysreg is not None:
         d = sysreg.describe()
         rows.append(("system register", f"{d['word']}h"))

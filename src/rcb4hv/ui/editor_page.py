@@ -46,6 +46,7 @@ from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
 from rcb4hv.ui.playback import physics_available
+from rcb4hv.ui.pose_aids import EditorAids
 from rcb4hv.ui.preview import PreviewPlayer, make_playback
 from rcb4hv.ui.scene3d import RobotScene
 
@@ -119,6 +120,11 @@ class EditorPage:
             with ui.column().classes("items-center"):
                 self.caption = tid(ui.label(""), "editor-3d-caption")
                 self.caption.classes("text-sm text-slate-600")
+                self.pick = tid(
+                    ui.select([], label="robot", on_change=lambda e: self.pick_robot(e.value)),
+                    "editor-robot-pick",
+                ).classes("min-w-[12rem]")
+                self.pick.set_visibility(False)
                 self.holder = ui.column()
                 with ui.row().classes("items-center"):
                     tid(
@@ -135,6 +141,7 @@ class EditorPage:
                 self.preview_status = tid(ui.label(""), "editor-preview-status")
                 self.preview_status.classes("text-xs")
                 self.player = PreviewPlayer(play, scrubber, self.preview_status)
+                self.aids = EditorAids(ed, self.edit)  # IK handles, balance, easing
             with ui.column().classes("grow"):
                 self.frames_in = tid(
                     ui.number("Frames (output periods)", min=1, max=255), "editor-frames"
@@ -353,19 +360,35 @@ class EditorPage:
 
     # ------------------------------------------------------------------ drawing
 
+    def pick_robot(self, name: str | None) -> None:
+        """The user picked one of the models an ambiguous project fits."""
+        if not name or name not in self.ed.model_candidates:
+            return
+        try:
+            self.ed.pick_robot(name)
+        except Rcb4Error as exc:
+            self.fail(exc)
+            return
+        self.rebuild_view()
+        self.redraw()
+
     def rebuild_view(self) -> None:
         ed = self.ed
         self.holder.clear()
         self.scene = None
+        self.pick.set_options(list(ed.model_candidates), value=None)
+        self.pick.set_visibility(bool(ed.model_candidates))
         if ed.model is None:
             self.caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
             self.player.show(None)
+            self.aids.attach(None)
             return
         self.caption.text = ed.model.title
         with self.holder:
             self.scene = RobotScene(ed.model, width=420, height=420)
             tid(self.scene.scene, "editor-3d")
         self.player.show(self.scene)
+        self.aids.attach(self.scene)
 
     def draw_joints(self) -> None:
         self.joints.clear()
@@ -380,7 +403,10 @@ class EditorPage:
                         ).classes("w-64")  # fmt: skip
                         tid(slider, f"editor-joint-{row.ics}")
                         slider.on("change", lambda e, ics=row.ics: self.set_degrees(ics, e.args))
-                        ui.label(f"{row.degrees:.1f}°").classes("w-14 text-xs")
+                        mark = ui.label(f"{row.degrees:.1f}°" + (" ⚠" if row.advisory else ""))
+                        mark.classes("w-14 text-xs")
+                        if row.advisory:
+                            mark.tooltip(row.advisory)
                     raw = tid(
                         ui.number(value=row.value, format="%d").props("dense").classes("w-24"),
                         f"editor-raw-{row.ics}",
@@ -421,6 +447,7 @@ class EditorPage:
             self.player.stop()  # the view shows the edited pose, not the preview
             if self.scene is not None:
                 self.scene.update(ed.pose_angles())
+                self.aids.refresh()
             if ed.dirty != self.guard:
                 self.guard = ed.dirty
                 on = "true" if ed.dirty else "false"

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Concatenate, ParamSpec
 
-from rcb4hv.errors import EditError, Rcb4Error
+from rcb4hv.errors import AmbiguousRobotError, EditError, Rcb4Error
 from rcb4hv.hth4 import Project, parse_project
 from rcb4hv.hth4.keyframes import chain_flowchart_xml
 from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
@@ -41,6 +41,8 @@ class JointRow:
     degrees: float
     lower: float
     upper: float
+    advisory: str = ""
+    """Non-empty when the value lies outside the joint's advisory range (kept: a warning)."""
 
 
 class Editor:
@@ -50,6 +52,8 @@ class Editor:
         self.session: EditSession | None = None
         self.model: RobotModel | None = None
         self.model_error = ""
+        #: the models the project's evidence fits when detection must ask (pick_robot)
+        self.model_candidates: tuple[str, ...] = ()
         self.slot: int | None = None
         self.pose_index: int | None = None
         self.force = False
@@ -61,13 +65,20 @@ class Editor:
         ``model`` (``--robot``), else the model detected from it: the rule of
         :mod:`rcb4hv.hth4.robotpick` (a model needing servos the project lacks is refused)."""
         self.session = EditSession(parse_project(data), path, data)
-        self.model, self.model_error = None, ""
+        self.model, self.model_error, self.model_candidates = None, "", ()
         try:
             self.model = project_model(self.session.project, model)
+        except AmbiguousRobotError as exc:
+            self.model_error, self.model_candidates = str(exc), exc.candidates
         except Rcb4Error as exc:
             self.model_error = str(exc)
         used = self.project.used_motions
         self.select(used[0].slot if used else None)
+
+    def pick_robot(self, name: str) -> None:
+        """Use model ``name`` (one of :attr:`model_candidates`, as ``--robot`` would)."""
+        self.model = project_model(self.project, name)
+        self.model_error, self.model_candidates = "", ()
 
     @property
     def project(self) -> Project:
@@ -136,11 +147,15 @@ class Editor:
         for ics, value in pose.positions:
             deg = self.degrees(ics, value)
             label, lo, hi = f"ICS {ics}", -TRAVEL_DEG, TRAVEL_DEG  # the servo's own travel
+            note = ""
             if self.model is not None and ics in self.model.indices:
                 joint = self.model.joint(self.model.servo(ics).joint)
                 label = f"{joint.name} (ICS {ics})"
                 lo, hi = math.degrees(joint.lower), math.degrees(joint.upper)
-            rows.append(JointRow(ics, label, value, deg if deg is not None else math.nan, lo, hi))
+                note = "; ".join(self.checks.advisories({ics: value}))
+            rows.append(
+                JointRow(ics, label, value, deg if deg is not None else math.nan, lo, hi, note)
+            )
         return rows
 
     def pose_angles(self) -> dict[str, float]:

@@ -27,6 +27,7 @@ from rcb4hv.project.physicsresult import TrackPoint
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.run import run_motions
 from rcb4hv.robot import RobotModel, Transform
+from rcb4hv.robot.geometry import pose_transform
 
 __all__ = [
     "Playback",
@@ -123,15 +124,8 @@ def physics_playback(project: Project, slot: int, model: RobotModel) -> Playback
 
 
 def _root(p: TrackPoint) -> Transform:
-    """The root link's world transform from its position and unit quaternion (w, x, y, z).
-    (To move into ``rcb4hv.robot.geometry`` once that module lands.)"""
-    w, qx, qy, qz = p.quat
-    return (
-        (1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - w * qz), 2 * (qx * qz + w * qy), p.x),
-        (2 * (qx * qy + w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - w * qx), p.y),
-        (2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy), p.z),
-        (0.0, 0.0, 0.0, 1.0),
-    )
+    """The root link's world transform from its position and unit quaternion (w, x, y, z)."""
+    return pose_transform((p.x, p.y, p.z), p.quat)
 
 
 def physics_available() -> bool:

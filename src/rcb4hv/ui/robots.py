@@ -18,7 +18,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Iterable
 
-from rcb4hv.errors import NoRobotModelError
+from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
@@ -55,13 +55,16 @@ def choose_robot(
     (raises :class:`~rcb4hv.errors.RobotModelError` when it names no robot)."""
     if spec is not None:
         return project_model(None, spec), f"--robot {spec}"
+    asks = ""
     if project is not None:
         try:
             return project_model(project), "detected from the project"
+        except AmbiguousRobotError as exc:  # the Editor page offers the candidates
+            asks = f"; the project fits {', '.join(exc.candidates)}: pick one on the Editor page"
         except NoRobotModelError:
             log.info("the open project names no built-in robot")
     name = board_robot(board_indices)
     if name is not None:
-        return load_builtin(name), "matches the board's servos"
+        return load_builtin(name), "matches the board's servos" + asks
     log.info("no robot detected: drawing the default %s", DEFAULT_ROBOT)
-    return load_builtin(DEFAULT_ROBOT), "default"
+    return load_builtin(DEFAULT_ROBOT), "default" + asks

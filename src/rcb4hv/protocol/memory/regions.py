@@ -27,6 +27,7 @@ from rcb4hv.protocol.memory.map import ADDR, SYS, Button
 __all__ = [
     "AD_CHANNELS",
     "AD_MASK",
+    "AD_READINGS",
     "COUNTERS",
     "PA_VALUES",
     "PIO_MASK",
@@ -37,8 +38,10 @@ __all__ = [
     "TIMERS",
     "TIMER_STOPPED",
     "USER_VARIABLES",
+    "AdReadings",
     "ProgramState",
     "TimerState",
+    "ad_readings",
     "ad_volts",
     "program_reset",
     "read_buttons",
@@ -184,6 +187,31 @@ def write_buttons(buf: WriteBuffer, buttons: int, at: int = ADDR.BUTTONS) -> Non
 AD_CHANNELS: Final = Struct(f"<{ADDR.AD_COUNT}H")
 """AD0-AD10: the measured values at 0022h (10-bit) and the references at 000Ch."""
 AD_MASK: Final = 0x3FF
+AD_READINGS: Final = Struct(f"<{ADDR.AD_COUNT}H{ADDR.AD_COUNT}h")
+"""The AD references (000Ch) and, right after them, the measured registers (0022h): signed,
+the input minus the reference (spec 10.4). One read of ``AD_READINGS.size`` bytes."""
+
+
+@dataclass(frozen=True, slots=True)
+class AdReadings:
+    """AD0-AD10 as the board holds them: ``references`` (000Ch) and ``measured`` (0022h,
+    input - reference, signed); :attr:`inputs` what the pins see (measured + reference)."""
+
+    references: tuple[int, ...]
+    measured: tuple[int, ...]
+
+    @property
+    def inputs(self) -> tuple[int, ...]:
+        return tuple((m + r) & 0xFFFF for m, r in zip(self.measured, self.references, strict=True))
+
+
+def ad_readings(buf: ReadBuffer, at: int = ADDR.AD_REFERENCE) -> AdReadings:
+    """The references and measured registers of AD0-AD10 from ``buf`` at ``at``."""
+    v = AD_READINGS.unpack_from(buf, at)
+    n = ADDR.AD_COUNT
+    return AdReadings(v[:n], v[n:])
+
+
 PIO_WORDS: Final = Struct("<HH")
 """PIO direction (1 = output) and data at 0038h."""
 PIO_MASK: Final = 0x3FF

@@ -1,0 +1,100 @@
+"""Easing between two poses: "ease in/out over K poses" (``rcb4hv project ease``).
+
+The board moves every servo linearly from one pose to the next over the pose's frame count
+(spec 8: RunConstFrameServo), so a move starts and stops at full speed. Easing splits the
+move into pose ``I`` into ``K`` shorter linear moves whose end points follow an easing curve
+of time: the same total frames, the same start and end, but the speed rises from rest and
+falls back to it. :func:`eased_poses` computes the poses (so the editor can preview them in
+3D); :func:`ease_pose` writes them into the motion (``K - 1`` new poses inserted before pose
+``I``, whose frame count becomes the last segment's).
+
+Curves (``t`` from 0 to 1): ``in-out`` = (1 - cos πt) / 2, ``in`` = 1 - cos(πt/2), ``out`` =
+sin(πt/2). Servos whose target is hold (7FFFh) or free (8000h) keep that value in every new
+pose: those are commands, not positions.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Literal
+
+from rcb4hv.errors import EditError
+from rcb4hv.hth4.edit import insert_pose, set_pose, used_motion
+from rcb4hv.hth4.model import Motion, Project
+from rcb4hv.hth4.poses import DEFAULT_CHECKS, SPECIAL_POSITIONS, Checks, motion_poses
+
+__all__ = ["CURVES", "Curve", "ease_pose", "eased_poses"]
+
+Curve = Literal["in-out", "in", "out"]
+CURVES: dict[str, Callable[[float], float]] = {
+    "in-out": lambda t: (1.0 - math.cos(math.pi * t)) / 2.0,
+    "in": lambda t: 1.0 - math.cos(math.pi * t / 2.0),
+    "out": lambda t: math.sin(math.pi * t / 2.0),
+}
+
+
+def _before(motion: Motion, index: int) -> dict[int, int]:
+    """The value of every servo just before pose ``index`` (0-based) starts: the last value
+    an earlier pose of the motion gave it."""
+    values: dict[int, int] = {}
+    for pose in motion_poses(motion)[:index]:
+        values.update(pose.values)
+    return values
+
+
+def eased_poses(
+    motion: Motion, index: int, over: int, curve: Curve = "in-out"
+) -> list[tuple[int, dict[int, int]]]:
+    """The ``over`` poses (frames, values by ICS number) that replace the move into pose
+    ``index`` (0-based); the last one is pose ``index`` itself, its values unchanged."""
+    poses = motion_poses(motion)
+    if not 0 <= index < len(poses):
+        raise EditError(f"motion {motion.slot} has {len(poses)} poses; no pose {index + 1}")
+    if index == 0:
+        raise EditError(
+            f"motion {motion.slot} pose 1 has no pose before it in the motion: nothing to ease from"
+        )
+    if over < 2:
+        raise EditError(f"easing needs 2 or more poses, not {over}")
+    target = poses[index]
+    if over > target.frames:
+        raise EditError(
+            f"motion {motion.slot} pose {index + 1} moves over {target.frames} frames: it "
+            f"cannot be split into {over} poses of one frame or more"
+        )
+    start = _before(motion, index)
+    ease = CURVES[curve]
+    out: list[tuple[int, dict[int, int]]] = []
+    done = 0
+    for k in range(1, over + 1):
+        end = round(target.frames * k / over)
+        s = ease(k / over)
+        values: dict[int, int] = {}
+        for ics, b in target.values.items():
+            a = start.get(ics, b)
+            if b in SPECIAL_POSITIONS or a in SPECIAL_POSITIONS:
+                values[ics] = b
+            else:
+                values[ics] = round(a + (b - a) * s)
+        out.append((end - done, values if k < over else dict(target.values)))
+        done = end
+    return out
+
+
+def ease_pose(
+    project: Project,
+    slot: int,
+    index: int,
+    over: int,
+    curve: Curve = "in-out",
+    checks: Checks = DEFAULT_CHECKS,
+) -> Project:
+    """Motion ``slot`` with the move into pose ``index`` (0-based) eased over ``over`` poses
+    (:func:`eased_poses`)."""
+    motion = used_motion(project, slot)
+    steps = eased_poses(motion, index, over, curve)
+    for k, (frames, values) in enumerate(steps[:-1]):
+        project = insert_pose(project, slot, index + k, values, frames, checks)
+    last_frames, _ = steps[-1]
+    return set_pose(project, slot, index + over - 1, None, last_frames, checks)

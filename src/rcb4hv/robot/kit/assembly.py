@@ -1,0 +1,185 @@
+"""Assemble a :class:`RobotModel` from a kit template: joint slots placed in the zero pose.
+
+A template lists every joint a family's frame can carry (a *slot*): its parent slot, the
+joint's position in the robot frame at the zero pose (mm, left side), its axis, kind and
+limits, and the shapes of the part it moves (boxes in the robot frame). A project uses a
+subset of the slots (its servo names say which); a slot without a servo is rigid, so its
+shapes join its parent's link. All joints have identity rotation at the zero pose (KXR
+frames are built square), so a joint's origin is its position minus its parent's.
+
+Masses: the build's own whole-robot mass where kxreus gives one, else the family's
+(``figures.MASS_SERVOS`` build) plus or minus one servo per servo more or fewer, spread as
+:func:`rcb4hv.robot.humanoid.distribute_mass` does: each link carries its servo case, the
+rest is shared by shape volume.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+
+from rcb4hv.errors import RobotModelError
+from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
+from rcb4hv.robot.kit.figures import MASS_SERVOS, fig
+from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, ServoSpec, Vec3
+from rcb4hv.robot.servos import KRS_3304R2
+from rcb4hv.robot.shapes import solid_many
+
+__all__ = ["Slot", "Template", "assemble", "box", "cylinder_y", "segment"]
+
+MM = 0.001
+_DARK, _LIGHT = (0.2, 0.2, 0.22, 1.0), (0.9, 0.9, 0.92, 1.0)
+_TYRE = (0.1, 0.1, 0.1, 1.0)
+
+
+def box(size: Vec3, centre: Vec3, light: bool = False) -> Geom:
+    """A box (mm, robot frame at the zero pose)."""
+    return Geom("box", size, centre, rgba=_LIGHT if light else _DARK)
+
+
+def cylinder_y(radius: float, width: float, centre: Vec3) -> Geom:
+    """A wheel: a cylinder with its axis along y (mm, robot frame)."""
+    return Geom("cylinder", (radius, width, 0.0), centre, rpy=(math.pi / 2, 0.0, 0.0), rgba=_TYRE)
+
+
+def segment(a: Vec3, b: Vec3, thick: float = 26.0, light: bool = False) -> Geom:
+    """A box of ``thick`` square section joining ``a`` and ``b`` along their main axis."""
+    size = [thick, thick, thick]
+    k = max(range(3), key=lambda i: abs(b[i] - a[i]))
+    size[k] = max(abs(b[k] - a[k]), thick)
+    centre = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2)
+    return box((size[0], size[1], size[2]), centre, light)
+
+
+@dataclass(frozen=True)
+class Slot:
+    """One joint a frame can carry (left side, or ``centre``)."""
+
+    name: str
+    parent: str | None  # a slot name, or None for the torso
+    pos: Vec3  # mm, robot frame, zero pose
+    axis: Vec3
+    kind: JointKind
+    limits: tuple[float, float]  # degrees, left joint
+    geoms: tuple[Geom, ...]  # mm, robot frame
+    centre: bool = False
+    #: an accessory (wheel, gripper finger, arm on a wheeled body) that is not there when its
+    #: servo is not: its shapes are dropped instead of joining the parent's link
+    optional: bool = False
+
+
+@dataclass(frozen=True)
+class Template:
+    """A family's frame: the torso's shapes and every slot, parents before children."""
+
+    family: str
+    torso: tuple[Geom, ...]
+    slots: tuple[Slot, ...]
+
+    def slot(self, name: str) -> Slot:
+        for s in self.slots:
+            if s.name == name:
+                return s
+        raise KeyError(name)
+
+
+def _local(g: Geom, origin: Vec3) -> Geom:
+    """``g`` (mm, robot frame) in metres relative to ``origin`` (mm)."""
+    size = g.size if g.shape != "cylinder" else (g.size[0], g.size[1], 0.0)
+    return replace(
+        g,
+        size=(size[0] * MM, size[1] * MM, size[2] * MM),
+        pos=tuple((g.pos[k] - origin[k]) * MM for k in range(3)),  # type: ignore[arg-type]
+    )
+
+
+def assemble(
+    template: Template,
+    present: Sequence[str],
+    joint_map: Mapping[str, tuple[int, int]],
+    *,
+    name: str,
+    title: str,
+    sources: Mapping[str, str],
+    home: Mapping[str, float] | None = None,
+    servo: ServoSpec = KRS_3304R2,
+    total_mass: float | None = None,
+) -> RobotModel:
+    """The model of ``template`` with the slots ``present`` (base names); ``joint_map``: full
+    joint name (``l_knee_pitch``, ``neck_yaw``) -> (servo index, sign); ``total_mass`` (kg):
+    the build's own whole-robot mass when a source gives it (else the family's, see the
+    module docstring)."""
+    by_name = {s.name: s for s in template.slots}
+    unknown = [p for p in present if p not in by_name]
+    if unknown:
+        raise RobotModelError(f"{template.family}: no such joint in this frame: {unknown}")
+    keep = set(present)
+
+    def owner(slot: str | None) -> str | None:
+        """The nearest present slot at or above ``slot`` (None: the torso)."""
+        while slot is not None and slot not in keep:
+            slot = by_name[slot].parent
+        return slot
+
+    shapes: dict[str | None, list[Geom]] = {None: list(template.torso)}
+    dropped: set[str] = set()
+    for s in template.slots:
+        if s.name not in keep and (s.optional or (s.parent in dropped)):
+            dropped.add(s.name)
+            continue
+        shapes.setdefault(owner(s.name), []).extend(s.geoms)
+    for s in template.slots:  # a joint whose part is its servo alone (cross joints)
+        if s.name in keep and not shapes.get(s.name):
+            shapes[s.name] = [box((26.0, 26.0, 26.0), s.pos)]
+    origin: dict[str | None, Vec3] = {None: (0.0, 0.0, 0.0)}
+    origin.update({s.name: s.pos for s in template.slots})
+    links = {k: tuple(_local(g, origin[k]) for g in v) for k, v in shapes.items()}
+    # masses: the family's total, a servo more or less per servo beyond its reference build
+    sided = sum(1 if by_name[p].centre else 2 for p in keep)
+    per_servo = fig("mass.per_servo") * MM
+    total = (
+        total_mass
+        if total_mass is not None
+        else fig(f"mass.{template.family}") * MM
+        + (sided - MASS_SERVOS[template.family]) * per_servo
+    )
+    parts = {
+        (k or "torso"): (1 if k is None or by_name[k].centre else 2, 0 if k is None else 1, g)
+        for k, g in links.items()
+        if g
+    }
+    masses = distribute_mass(total, per_servo, parts)
+    joints: list[LimbJoint] = []
+    for s in template.slots:
+        if s.name not in keep:
+            continue
+        par = owner(s.parent)
+        rel = tuple((s.pos[k] - origin[par][k]) * MM for k in range(3))
+        geoms = links[s.name]
+        joints.append(
+            LimbJoint(
+                name=s.name,
+                link=s.name + "_link",
+                parent="torso" if par is None else (par + "_link"),
+                xyz=(rel[0], rel[1], rel[2]),
+                axis=s.axis,
+                kind=s.kind,
+                lower=math.radians(s.limits[0]),
+                upper=math.radians(s.limits[1]),
+                geoms=geoms,
+                mass=masses[s.name],
+                centre=s.centre,
+            )
+        )
+    root = Link("torso", solid_many(masses["torso"], links[None]), links[None])
+    return build_humanoid(
+        name=name,
+        title=title,
+        root=root,
+        joints=joints,
+        servo_map=joint_map,
+        servo=servo,
+        sources=sources,
+        home=home,
+    )

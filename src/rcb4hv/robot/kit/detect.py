@@ -1,0 +1,294 @@
+"""A project's kit model from its own evidence: the title's kit code and the servo names.
+
+1. The servo names give each servo's role (:mod:`~rcb4hv.robot.kit.names`); spares are left
+   out. Every family whose frame takes all named servos and has its core joints is a
+   candidate (:mod:`~rcb4hv.robot.kit.mapping`).
+2. The title's kit code (:mod:`~rcb4hv.robot.kit.code`) picks among them; when the code names
+   a family the servos do not fit, the servo names win and the evidence says so.
+3. No code and several candidates: :class:`~rcb4hv.errors.AmbiguousRobotError` lists them
+   (``--robot kxr:CODE`` picks one); none: :class:`~rcb4hv.errors.NoRobotModelError`.
+4. Signs come from the kit's assembly convention, then the project's home pose is checked:
+   left and right symmetric (a pair that is symmetric only with the left sign turned is
+   turned, and the evidence says so), and for a biped the soles level with the torso.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+
+from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
+from rcb4hv.robot.geometry import geom_lowest_z
+from rcb4hv.robot.kinematics import forward
+from rcb4hv.robot.kit.build import (
+    canonical_code,
+    is_centre,
+    kit_model,
+    kit_signs,
+    stock_joint_map,
+)
+from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
+from rcb4hv.robot.kit.convention import LIMBS
+from rcb4hv.robot.kit.mapping import Placement, map_roles
+from rcb4hv.robot.kit.names import Role, parse_servo_name
+from rcb4hv.robot.model import RobotModel
+
+__all__ = ["SYMMETRY_TOLERANCE_DEG", "Detection", "detect_kit"]
+
+SYMMETRY_TOLERANCE_DEG = 5.0
+"""A home pose is left-right symmetric when mirrored joint angles agree within this (deg):
+Kondo's trims leave a few degrees between the sides (chosen)."""
+_SIGNIFICANT = 100  # counts: a home value this far from centre tells a joint's direction
+_LEVEL_DEG = 10.0  # a biped's soles are level within this of the torso at home (chosen)
+
+
+@dataclass(frozen=True)
+class Detection:
+    """The chosen model and the evidence for it."""
+
+    model: RobotModel
+    title: str
+    code: KitCode | None
+    servos: tuple[tuple[int, str, str | None, int | None], ...]  # (index, name, joint, sign)
+    notes: tuple[str, ...] = ()
+    checks: tuple[tuple[str, bool, str], ...] = ()
+    candidates: tuple[str, ...] = field(default=())
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "model": self.model.name,
+            "title": self.model.title,
+            "project_title": self.title,
+            "kit_code": self.code.code if self.code else None,
+            "family": self.code.family if self.code else None,
+            "candidates": list(self.candidates),
+            "servos": [
+                {"index": i, "name": n, "joint": j, "sign": s} for i, n, j, s in self.servos
+            ],
+            "notes": list(self.notes),
+            "checks": [{"check": c, "ok": ok, "detail": d} for c, ok, d in self.checks],
+        }
+
+
+def _roles(names: Mapping[int, str]) -> tuple[dict[int, tuple[str, Role]], list[int]]:
+    roles: dict[int, tuple[str, Role]] = {}
+    spare: list[int] = []
+    for index, name in names.items():
+        role = parse_servo_name(name)
+        if role is None:
+            spare.append(index)
+        else:
+            roles[index] = (name, role)
+    return roles, spare
+
+
+def _humanoid_code(base: KitCode | None, p: Placement) -> KitCode:
+    bases = p.bases
+    probe = KitCode("humanoid", "", width=base.width if base else "standard")
+    text = canonical_code(probe, sorted(bases))
+    parsed = parse_kit_code("kxr:" + text)
+    assert parsed is not None
+    return replace(parsed, width=probe.width)
+
+
+def _conflicts(code: KitCode, names: KitCode) -> list[str]:
+    """What the title's code claims that the servo names contradict."""
+    out = []
+    for what in ("legs", "arms", "head"):
+        said, found = getattr(code, what), getattr(names, what)
+        if said is not None and said != found:
+            out.append(f"the title says {what} {said}, the servo names {found}: names win")
+    for what in ("gripper", "wheels"):
+        if getattr(code, what) and not getattr(names, what):
+            out.append(f"the title says {what}, the servo names have none: names win")
+    return out
+
+
+def _candidates(roles: Mapping[int, tuple[str, Role]]) -> dict[Family, Placement]:
+    out: dict[Family, Placement] = {}
+    for family in FAMILIES:
+        p = map_roles(family, roles)
+        if p.fits:
+            out[family] = p
+    return out
+
+
+def _joint_map(code: KitCode, p: Placement) -> dict[str, tuple[int, int]]:
+    signs = kit_signs(code)
+    out: dict[str, tuple[int, int]] = {}
+    for joint, index in p.joints.items():
+        base = joint[2:] if joint[:2] in ("l_", "r_") else joint
+        right, left = signs[base]
+        out[joint] = (
+            index,
+            left if joint.startswith("l_") and not is_centre(code, base) else right,
+        )
+    return out
+
+
+def _symmetry(
+    code: KitCode, jm: dict[str, tuple[int, int]], home: Mapping[int, int]
+) -> tuple[list[str], list[tuple[str, bool, str]]]:
+    """Turn left signs the home pose shows reversed; the notes and the check rows."""
+    notes: list[str] = []
+    bad: list[str] = []
+    probe = kit_model(code, jm)
+    for joint, (index, sign) in sorted(jm.items()):
+        if not joint.startswith("l_") or "r_" + joint[2:] not in jm:
+            continue
+        other, osign = jm["r_" + joint[2:]]
+        if index not in home or other not in home or joint.endswith("wheel"):
+            continue
+        cl, cr = home[index] - CENTER, home[other] - CENTER
+        if min(abs(cl), abs(cr)) < _SIGNIFICANT:
+            continue
+        kind = probe.joint(joint).kind
+        mirror = -1 if kind in ("roll", "yaw") else 1
+        left, right = sign * cl / COUNTS_PER_DEGREE, osign * cr / COUNTS_PER_DEGREE
+        if abs(mirror * left - right) <= SYMMETRY_TOLERANCE_DEG:
+            continue
+        if abs(-mirror * left - right) <= SYMMETRY_TOLERANCE_DEG:
+            jm[joint] = (index, -sign)
+            notes.append(f"{joint}: sign turned to {-sign:+d}: the home pose is symmetric so")
+        else:
+            bad.append(f"{joint[2:]} ({left:+.0f}° / {right:+.0f}°)")
+    row = ("home pose left-right symmetric", not bad, ", ".join(bad) or "all pairs agree")
+    return notes, [row]
+
+
+def _level(model: RobotModel) -> list[tuple[str, bool, str]]:
+    """A biped's soles level with its torso at home (feet flat, upright)."""
+    feet = [f"{s}_ankle_roll_link" for s in ("l", "r")]
+    if not all(any(link.name == f for link in model.links) for f in feet):
+        return []
+    frames = forward(model, dict(model.home))
+    worst = 0.0
+    for f in feet:
+        zz = frames[f][2][2]  # the sole's z axis against the torso's (root frame)
+        worst = max(worst, math.degrees(math.acos(max(-1.0, min(1.0, zz)))))
+    ok = worst <= _LEVEL_DEG
+    return [("home pose feet flat", ok, f"soles tilt {worst:.1f}° from the torso")]
+
+
+def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]:
+    """A legged robot stands at home: every limb's last part reaches below the torso."""
+    if family == "humanoid" or not model.home:
+        return []
+    frames = forward(model, dict(model.home))
+    torso_bottom = min(g.pos[2] - g.size[2] / 2 for g in model.link("torso").geoms)
+    high = []
+    for limb in LIMBS[family].values():
+        for side in ("l_", "r_"):
+            link = next(
+                (
+                    side + s + "_link"
+                    for s in reversed(limb)
+                    if any(k.name == side + s + "_link" for k in model.links)
+                ),
+                None,
+            )
+            if link is None:
+                continue
+            low = min(geom_lowest_z(g, frames[link]) for g in model.link(link).geoms)
+            if low > torso_bottom:
+                high.append(link.removesuffix("_link"))
+    detail = (
+        "every limb reaches below the torso" if not high else "above the torso: " + ", ".join(high)
+    )
+    return [("home pose stands on its limbs", not high, detail)]
+
+
+def _choose(
+    code: KitCode | None,
+    force: KitCode | None,
+    roles: Mapping[int, tuple[str, Role]],
+    cands: Mapping[Family, Placement],
+    used: set[int],
+    notes: list[str],
+) -> tuple[KitCode, dict[str, tuple[int, int]], str]:
+    """The build (its code), its joint map and where the map came from (steps 1-3)."""
+    by_names = "the project's servo names (右/左, part, axis, limb)"
+    if code is not None and code.family not in cands:
+        stock = stock_joint_map(code)
+        limbs = {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
+        if limbs <= used <= {i for i, _ in stock.values()}:  # every limb; head optional
+            stock = {j: (i, s) for j, (i, s) in stock.items() if i in used}
+            why = "; ".join(w for _, w in map_roles(code.family, roles).unplaced) or "core joints"
+            notes.append(
+                f"the servo names do not fit a KXR-{code.code} ({why}), but the ICS numbers "
+                "are its stock build's: joints from the kit's stock map"
+            )
+            return code, stock, "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
+    family: Family
+    if code is not None and code.family in cands:
+        family = code.family
+    elif force is not None:
+        raise NoRobotModelError(
+            f"the servo names do not fit a KXR-{force.code}: "
+            + "; ".join(why for _, why in map_roles(force.family, roles).unplaced)
+        )
+    elif len(cands) == 1:
+        family = next(iter(cands))
+        if code is not None:
+            notes.append(f"the title says {code.family}, the servo names a {family}: names win")
+    elif cands:
+        names_ = tuple(f"kxr:{f}" for f in cands)
+        raise AmbiguousRobotError(
+            f"the servo names fit {', '.join(names_)}: pick one with --robot", names_
+        )
+    else:
+        raise NoRobotModelError("the servo names describe no KXR kit")
+    placement = cands[family]
+    if placement.side_conflicts:
+        notes.append(
+            f"servo(s) {sorted(placement.side_conflicts)} are named for the other side: "
+            "the kit's wiring puts the right side on even ICS numbers, so they are taken "
+            "as wired (KXR-KITS.md §1.2)"
+        )
+    if family == "humanoid":
+        effective = _humanoid_code(code, placement)
+        if code is not None and code.family == "humanoid":
+            notes += _conflicts(code, effective)
+    else:
+        effective = code if code is not None and code.family == family else KitCode(family, family)
+    return effective, _joint_map(effective, placement), by_names
+
+
+def detect_kit(
+    title: str | None,
+    names: Mapping[int, str],
+    home: Mapping[int, int] | None = None,
+    *,
+    force: KitCode | None = None,
+) -> Detection:
+    """The kit model of a project (see the module docstring). ``names``: ICS number -> servo
+    name of the slots in use; ``home``: the home pose's motion values by ICS number; ``force``:
+    the kit code ``--robot kxr:CODE`` gives (its family wins over the names)."""
+    roles, spare = _roles(names)
+    code = force or parse_kit_code(title)
+    notes: list[str] = []
+    if spare:
+        notes.append(f"no joint in the name of servo(s) {sorted(spare)}: left out")
+    cands = _candidates(roles)
+    effective, jm, source = _choose(code, force, roles, cands, set(names), notes)
+    checks: list[tuple[str, bool, str]] = []
+    if home:
+        sym_notes, rows = _symmetry(effective, jm, home)
+        notes += sym_notes
+        checks += rows
+    counts = {j: home[i] - CENTER for j, (i, _) in jm.items() if home and i in home}
+    model = kit_model(
+        effective,
+        jm,
+        home_counts=counts,
+        sources={"joint map": source},
+    )
+    checks += _level(model) + _feet_down(model, effective.family)
+    servos = tuple(
+        (i, names[i], model.servo(i).joint if i in model.indices else None,
+         model.servo(i).sign if i in model.indices else None)
+        for i in sorted(names)
+    )  # fmt: skip
+    return Detection(model, title or "", code, servos, tuple(notes), tuple(checks), ())

@@ -1,0 +1,220 @@
+"""Every figure the kit builder uses, with its source and licence: the one provenance table.
+
+Like MuJoCo Menagerie's model cards, each number names where it came from. ``docs/robots.md``
+renders this table (``rcb4hv robot show kxr:CODE`` prints the sources a model used). Lengths
+are millimetres, masses grams, in the robot frame (x forward, y left, z up), for the LEFT
+side (the right is the mirror image). Nothing here is copied code or mesh: the figures were
+read or derived from the sources (derivations in ``shared/robots/KXR-KITS.md``, the section
+named in each row).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["FIGURES", "MASS_SERVOS", "SOURCES", "Figure", "fig", "provenance_markdown", "vec"]
+
+#: source key -> (what it is, licence)
+SOURCES: dict[str, tuple[str, str]] = {
+    "KX": (
+        "inabajsk/kxreus (kxrbody.l, kxrlinks.l, rcb4robotconfig.l, models/*.l, "
+        "eusview/robots/kxr/*.json; commits 4a2094e, a1238a3, 044677e)",
+        "no licence file: facts and figures only, no code or mesh",
+    ),
+    "KP": (
+        "Kondo's HeartToHeart4 sample projects (inabajsk/kxreus projects/Hello_*)",
+        "no licence stated (Kondo Kagaku): facts only",
+    ),
+    "RC": ("iory/rcb4 ros/kxr_models URDFs (commit dc1ccf5)", "MIT (package.xml says BSD)"),
+    "FACTS": ("shared/robots/FACTS.md (Kondo KRS-3304R2 catalogue figures)", "facts"),
+    "CHOSEN": ("a named choice of this package where no source gives the figure", "-"),
+}
+
+
+@dataclass(frozen=True)
+class Figure:
+    value: float | tuple[float, float, float]
+    unit: str
+    source: str  # a SOURCES key
+    where: str  # the file / section the figure was read or derived from
+
+
+def _f(value: float | tuple[float, float, float], unit: str, source: str, where: str) -> Figure:
+    return Figure(value, unit, source, where)
+
+
+FIGURES: dict[str, Figure] = {
+    # ---------------------------------------------------------------- servo and parts
+    "servo.case": _f((32.5, 26.0, 26.0), "mm", "KX", "kxrbody.l kxr-servo-s3300 (§2.1)"),
+    "servo.mass": _f(35.03, "g", "KX", "kxrbody.l s3304R2 33.7 + horn 1.33 (§3.1)"),
+    "wheel.radius": _f(30.5, "mm", "KX", "kxrbody.l kxr-wheel r 20 + 10.5 (§2.6)"),
+    "wheel.width": _f(13.0, "mm", "KX", "kxrbody.l kxr-wheel tyre half-width 6.5 (§2.6)"),
+    "wheel.axle_offset": _f(14.0, "mm", "KX", "kxrlinks.l kxr-wheel-link offset 3.5 + 10.5"),
+    "wheel.mass": _f(25.0, "g", "CHOSEN", "tyre and hub; no source weighs the KXR wheel"),
+    # ---------------------------------------------------------------- biped body (L2)
+    "l2.shoulder": _f((-7.25, 46.5, 69.0), "mm", "KX", "models/kxrl2g.l (§2.2)"),
+    "l2.neck_yaw": _f((-7.25, 0.0, 82.5), "mm", "KX", "kxrl2l6a6h2.json head-neck-y (§2.3)"),
+    "l2.neck_pitch": _f((0.0, 0.0, 36.0), "mm", "KX", "kxrl2l6a6h2.json head-neck-p (§2.3)"),
+    "l2.hip_l5": _f((0.0, 23.5, -28.0), "mm", "KX", "models/kxrl2g.l crotch-r (§2.2)"),
+    "l2.hip_l6": _f((0.0, 23.5, -34.5), "mm", "KX", "kxrl2l6a6h2.json crotch-y (§2.3)"),
+    "l2.hip_l6_wide": _f((0.0, 44.5, -34.5), "mm", "KX", "kxrl2l6a7h2w.json crotch-y (§2.4)"),
+    "l2.hip_yaw_to_roll": _f(31.0, "mm", "KX", "kxrl2l6a6h2.json check (§2.3)"),
+    "l2.hip_l2": _f((0.0, 34.0, -31.0), "mm", "KX", "models/kxra6g.l crotch-y (§2.5)"),
+    "l2.short_leg": _f(33.0, "mm", "KX", "models/kxra6g.l crotch-y to crotch-r (§2.5)"),
+    "l2.thigh": _f(58.0, "mm", "KX", "models/kxrl2g.l knee (§2.2)"),
+    "l2.shin": _f(57.98, "mm", "KX", "models/kxrl2g.l ankle (§2.2)"),
+    "l2.sole": _f(31.0, "mm", "KX", "models/kxrl2g.l leg end-coords (§2.2)"),
+    "l2.base_wheel": _f(
+        (54.0, 14.0, -34.0),
+        "mm",
+        "RC",
+        "kxrmw4a6h2m.urdf wheels at x ±54 (§2.5); y, z chosen: axle on the "
+        "short leg's foot, wheel below its sole",
+    ),
+    "l2.foot_wheel": _f(
+        (54.0, 14.0, -3.5),
+        "mm",
+        "CHOSEN",
+        "base wheels under a long-legged biped's foot (the kxra6g projects "
+        "list them with full legs): the kxrmw4a6h2m wheel spacing (x ±54, RC), "
+        "tyre 3 mm below the sole",
+    ),
+    "l2.ankle_wheel": _f(
+        (-48.0, 14.0, 4.5),
+        "mm",
+        "CHOSEN",
+        "W2 axle behind the ankle (kxr-document.txt: 足首の後ろに車輪), tyre "
+        "5 mm above the sole plane at zero pose; KX §2.5 did not give it",
+    ),
+    # arm chains: offsets from the previous joint (A3: kxrl2g.l; A4-A6: kxrl2l6a6h2.json;
+    # A7: kxrl2l6a7h2w.json)
+    "arm3.roll": _f((0.0, 29.0, 0.0), "mm", "KX", "models/kxrl2g.l shoulder-r (§2.2)"),
+    "arm3.elbow": _f((0.0, 0.0, -53.0), "mm", "KX", "models/kxrl2g.l elbow-p (§2.2)"),
+    "arm3.gripper": _f((0.0, 0.0, -65.5), "mm", "KX", "models/kxrl2g.l gripper2-r (§2.2)"),
+    "arm6.roll": _f((0.0, 31.0, 0.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-r (§2.3)"),
+    "arm6.yaw": _f((0.0, 0.0, -15.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-y (§2.3)"),
+    "arm6.elbow": _f((0.0, 0.0, -41.0), "mm", "KX", "kxrl2l6a6h2.json elbow-p (§2.3)"),
+    "arm6.wrist": _f(
+        (0.0, 0.0, -43.0),
+        "mm",
+        "KX",
+        "kxrl2l6a6h2.json wrist-p (−23.5, 0, −43) from the elbow, taken straight "
+        "down (the bent forearm is approximated)",
+    ),
+    "arm6.wrist_roll": _f((0.0, 0.0, -15.0), "mm", "KX", "kxrl2l6a6h2.json wrist-r 15 (§2.3)"),
+    "arm6.gripper": _f((0.0, 0.0, -31.5), "mm", "KX", "kxrl2l6a6h2.json gripper 31.5 (§2.3)"),
+    "arm7.yaw": _f((0.0, 31.0, 0.0), "mm", "KX", "kxrl2l6a7h2w.json shoulder-y (§2.4)"),
+    "arm7.elbow": _f((0.0, 0.0, -58.0), "mm", "KX", "kxrl2l6a7h2w.json elbow-p (§2.4)"),
+    "arm7.wrist_yaw": _f((0.0, 0.0, -67.0), "mm", "KX", "kxrl2l6a7h2w.json wrist-y (§2.4)"),
+    "arm7.wrist": _f((0.0, 0.0, -41.0), "mm", "KX", "kxrl2l6a7h2w.json wrist-p (§2.4)"),
+    "arm7.gripper": _f((0.0, 0.0, -61.0), "mm", "KX", "kxrl2l6a7h2w.json gripper2-r (§2.4)"),
+    # ---------------------------------------------------------------- four and six legs
+    "l4d.hip": _f((64.5, 48.0, 0.0), "mm", "KX", "models/kxrl4d.l (§2.7)"),
+    "l4d.roll": _f((0.0, 29.0, 0.0), "mm", "KX", "models/kxrl4d.l (§2.7)"),
+    "l4d.knee": _f((0.0, 0.0, -53.0), "mm", "KX", "models/kxrl4d.l (§2.7)"),
+    "l4d.ankle": _f((0.0, 0.0, -57.98), "mm", "KX", "models/kxrl4d.l (§2.7)"),
+    "l4d.foot": _f((10.5, 0.0, -33.0), "mm", "KX", "models/kxrl4d.l foot end-coords (§2.7)"),
+    "l4d.neck": _f((43.5, 0.0, 58.5), "mm", "KX", "models/kxrl4d.l head-neck-p (§2.7)"),
+    "l4d.jaw": _f((38.89, 0.0, 114.89), "mm", "KX", "models/kxrl4d.l head-gripper-p (§2.7)"),
+    "l4t.hip": _f((43.5, 64.5, -3.0), "mm", "KX", "models/kxrl4t.l crotch-y (§2.8)"),
+    "l4t.roll": _f((0.0, 40.0, 0.0), "mm", "KX", "models/kxrl4t.l (§2.8)"),
+    "l4t.foot": _f((0.0, 32.5, 0.0), "mm", "KX", "models/kxrl4t.l end-coords (§2.8)"),
+    "l4t.neck": _f((64.5, 0.0, 53.47), "mm", "KX", "models/kxrl4t.l head-neck-y (§2.8)"),
+    "l4t.neck_pitch": _f((0.0, 0.0, 36.0), "mm", "KX", "models/kxrl4t.l head-neck-p (§2.8)"),
+    "l4n.hand": _f(
+        (40.0, 0.0, 0.0),
+        "mm",
+        "CHOSEN",
+        "L4N hand ahead of the neck pitch; KX gives no L4N neck offsets (§2.8)",
+    ),
+    "l4r.wheel": _f(
+        (0.0, 40.0, 0.0),
+        "mm",
+        "CHOSEN",
+        "L4R axle where the L4T's roll joint is; KX §2.8: wheel offset not extracted",
+    ),
+    "l4r.upper_arm": _f(
+        (0.0, 53.0, 0.0),
+        "mm",
+        "CHOSEN",
+        "L4R2A3 arm: shoulder roll to elbow, the L4D's upper leg (no L4R2A3 dimensions published)",
+    ),
+    "l4r.forearm": _f(
+        (0.0, 58.0, 0.0), "mm", "CHOSEN", "L4R2A3 arm: elbow to gripper, the L4D's lower leg"
+    ),
+    "r4ll.hip": _f(
+        (64.5, 48.0, 0.0),
+        "mm",
+        "CHOSEN",
+        "R4LL: the L4D body's hips (no R4LL dimensions published, §2.10)",
+    ),
+    "r4ll.pitch": _f((0.0, 29.0, 0.0), "mm", "CHOSEN", "R4LL: the L4D's hip-to-roll offset"),
+    "r4ll.leg": _f(
+        (0.0, 0.0, -110.98),
+        "mm",
+        "CHOSEN",
+        "R4LL: the L4D's knee + ankle lengths (53 + 57.98) from pitch joint to wheel axle",
+    ),
+    "l6.front": _f((64.5, 43.5, -3.0), "mm", "KX", "models/kxrl6.l (§2.9)"),
+    "l6.middle": _f((0.0, 75.0, -3.0), "mm", "KX", "models/kxrl6.l (§2.9)"),
+    "l6.coxa": _f(52.0, "mm", "KX", "models/kxrl6.l yaw to pitch/roll (§2.9)"),
+    "l6.femur": _f(69.0, "mm", "KX", "models/kxrl6.l pitch/roll to knee (§2.9)"),
+    "l6.tibia": _f((78.0, 0.0, 14.0), "mm", "KX", "models/kxrl6.l foot end in knee link"),
+    # ---------------------------------------------------------------- whole-robot masses
+    "mass.humanoid": _f(1421.74, "g", "KX", "kxrl2l5a3h2g.json total (20 servos, §3.3)"),
+    "mass.L4D": _f(1153.07, "g", "KX", "kxrl4d.json total (§3.3)"),
+    "mass.L4T": _f(616.2, "g", "KX", "kxrl4t.json total (§3.3)"),
+    "mass.L4R": _f(929.82, "g", "KX", "kxrl4r.json total (§3.3)"),
+    "mass.L4N": _f(717.44, "g", "KX", "kxrl4nh4.json total (§3.3)"),
+    "mass.L6": _f(1028.62, "g", "KX", "kxrl6.json total (§3.3)"),
+    "mass.R4LL": _f(929.82, "g", "CHOSEN", "R4LL: the L4R's total (no R4LL figure, §3.3)"),
+    # whole-robot masses of the builds kxreus exports, by this package's canonical code
+    "mass.L2L5A3": _f(1135.68, "g", "KX", "kxrl2l5a3.json total (§3.3)"),
+    "mass.L2L5A3H2G": _f(1421.74, "g", "KX", "kxrl2l5a3h2g.json total (§3.3)"),
+    "mass.L2L5A4H2G": _f(1483.21, "g", "KX", "kxrl2l5a4h2g.json total (§3.3)"),
+    "mass.L2L6A5H2G": _f(1700.81, "g", "KX", "kxrl2l6a5h2.json total (§3.3)"),
+    "mass.L2L6A6H2G": _f(1708.46, "g", "KX", "kxrl2l6a6h2.json total (§3.3)"),
+    "mass.L2L6A7H2G": _f(1824.9, "g", "KX", "kxrl2l6a7h2.json total (§3.3)"),
+    "mass.L2L6A7H2GW": _f(1909.38, "g", "KX", "kxrl2l6a7h2w.json total (§3.3)"),
+    "mass.L2W2L5A4H2G": _f(1676.41, "g", "KX", "kxrl2w2l5a4h2.json total (§3.3)"),
+    "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
+    "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
+    "mass.per_servo": _f(
+        35.03,
+        "g",
+        "KX",
+        "a servo more or less than the reference build: "
+        "one KRS-3304R2 with horn (§3.1); its bracket is not counted",
+    ),
+}
+
+#: servo count of the build each family's ``mass.*`` total was computed for
+MASS_SERVOS: dict[str, int] = {
+    "humanoid": 20, "L4D": 18, "L4T": 9, "L4R": 10, "L4N": 12, "L6": 18, "R4LL": 12,
+}  # fmt: skip
+
+
+def fig(key: str) -> float:
+    v = FIGURES[key].value
+    if isinstance(v, tuple):
+        raise TypeError(f"{key} is a vector")
+    return v
+
+
+def vec(key: str) -> tuple[float, float, float]:
+    v = FIGURES[key].value
+    if not isinstance(v, tuple):
+        raise TypeError(f"{key} is a scalar")
+    return v
+
+
+def provenance_markdown() -> str:
+    """The provenance table as Markdown (docs/robots.md carries it; a test keeps them equal)."""
+    rows = ["| source | what | licence |", "|---|---|---|"]
+    rows += [f"| {k} | {what} | {lic} |" for k, (what, lic) in SOURCES.items()]
+    rows += ["", "| figure | value | unit | source | where |", "|---|---|---|---|---|"]
+    for key, f in FIGURES.items():
+        v = f.value
+        text = ", ".join(f"{x:g}" for x in v) if isinstance(v, tuple) else f"{v:g}"
+        rows.append(f"| `{key}` | {text} | {f.unit} | {f.source} | {f.where} |")
+    return "\n".join(rows) + "\n"

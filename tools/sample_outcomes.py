@@ -1,0 +1,232 @@
+"""Are the simulated outcomes of a project's motions right? A sweep over sample projects.
+
+For each ``.h4p`` given (or found in a directory), every motion is labelled from its name
+(English or HeartToHeart4's Japanese) and played with ``rcb4hv project simulate --physics
+--json`` (the public CLI, so this script depends on no internals); the outcome is then
+judged against what the name promises:
+
+- walk forward (前進, forward) / back (後退, バック, back): no fall, at least 2 cm the named
+  way, more than sideways, turned less than 45°;
+- step left / right (左 / 右 with ステップ or a walk; side step left, right): the same,
+  sideways;
+- turn left / right (旋回 or ターン with 左 / 右; turn left, turn right): no fall, ends
+  upright, turned at least 5° the named way;
+- greeting / home pose (挨拶, おじぎ, ホームポジション; greet, bow, home): no fall, upright, moved
+  less than 5 cm;
+- lie on the back / front (仰向けになる / うつぶせになる): ends on_back / on_front;
+- get up from the back / front (起き上がり or 起きあがり with 仰向け / うつぶせ; get up):
+  played right after the project's matching lie-down motion (``--sequence``; without one,
+  ``--start on_back`` / ``on_front``), ends upright;
+- anything else (kicks, punches, clapping, ...): ends upright.
+
+Routines called by other motions (ルーチン) are listed but not judged; remote-driven loops
+(無線対応) are played once, with no button held. A walk or turn names a side with 左 (left) /
+右 (right); a walk forward / back wins over a step.
+
+    python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
+    python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
+    python tools/sample_outcomes.py DIR --robot khr3hv --motion 16 --motion 17
+
+The rcb4hv it runs is the one ``python -m rcb4hv`` imports (``PYTHONPATH`` picks a tree).
+Sample projects are test inputs kept outside the repository; this script never stores them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+WALK_MIN_M = 0.02
+STAY_MAX_M = 0.05
+TURN_MIN_DEG = 5.0
+WALK_MAX_TURN_DEG = 45.0
+
+SKIP_MARKS = ("ルーチン", "routine")
+
+
+@dataclass
+class Outcome:
+    file: str
+    slot: int
+    name: str
+    label: str
+    status: str
+    fell: bool
+    end_pose: str
+    dx_m: float
+    dy_m: float
+    dyaw_deg: float
+    right: bool | None
+    how: str = "standing"
+
+
+def label_of(name: str) -> str:
+    """The label a motion's name promises (see the module docstring)."""
+    low = name.lower()
+    if any(m in name or m in low for m in SKIP_MARKS):
+        return "not judged"
+    left = "左" in name or "left" in low
+    right = "右" in name or "right" in low
+    side = "left" if left and not right else "right" if right and not left else ""
+    if "起き上がり" in name or "起きあがり" in name or "get up" in low or "getup" in low:
+        if "うつ" in name or "front" in low:
+            return "get up front"
+        if "仰向け" in name or "back" in low:
+            return "get up back"
+        return "other"
+    if "になる" in name or "lie" in low:
+        if "仰向け" in name or "back" in low:
+            return "lie on back"
+        if "うつ" in name or "front" in low:
+            return "lie on front"
+    if any(m in name for m in ("挨拶", "おじぎ", "お辞儀", "ホームポジション")) or any(
+        m in low for m in ("greet", "bow", "home")
+    ):
+        return "greeting"
+    if ("旋回" in name or "ターン" in name or "turn" in low) and side:
+        return f"turn {side}"
+    walking = any(m in name for m in ("歩行", "歩", "ステップ", "移動")) or any(
+        m in low for m in ("walk", "step")
+    )
+    if "前進" in name or (walking and "前" in name) or "forward" in low:
+        return "walk forward"
+    if "後退" in name or "バック" in name or (walking and "後" in name) or "backward" in low:
+        return "walk back"
+    if side and (walking or "side step" in low):
+        return f"step {side}"
+    return "other"
+
+
+def judge(label: str, p: dict[str, Any]) -> bool | None:
+    """Right (True), wrong (False) or not judged (None) for one motion's physics outcome."""
+    fell, pose = bool(p["fell"]), str(p["end_pose"])
+    dx, dy, yaw = float(p["dx_m"]), float(p["dy_m"]), float(p["dyaw_deg"])
+    walk_ok = not fell and pose == "upright" and abs(yaw) < WALK_MAX_TURN_DEG
+    if label == "walk forward":
+        return walk_ok and dx >= WALK_MIN_M and abs(dx) > abs(dy)
+    if label == "walk back":
+        return walk_ok and dx <= -WALK_MIN_M and abs(dx) > abs(dy)
+    if label == "step left":
+        return walk_ok and dy >= WALK_MIN_M and abs(dy) > abs(dx)
+    if label == "step right":
+        return walk_ok and dy <= -WALK_MIN_M and abs(dy) > abs(dx)
+    if label == "turn left":
+        return not fell and pose == "upright" and yaw >= TURN_MIN_DEG
+    if label == "turn right":
+        return not fell and pose == "upright" and yaw <= -TURN_MIN_DEG
+    if label == "greeting":
+        return not fell and pose == "upright" and (dx * dx + dy * dy) ** 0.5 < STAY_MAX_M
+    if label == "lie on back":
+        return pose == "on_back"
+    if label == "lie on front":
+        return pose == "on_front"
+    if label.startswith("get up") or label == "other":
+        return pose == "upright"
+    return None
+
+
+def _simulate(file: Path, extra: list[str]) -> dict[str, Any]:
+    cmd = [sys.executable, "-m", "rcb4hv", "project", "simulate", str(file), "--physics"]
+    done = subprocess.run(
+        [*cmd, "--json", *extra], capture_output=True, text=True, env=os.environ.copy()
+    )
+    if not done.stdout.strip():
+        raise SystemExit(f"{file}: simulate failed ({done.returncode}): {done.stderr.strip()}")
+    data: dict[str, Any] = json.loads(done.stdout)
+    return data
+
+
+def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
+    p = m.get("physics") or {}
+    if not p:
+        return Outcome(
+            str(file), m["slot"], m["name"], label, m["status"], False, "?", 0, 0, 0, False, how
+        )
+    return Outcome(
+        str(file),
+        m["slot"],
+        m["name"],
+        label,
+        m["status"],
+        bool(p["fell"]),
+        str(p["end_pose"]),
+        float(p["dx_m"]),
+        float(p["dy_m"]),
+        float(p["dyaw_deg"]),
+        judge(label, p),
+        how,
+    )
+
+
+def project_outcomes(file: Path, robot: str | None, slots: list[int]) -> list[Outcome]:
+    """Every motion of ``file`` (or ``slots``) labelled, played and judged."""
+    base = ["--robot", robot] if robot else []
+    motions = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])["motions"]
+    labels = {m["slot"]: label_of(m["name"]) for m in motions}
+    lie = {
+        "front": next((s for s, lab in labels.items() if lab == "lie on front"), None),
+        "back": next((s for s, lab in labels.items() if lab == "lie on back"), None),
+    }
+    out: list[Outcome] = []
+    for m in motions:
+        label = labels[m["slot"]]
+        if not label.startswith("get up"):
+            out.append(_outcome(file, m, label, "standing"))
+            continue
+        side = label.split()[-1]
+        first = lie[side]
+        if first is not None:
+            seq = _simulate(file, [*base, "--sequence", f"{first},{m['slot']}"])["motions"]
+            how = f"after slot {first}"
+        else:
+            start = "on_front" if side == "front" else "on_back"
+            seq = _simulate(file, [*base, "--motion", str(m["slot"]), "--start", start])["motions"]
+            how = f"--start {start}"
+        out.append(_outcome(file, seq[-1], label, how))
+    return out
+
+
+def _table(rows: list[Outcome]) -> str:
+    head = "| slot | motion | label | played | fell | end pose | dx m | dy m | dyaw ° | right |"
+    lines = [head, "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        verdict = "-" if r.right is None else "yes" if r.right else "**no**"
+        lines.append(
+            f"| {r.slot} | {r.name} | {r.label} | {r.how} | {'yes' if r.fell else 'no'} | "
+            f"{r.end_pose} | {r.dx_m:+.3f} | {r.dy_m:+.3f} | {r.dyaw_deg:+.1f} | {verdict} |"
+        )
+    judged = [r for r in rows if r.right is not None]
+    good = sum(1 for r in judged if r.right)
+    lines.append("")
+    lines.append(f"{good} of {len(judged)} right")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("paths", nargs="+", type=Path, help=".h4p files or directories of them")
+    ap.add_argument("--json", action="store_true", help="print JSON instead of tables")
+    ap.add_argument("--robot", help="robot model (default: detected per project)")
+    ap.add_argument("--motion", type=int, action="append", default=[], help="only these slots")
+    args = ap.parse_args(argv)
+    files: list[Path] = []
+    for p in args.paths:
+        files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
+    results = {str(f): project_outcomes(f, args.robot, args.motion) for f in files}
+    if args.json:
+        data = {f: [asdict(r) for r in rows] for f, rows in results.items()}
+        sys.stdout.write(json.dumps(data, indent=1, ensure_ascii=False) + "\n")
+    else:
+        for f, rows in results.items():
+            sys.stdout.write(f"## {f}\n\n{_table(rows)}\n\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
