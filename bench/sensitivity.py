@@ -32,12 +32,8 @@ from rcb4hv.cli.project_physics import physics_robot
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions
 from rcb4hv.project.physicsresult import PhysicsOutcome
 from rcb4hv.project.run import run_motions
-from rcb4hv.robot.mjcf import (
-    FLOOR_FRICTION,
-    FREE_DAMPING_FRACTION,
-    FULL_TORQUE_ERROR_DEG,
-    MOTOR_TIME_CONSTANT,
-)
+from rcb4hv.robot.mjcf import FLOOR_FRICTION
+from rcb4hv.robot.servos import FREE_DAMPING_FRACTION, FULL_TORQUE_ERROR_DEG, MOTOR_TIME_CONSTANT
 
 REPO = Path(__file__).resolve().parents[1]
 FIXTURE = REPO.parent / "shared/fixtures/hth4/kxr-l2-hac/HAC_KXR_HTH4_project.h4p"
@@ -74,9 +70,7 @@ def verdicts(path: Path, options: PhysicsOptions) -> dict[int, tuple[str, str]]:
     image, lay, names = load_image(path)
     model = physics_robot(path, image, None)
     slots = sorted(names)
-    run = run_motions(
-        image, slots, names=names, motion_layout=lay, robot=model, options=options
-    )
+    run = run_motions(image, slots, names=names, motion_layout=lay, robot=model, options=options)
     return {r.result.slot or 0: (r.result.name, verdict(r.outcome)) for r in run.motions}
 
 

@@ -66,3 +66,17 @@ def test_board_commands_read_addresses_in_any_form() -> None:
     ]
     assert [r.exit_code for r in outs] == [0, 0, 0], [r.output for r in outs]
     assert outs[0].output == outs[1].output == outs[2].output
+
+
+def test_a_sequence_takes_the_slots_of_the_images_layout() -> None:
+    from rcb4hv.cli.project_physics import parse_sequence
+    from rcb4hv.rom.layout import LAYOUTS
+
+    assert parse_sequence("33, 15,120", LAYOUTS["2.2"]) == [33, 15, 120]
+    assert parse_sequence("50,1", LAYOUTS["1.3"]) == [50, 1]
+    with pytest.raises(click.BadParameter, match=r"motion slots are 1-50 \(HeartToHeart4 1.3"):
+        parse_sequence("33,51", LAYOUTS["1.3"])
+    with pytest.raises(click.BadParameter, match="motion slots are 1-120"):
+        parse_sequence("0", LAYOUTS["2.2"])
+    with pytest.raises(click.BadParameter, match="separated by commas"):
+        parse_sequence("a,b", LAYOUTS["2.2"])

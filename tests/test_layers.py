@@ -22,7 +22,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "files", "__init__"),  # the exception tree, atomic saves, the root package
     ("protocol",),
     ("transport",),
-    ("rom", "robot", "ics"),  # robot: models as data, kinematics, URDF/MJCF; ics: ICS servos
+    ("rom", "robot"),  # robot: models as data, kinematics, URDF/MJCF, the servos' figures
+    ("ics",),  # ICS servos: codec, EEPROM, emulated bus (its servos move as robot.servos says)
     ("emulator", "hth4"),
     ("client", "asm", "physics"),  # physics: MuJoCo as a servo backend of the emulator
     ("project",),

@@ -1,4 +1,6 @@
-"""A small KXR-L2-like robot model for the editor tests (until the built-in models land).
+"""A small KXR-L2-like robot model for the editor tests: every joint at ±135° and no trims
+or frame limits of its own, and offsets the test chooses, so an edit's result depends only on
+the joint map (the built-in ``kxr-l2`` carries the kit's trims and frame limits).
 
 Joint kinds and left/right signs follow the fixture's own mirror pairs: its TURN_LEFT and
 TURN_RIGHT motions, and its home pose (same value on both knees, hips and ankles: the
@@ -10,8 +12,9 @@ from __future__ import annotations
 import math
 
 from rcb4hv.robot import Inertial, Joint, JointKind, Link, RobotModel, ServoJoint
+from rcb4hv.robot.servos import TRAVEL_DEG
 
-LIMIT = math.radians(135)  # an ICS servo turns 270 degrees: +-135 about centre (spec 8)
+LIMIT = math.radians(TRAVEL_DEG)  # an ICS servo turns +-135 degrees about its centre
 
 # (right ICS, left ICS, name, kind, right sign, left sign)
 PAIRS: tuple[tuple[int, int, str, JointKind, int, int], ...] = (

@@ -58,9 +58,9 @@ def test_khr_hip_roll_past_robotlearn_is_neither_refused_nor_warned() -> None:
     assert math.degrees(KHR.joint("l_hip_roll").lower) == pytest.approx(-180.0)
     far = math.radians(-40.0)  # inward, past everything robotlearn and Kondo's samples use
     assert KHR.limit_check("l_hip_roll", far) == "advisory"
-    assert KHR.within_limits({"l_hip_roll": far}) == []
+    assert KHR.out_of_limits({"l_hip_roll": far}) == []
     assert KHR.outside_advisory({"l_hip_roll": far, "r_hip_roll": 0.0}) == ["l_hip_roll"]
-    assert KHR.within_limits({"l_hip_roll": math.radians(-181.0)}) == ["l_hip_roll"]
+    assert KHR.out_of_limits({"l_hip_roll": math.radians(-181.0)}) == ["l_hip_roll"]
 
 
 def test_mirroring_a_walk_with_hip_roll_at_7400_works_and_warns(

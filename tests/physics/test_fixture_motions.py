@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable
+from importlib.metadata import version
 from pathlib import Path
 
 import pytest
@@ -232,3 +233,18 @@ def test_held_on_its_button_a_walk_keeps_going_the_right_way(
     out = run.motions[0].outcome
     assert not out.fell and out.end_pose == "upright"
     assert check(out), out
+
+
+def test_check_json_names_the_physics_engine(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``project check --physics --json`` records the engine its warnings come from (the
+    motions' play itself is the simulate tests' business: left out here)."""
+    import rcb4hv.cli.project_check_cmd as check_cmd
+    from rcb4hv.physics import engine_version
+
+    monkeypatch.setattr(check_cmd, "_physics_findings", lambda file, robot: [])
+    res = CliRunner().invoke(cli, ["project", "check", str(PROJECT), "--physics", "--json"])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.output)["physics"] == {"engine": engine_version()}
+    assert engine_version() == f"mujoco {version('mujoco')}"
+    res = CliRunner().invoke(cli, ["project", "check", str(PROJECT), "--json"])
+    assert "physics" not in json.loads(res.output)

@@ -12,7 +12,8 @@ from rcb4hv.robot import Geom, Inertial, Joint, Link, RobotModel
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 from rcb4hv.robot.geometry import pose_transform
 from rcb4hv.robot.kinematics import forward
-from rcb4hv.robot.mjcf import back_emf_damping, stiffness, to_mjcf
+from rcb4hv.robot.mjcf import IMU_SITE, to_mjcf
+from rcb4hv.robot.servos import back_emf_damping, stiffness
 
 
 @pytest.mark.parametrize("name", BUILTIN)
@@ -23,7 +24,12 @@ def test_every_builtin_model_loads_with_its_servos(name: str) -> None:
     m = mujoco.MjModel.from_xml_string(text)
     assert m.nu == len(model.servos)
     assert m.nq == 7 + len(model.joints)
-    assert m.sensor("gyro") is not None and m.sensor("accelerometer") is not None
+    gyro, accelerometer = m.sensor("gyro"), m.sensor("accelerometer")  # KeyError if missing
+    assert gyro.type[0] == mujoco.mjtSensor.mjSENS_GYRO
+    assert accelerometer.type[0] == mujoco.mjtSensor.mjSENS_ACCELEROMETER
+    imu = m.site(IMU_SITE)
+    assert gyro.objid[0] == accelerometer.objid[0] == imu.id
+    assert m.site_bodyid[imu.id] == m.body(model.root).id
     for s in model.servos:
         act = m.actuator(f"servo{s.index}")
         assert s.servo is not None

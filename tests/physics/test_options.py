@@ -7,7 +7,8 @@ import pytest
 
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions, PhysicsWorld
 from rcb4hv.robot.builtin import load_builtin
-from rcb4hv.robot.mjcf import FLOOR_FRICTION, armature, stiffness
+from rcb4hv.robot.mjcf import FLOOR_FRICTION
+from rcb4hv.robot.servos import armature, stiffness
 
 KXR = load_builtin("kxr-l2")
 

@@ -8,6 +8,7 @@ import math
 from rcb4hv.physics import PhysicsBackend, PhysicsWorld
 from rcb4hv.physics.standalone import robot_board
 from rcb4hv.protocol import POSITION_FREE, RunSingleServo
+from rcb4hv.protocol.memory import SERVO
 from rcb4hv.robot.builtin import load_builtin
 
 
@@ -16,6 +17,13 @@ def test_the_board_keeps_the_robots_servos_while_it_runs() -> None:
     board = robot_board(robot)
     board.run_for(2.0)
     assert sorted(board.servo_outputs()) == list(robot.indices)
+
+
+def test_each_servo_block_is_where_heart_to_heart4_puts_it() -> None:
+    robot = load_builtin("khr3hv-22")
+    board = robot_board(robot)
+    assert {n: board.alloc(n) for n in robot.indices} == {n: 0x0090 + 20 * n for n in robot.indices}
+    assert all(board.ram[board.alloc(n) + SERVO.ID] == n // 2 for n in robot.indices)
 
 
 def test_a_khr3hv_stands_and_its_freed_elbow_drops() -> None:

@@ -12,7 +12,8 @@ from rcb4hv.hth4.project import load_project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.project.physics_sim import PhysicsSimulator
 from rcb4hv.project.relocate import project_image
-from rcb4hv.robot.mjcf import DEFAULT_SERVO, WHEEL_FULL_SCALE_DEG, to_mjcf, wheel_duty
+from rcb4hv.robot.mjcf import to_mjcf
+from rcb4hv.robot.servos import DEFAULT_SERVO, WHEEL_FULL_SCALE_DEG, wheel_duty
 from tests.physics.conftest import PROJECT
 
 pytest.importorskip("mujoco")

@@ -8,7 +8,6 @@ import pytest
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.builtin import BUILTIN, load_builtin, load_robot
-from rcb4hv.robot.khr3hv import KHR_LIMITS_DEG
 from rcb4hv.robot.kinematics import apply, center_of_mass, forward
 from rcb4hv.robot.model import RobotModel
 
@@ -16,6 +15,12 @@ from rcb4hv.robot.model import RobotModel
 KHR_FACT_SIGNS = {0: -1, 2: -1, 3: 1, 4: 1, 5: 1, 8: 1, 9: -1, 12: 1, 13: 1, 14: -1, 15: 1,
                   16: 1, 17: -1, 18: 1, 19: -1, 20: -1, 21: -1, 1: -1, 10: 1, 11: 1}  # fmt: skip
 KHR_STANDARD = {0, 2, 3, 4, 5, 8, 9, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21}
+# FACTS.md: KHR-3HV index -> (lower, upper) servo degrees (robotlearn docs/limits.png),
+# written out here so the model is checked against the source, not against itself
+KHR_LIMITS_DEG = {0: (-135, 135), 2: (-90, 105), 3: (-105, 90), 4: (-30, 180), 5: (-180, 30),
+                  8: (-130, 30), 9: (-30, 130), 12: (0, 30), 13: (-30, 0), 14: (-90, 90),
+                  15: (-90, 90), 16: (-60, 135), 17: (-135, 60), 18: (-100, 120),
+                  19: (-120, 100), 20: (-25, 90), 21: (-90, 25)}  # fmt: skip
 
 
 def _model(name: str) -> RobotModel:
@@ -157,7 +162,10 @@ def test_kxr_home_pose_bends_knees() -> None:
         assert hip < 0 and ankle < 0
         assert hip + knee + ankle == pytest.approx(0.0, abs=1e-9)  # soles parallel to torso
         assert m.joint(side + "knee_pitch").lower <= knee <= m.joint(side + "knee_pitch").upper
-    assert m.within_limits(m.home) == []
+    assert m.out_of_limits(m.home) == []
+    assert m.out_of_limits(
+        {"l_knee_pitch": m.joint("l_knee_pitch").upper + 0.01, "r_knee_pitch": 0.0}
+    ) == ["l_knee_pitch"]
     # knee bend moves the ankle backwards (-x): the robot faces +x
     frames = forward(m, {"l_knee_pitch": 0.5})
     assert apply(frames["l_ankle"], (0.0, 0.0, 0.0))[0] < -0.01

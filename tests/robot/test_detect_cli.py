@@ -17,8 +17,9 @@ from rcb4hv.hth4.project import load_project
 from rcb4hv.hth4.trim import load_trim
 from rcb4hv.protocol.commands import decode_command
 from rcb4hv.protocol.servocmds import RunConstFrameServo
-from rcb4hv.robot.builtin import BUILTIN, check_indices, detect_robot, load_builtin
+from rcb4hv.robot.builtin import BUILTIN, check_indices, detect_robot, even_side, load_builtin
 from rcb4hv.robot.kinematics import apply, forward
+from rcb4hv.robot.model import side_of_name
 
 
 def test_detects_the_fixture_robot(kxr_project_path: Path) -> None:
@@ -65,11 +66,36 @@ def test_fixture_motions_keep_knees_bending_forward(kxr_project_path: Path) -> N
 @pytest.mark.parametrize("name", BUILTIN)
 def test_detects_each_builtin_from_synthetic_names(name: str) -> None:
     model = load_builtin(name)
-    names = {s.index: ("左" if model.joint(s.joint).side == "left" else "右") + s.joint
-             for s in model.servos}  # fmt: skip
-    assert detect_robot(names) == name
+    sides = {s.index: model.joint(s.joint).side for s in model.servos}
+    even = sides[min(i for i, side in sides.items() if i % 2 == 0 and side != "centre")]
+    # every side word read alike: the Japanese prefix, and the joint's own l_/r_ prefix alone
+    for mark in (lambda side: "左" if side == "left" else "右", lambda side: ""):
+        names = {s.index: mark(model.joint(s.joint).side) + s.joint
+                 for s in model.servos if model.joint(s.joint).side != "centre"}  # fmt: skip
+        assert even_side(names) == even
+        assert detect_robot({**names, **{i: "x" for i in model.indices if i not in names}}) == name
     # without side words the index set alone decides (all four sets differ)
     assert detect_robot({i: f"servo {i}" for i in model.indices}) == name
+
+
+def test_a_side_word_is_read_where_it_stands() -> None:
+    """``shoulder_pitch`` holds ``r_`` but names no side: only a word at either end counts."""
+    assert side_of_name("l_shoulder_pitch") == "left"
+    assert side_of_name("r_shoulder_pitch") == "right"
+    assert side_of_name("shoulder_pitch") is None
+    assert side_of_name("右肩（ピッチ）") == "right" and side_of_name("左膝") == "left"
+    assert side_of_name("Left-Elbow") == "left" and side_of_name("elbow_R") == "right"
+    assert side_of_name("rear left leg roll") == "left"  # "rear" starts with r, names no side
+    assert side_of_name("leg roll") is None and side_of_name("lKnee") == "left"
+    assert side_of_name("bright") is None and side_of_name("左右") is None
+    assert even_side({2: "l_shoulder_pitch", 3: "r_shoulder_pitch"}) == "left"
+    assert even_side({2: "r_shoulder_pitch", 3: "l_shoulder_pitch"}) == "right"
+
+
+def test_names_that_disagree_say_no_side() -> None:
+    """No vote: one name against the others leaves the side open (the index set decides)."""
+    assert even_side({2: "右肩", 3: "左肩", 4: "右肘", 5: "左肘", 6: "左膝"}) is None
+    assert even_side({2: "head", 3: "waist"}) is None
 
 
 def test_detection_is_none_when_ambiguous_or_unknown() -> None:

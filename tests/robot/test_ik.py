@@ -66,7 +66,7 @@ def test_ik_then_fk_reaches_a_position_within_1mm(
     assert result.reached, result.message
     got = apply(link_pose(model, link, result.angles), point)
     assert math.dist(got, target) < 1e-3
-    assert not model.within_limits(result.angles)
+    assert not model.out_of_limits(result.angles)
 
 
 @settings(max_examples=30)
@@ -93,7 +93,7 @@ def test_an_unreachable_target_stops_at_the_nearest_pose(name: str) -> None:
     result = ik.solve(model, "r_forearm", far)
     assert not result.reached
     assert "out of reach" in result.message
-    assert not model.within_limits(result.angles)
+    assert not model.out_of_limits(result.angles)
     got = position(link_pose(model, "r_forearm", result.angles))
     assert math.dist(got, far) == pytest.approx(result.position_error, abs=1e-9)
     assert result.position_error < math.dist(home, far) - 0.05  # it reached out toward it
@@ -111,7 +111,7 @@ def test_a_limit_holds_the_limb_and_says_so() -> None:
     assert not result.reached
     assert result.at_limits == ("l_shoulder_roll",)
     assert "held at a limit: l_shoulder_roll" in result.message
-    assert not model.within_limits(result.angles)
+    assert not model.out_of_limits(result.angles)  # held at the stop, not beyond it
     assert result.angles["l_shoulder_roll"] == pytest.approx(roll.lower)
 
 

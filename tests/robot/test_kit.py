@@ -61,6 +61,8 @@ def test_kit_codes_in_titles(
         ("right front leg roll", "right", "leg", "roll", "front", None),
         ("right rear wheel", "right", "wheel", None, "rear", None),
         ("right middle leg tip", "right", "leg", None, "middle", "tip"),
+        ("rear left leg roll", "left", "leg", "roll", "rear", None),  # robot.model.side_of_name
+        ("leg roll", "centre", "leg", "roll", None, None),
     ],
 )
 def test_servo_names(

@@ -9,6 +9,7 @@ from collections.abc import Iterator
 import pytest
 
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, emulator_url
+from rcb4hv.protocol.memory import ADDR, SERVO
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
 from rcb4hv.session import BoardSession, MeteredTransport, wire_seconds
 
@@ -27,6 +28,15 @@ def session(board: Board) -> Iterator[BoardSession]:
     with BoardSession(emulator_url(board), poll_hz=20) as s:
         s.wait_connected()
         yield s
+
+
+ALLOC = ADDR.ICS_ALLOC
+
+
+def output_of(board: Board, ics: int) -> int:
+    """The output value in servo ``ics``'s block (through the allocation table)."""
+    block = int.from_bytes(board.ram[ALLOC + 2 * ics : ALLOC + 2 * ics + 2], "little")
+    return SERVO.F_OUTPUT.get(board.ram, block)
 
 
 def _until(cond: object, timeout: float = 3.0) -> None:
@@ -48,14 +58,31 @@ def test_polls_fill_the_servo_table(session: BoardSession) -> None:
 def test_targets_are_coalesced_into_one_frame_per_period(
     session: BoardSession, board: Board
 ) -> None:
-    sent = session.moves_sent
-    for p in range(7600, 8600, 10):  # 100 slider events in a burst
+    """Slider events that arrive while the worker is busy go out as one frame with the last
+    value of each servo; its latency counts from the first of them."""
+    busy, release = threading.Event(), threading.Event()
+
+    def hold_the_worker(_robot: object) -> None:
+        busy.set()
+        release.wait(10)
+
+    job = session.submit(hold_the_worker)
+    assert busy.wait(10)
+    sent, measured = session.moves_sent, len(session.latencies)
+    session.set_target(2, 7600)
+    after_first = time.perf_counter()
+    for p in range(7610, 8600, 10):  # 99 more slider events in a burst
         session.set_target(2, p)
     session.set_target(3, 7000)
+    released = time.perf_counter()
+    release.set()
+    job.result(timeout=10)
+    _until(lambda: session.moves_sent > sent)
     _until(lambda: session.state.servo(2) is not None and session.state.servo(2).output == 8590)
-    assert session.moves_sent - sent <= 3
-    assert bytes(board.ram[0x90 + 20 * 2 + 6 : 0x90 + 20 * 2 + 8]) == (8590).to_bytes(2, "little")
-    assert session.latencies and min(session.latencies) >= 0
+    assert session.moves_sent - sent == 1
+    assert output_of(board, 2) == 8590 and output_of(board, 3) == 7000
+    assert len(session.latencies) == measured + 1
+    assert session.latencies[-1] >= released - after_first
 
 
 def test_range_checked_before_queueing(session: BoardSession) -> None:
@@ -83,13 +110,16 @@ def test_rom_dump_runs_in_steps_while_polling(session: BoardSession, board: Boar
     assert any(0 < f < 1 for f in seen)
 
 
-def test_errors_reach_the_caller_and_the_worker_survives(session: BoardSession) -> None:
+def test_errors_reach_the_caller_and_the_worker_survives(
+    session: BoardSession, board: Board
+) -> None:
     def boom(_robot: object) -> None:
         raise ValueError("bad argument")
 
     with pytest.raises(ValueError, match="bad argument"):
         session.submit(boom).result(timeout=5)
-    assert session.submit(lambda r: r.ping()).result(timeout=5) >= 0
+    table = session.submit(lambda r: r.read_ram(ALLOC, 2 * 36)).result(timeout=5)
+    assert table == bytes(board.ram[ALLOC : ALLOC + 2 * 36])
 
 
 def test_unreachable_board_reports_and_retries() -> None:

@@ -120,10 +120,17 @@ def test_a_project_motion_previews_and_scrubs(page: Any, kxr_project_path: Any) 
     _wait(lambda: "play" in page.get_by_test_id("preview-play").inner_text().lower())
     scrubber = page.get_by_test_id("preview-scrubber")
     box = scrubber.bounding_box()
+    status = page.get_by_test_id("preview-status")
+    poses = "() => window.rcb4hvPoses || 0"
     frames = []
     for fraction in (0.02, 0.5):
+        shown, drawn = status.inner_text(), page.evaluate(poses)
         page.mouse.click(box["x"] + box["width"] * fraction, box["y"] + box["height"] / 2)
-        time.sleep(0.3)
+        # the server has moved the player (its time changed); near the start the pose may be
+        # the one shown already (nothing is sent then), in mid-motion the browser draws a new one
+        _wait(lambda s=shown: status.inner_text() != s)
+        if frames:
+            _wait(lambda d=drawn: page.evaluate(poses) > d)
         frames.append(_still(canvas))
     assert _changed(frames[0], frames[1]) > 500  # the greeting moves the arms
     # for the docs: the controls and the view

@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from nicegui import ui
 from nicegui.testing.user import User
 from nicegui.testing.user_simulation import user_simulation
 
@@ -212,6 +211,20 @@ def test_link_error_shows_a_banner() -> None:
     run(scenario)
 
 
-def test_ui_module_builds_without_a_board() -> None:
-    assert callable(build_root(UiContext(BoardSession("socket://127.0.0.1:9"))))
-    assert ui is not None
+def test_the_dashboard_builds_without_a_board() -> None:
+    """No board behind the link (the session never connects): every page is there, and the
+    header says the link is down."""
+    session = BoardSession("socket://127.0.0.1:9")
+
+    async def main() -> None:
+        async with user_simulation(root=build_root(UiContext(session))) as user:
+            await user.open("/")
+            for tab in ("Board", "Servos", "Remote", "Motions", "Project", "Teach"):
+                await user.should_see(tab)
+            await until(lambda: "not connected" in one(user, "link-status").text, 10)
+            assert not session.state.connected
+
+    try:
+        asyncio.run(main())
+    finally:
+        session.close()

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from rcb4hv.protocol import ADDR, RAM_SIZE, SERVO
+from rcb4hv.protocol.memory import Field
 
 __all__ = [
     "RAM_SCALARS",
@@ -70,22 +71,13 @@ RAM_TABLES: Final[dict[str, RamTable]] = {
     )
 }
 
-# field name -> (offset, size) inside a 20-byte servo block
 SERVO_FIELDS: Final[dict[str, tuple[int, int]]] = {
-    "TYPE": (SERVO.TYPE, 1),
-    "ID": (SERVO.ID, 1),
-    "BASE": (SERVO.BASE, 2),
-    "MEASURED": (SERVO.MEASURED, 2),
-    "OUTPUT": (SERVO.OUTPUT, 2),
-    "SPEED": (SERVO.SPEED, 1),
-    "END": (SERVO.END, 2),
-    "REMAINING": (SERVO.REMAINING, 1),
-    "WIDTH": (SERVO.WIDTH, 2),
-    "MIX1_SOURCE": (SERVO.MIX1_SOURCE, 2),
-    "MIX1_METHOD": (SERVO.MIX1_METHOD, 1),
-    "MIX2_SOURCE": (SERVO.MIX2_SOURCE, 2),
-    "MIX2_METHOD": (SERVO.MIX2_METHOD, 1),
+    name.removeprefix("F_"): (f.offset, f.size)
+    for name, f in vars(SERVO).items()
+    if name.startswith("F_") and isinstance(f, Field)
 }
+"""Field name -> (offset, size) inside a 20-byte servo block: the protocol's servo-block fields
+(:class:`rcb4hv.protocol.memory.SERVO`), by the names of their offsets."""
 
 
 def field_text(offset: int) -> str:

@@ -7,6 +7,7 @@ import json
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, TypeVar
 
 import click
@@ -20,6 +21,7 @@ __all__ = [
     "BAUD",
     "INTEGER",
     "MOTION_SLOT",
+    "OUTPUT_FILE",
     "AddressType",
     "BaudType",
     "Connection",
@@ -28,6 +30,7 @@ __all__ = [
     "error_line",
     "handle_errors",
     "open_robot",
+    "output_option",
     "parse_int",
     "pass_connection",
     "print_json",
@@ -112,6 +115,13 @@ MOTION_SLOT: Final = click.IntRange(min=1)
 """A motion slot number. Its upper bound is the layout's (120 in HeartToHeart4 2.x, 50 in
 1.3), which the command checks once it knows the layout (``MotionLayout.address``)."""
 BAUD: Final = BaudType()
+OUTPUT_FILE: Final = click.Path(dir_okay=False, path_type=Path)
+"""A file a command writes (through :func:`rcb4hv.files.write_atomic`)."""
+
+
+def output_option(help: str, *, required: bool = True) -> Callable[[F], F]:
+    """``-o/--output FILE``: where the command writes its result."""
+    return click.option("-o", "--output", type=OUTPUT_FILE, required=required, help=help)
 
 
 def connection_options(func: F) -> F:

@@ -16,6 +16,7 @@ from rcb4hv.cli._util import (
     MOTION_SLOT,
     Connection,
     handle_errors,
+    output_option,
     parse_int,
     pass_connection,
     print_json,
@@ -174,7 +175,7 @@ def rom() -> None:
 @click.argument("address", type=ADDRESS)
 @click.argument("size", type=INTEGER, default=64)
 @pass_connection
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path))
+@output_option("Write the raw bytes here (default: a hex dump).", required=False)
 @handle_errors
 def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> None:
     """Read SIZE bytes of ROM at ADDRESS (hex dump, or raw bytes to --output)."""
@@ -206,7 +207,7 @@ def rom_write(conn: Connection, address: int, image: Path, verify: bool, progres
 
 
 @rom.command("dump")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@output_option("Where to write the image.")
 @click.option("--start", type=ADDRESS, default=0, show_default=True)
 @click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
 @pass_connection

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from rcb4hv.cli._util import handle_errors, print_json
+from rcb4hv.cli._util import handle_errors, output_option, print_json
 from rcb4hv.hth4 import load_project
 from rcb4hv.hth4.robotpick import project_model
 
@@ -43,7 +43,7 @@ def register(project: click.Group) -> None:
 @click.option("--name", default=None, help="Name of the new motion (default: NAME (mirror)).")
 @ROBOT_OPTION
 @click.option("--force", is_flag=True, help="Keep values outside ranges or joint limits.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@output_option("Where to write the edited project.")
 @handle_errors
 def mirror_command(
     file: Path,

@@ -15,6 +15,7 @@ from typing import Any, TypeVar
 import click
 
 from rcb4hv.cli._util import handle_errors, print_json, print_table
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -337,7 +338,13 @@ def eeprom_restore(target: IcsTarget, file: str, servo_id: int | None) -> None:
 
 @ics.command()
 @id_option
-@click.option("--move", "move_to", type=click.IntRange(3500, 11500), default=None, help="Target.")
+@click.option(
+    "--move",
+    "move_to",
+    type=click.IntRange(POSITION_MIN, POSITION_MAX),
+    default=None,
+    help="Target.",
+)
 @click.option("--free", "make_free", is_flag=True, help="Let the servo go limp.")
 @_pass_target
 @handle_errors

@@ -119,14 +119,17 @@ def check(file: Path, as_json: bool, physics: bool, balance: bool, robot: str | 
     errors = sum(f.severity == "error" for f in findings)
     warnings = len(findings) - errors
     if as_json:
-        print_json(
-            {
-                "file": str(file),
-                "errors": errors,
-                "warnings": warnings,
-                "findings": [f.to_dict() for f in findings],
-            }
-        )
+        doc: dict[str, object] = {
+            "file": str(file),
+            "errors": errors,
+            "warnings": warnings,
+            "findings": [f.to_dict() for f in findings],
+        }
+        if physics:  # what the falls and saturations were found on
+            from rcb4hv.physics import engine_version
+
+            doc["physics"] = {"engine": engine_version()}
+        print_json(doc)
     else:
         if findings:
             print_table(

@@ -11,6 +11,7 @@ from rcb4hv.cli import _output, edit_cmd, project_check_cmd, project_pose_cmd, p
 from rcb4hv.cli._util import (
     Connection,
     handle_errors,
+    output_option,
     pass_connection,
     print_json,
     print_table,
@@ -38,7 +39,7 @@ def project() -> None:
 
 @project.command("build")
 @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@output_option("Where to write the 256 KB image.")
 @build_options
 @LAYOUT_OPTION
 @handle_errors

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from rcb4hv.project.physicsresult import ShapeFrame
     from rcb4hv.project.runresult import SimulationRun
     from rcb4hv.robot.model import RobotModel
+    from rcb4hv.rom.layout import MotionLayout
 
 __all__ = [
     "draw_frames",
@@ -30,14 +31,17 @@ __all__ = [
 ]
 
 
-def parse_sequence(text: str) -> list[int]:
-    """``33,15`` -> [33, 15] (motion slots 1-120)."""
+def parse_sequence(text: str, lay: MotionLayout) -> list[int]:
+    """``33,15`` -> [33, 15]: motion slots of the image's layout ``lay`` (1-120 in
+    HeartToHeart4 2.x, 1-50 in 1.3)."""
     try:
         slots = [int(p) for p in text.replace(" ", "").split(",") if p]
     except ValueError:
         raise click.BadParameter(f"{text!r}: give motion slots separated by commas") from None
-    if not slots or any(not 1 <= s <= 120 for s in slots):
-        raise click.BadParameter(f"{text!r}: motion slots are 1-120")
+    if not slots or any(not 1 <= s <= lay.motion_count for s in slots):
+        raise click.BadParameter(
+            f"{text!r}: motion slots are 1-{lay.motion_count} (HeartToHeart4 {lay.version} layout)"
+        )
     return slots
 
 

@@ -138,7 +138,7 @@ def simulate(
             raise click.UsageError("--sequence plays motions on the simulated robot: add --physics")
         if slots:
             raise click.UsageError("give either --motion or --sequence")
-        slots = parse_sequence(sequence)
+        slots = parse_sequence(sequence, lay)
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
     if not physics and (robot is not None or start != "upright"):

@@ -10,7 +10,7 @@ from typing import Any
 
 import click
 
-from rcb4hv.cli._util import handle_errors, print_json, print_table
+from rcb4hv.cli._util import OUTPUT_FILE, handle_errors, output_option, print_json, print_table
 from rcb4hv.errors import RobotModelError
 from rcb4hv.files import write_atomic
 from rcb4hv.robot.builtin import BUILTIN, load_builtin, load_robot
@@ -209,16 +209,10 @@ def detect(file: Path, robot_name: str | None, as_json: bool) -> None:
     show_default=True,
     help="Output format.",
 )
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    required=True,
-    help="File to write.",
-)
+@output_option("File to write.")
 @click.option(
     "--joint-map",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=OUTPUT_FILE,
     default=None,
     help="Also write the joint map (TOML) here, for `--robot FILE` (urdf only).",
 )

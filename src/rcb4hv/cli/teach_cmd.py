@@ -9,7 +9,7 @@ from typing import Any
 
 import click
 
-from rcb4hv.cli._util import MOTION_SLOT, handle_errors
+from rcb4hv.cli._util import MOTION_SLOT, OUTPUT_FILE, handle_errors, output_option
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4 import dump_motion_xml, dump_project, load_project, parse_project
 from rcb4hv.hth4.keyframes import (
@@ -58,16 +58,10 @@ def parse_keyframes(data: Any) -> list[Keyframe]:
     help="Motion slot (default: the first free one).",
 )
 @click.option("--button", default="", help="Bind to remote buttons, e.g. TRIANGLE or UP+S1.")
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    required=True,
-    help="Where to write the new .h4p.",
-)
+@output_option("Where to write the new .h4p.")
 @click.option(
     "--flowchart",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=OUTPUT_FILE,
     default=None,
     help="Also write the motion's HeartToHeart4 flowchart (.xml) here.",
 )

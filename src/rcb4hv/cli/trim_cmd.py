@@ -12,7 +12,14 @@ from pathlib import Path
 
 import click
 
-from rcb4hv.cli._util import Connection, handle_errors, pass_connection, print_json, print_table
+from rcb4hv.cli._util import (
+    Connection,
+    handle_errors,
+    output_option,
+    pass_connection,
+    print_json,
+    print_table,
+)
 from rcb4hv.protocol.memory import SERVO
 
 __all__ = ["register"]
@@ -68,13 +75,7 @@ def set_command(conn: Connection, ics: int, value: int) -> None:
 
 @trim.command("save")
 @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Where to write the project (default: FILE itself, atomically).",
-)
+@output_option("Where to write the project (default: FILE itself, atomically).", required=False)
 @pass_connection
 @handle_errors
 def save_command(conn: Connection, file: Path, output: Path | None) -> None:

@@ -9,6 +9,7 @@
 * :class:`~rcb4hv.emulator.servos.Servos`: servo blocks, interpolation, virtual servos;
 * :class:`~rcb4hv.emulator.vectors.Vectors`: the vector-jump table;
 * :mod:`~rcb4hv.emulator.timers`: the four 100 ms timers;
+* :class:`~rcb4hv.emulator.adc.AdConverter`: the AD inputs and their sampling;
 * :class:`~rcb4hv.emulator.romstore.RomStore`: the persistent ROM image.
 
 The speed work (:mod:`~rcb4hv.emulator.accel`) is on by default; ``accelerate=False`` builds
@@ -23,6 +24,7 @@ from pathlib import Path
 from typing import Final
 
 from rcb4hv.emulator import accel
+from rcb4hv.emulator.adc import AdConverter
 from rcb4hv.emulator.clock import Clock, VirtualClock
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import Stop
@@ -31,7 +33,6 @@ from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
 from rcb4hv.emulator.link import Link, nak
 from rcb4hv.emulator.memmap import (
     AD_CHANNELS,
-    AD_REFERENCE,
     AD_VALUES,
     ALLOC,
     ALLOC_END,
@@ -47,7 +48,6 @@ from rcb4hv.emulator.memmap import (
     SYSTEM,
     VECTOR_TABLE,
     read_u16,
-    s16,
     write_u16,
 )
 from rcb4hv.emulator.romstore import RomStore
@@ -74,12 +74,6 @@ log = logging.getLogger(__name__)
 FRAME_US: Final = tuple(ms * 1000 for ms in FRAME_PERIODS_MS)
 
 OutputListener = Callable[[float, dict[int, int]], None]
-AD_MAX: Final = 1023  # a 10-bit converter
-
-
-def _check_ad(channel: int, counts: int) -> None:
-    if not 0 <= channel < AD_CHANNELS or not 0 <= counts <= AD_MAX:
-        raise ValueError(f"AD channels 0-{AD_CHANNELS - 1} take inputs of 0..{AD_MAX}")
 
 
 class Board:
@@ -136,7 +130,7 @@ class Board:
         self.frames_handled = 0
         self._closed = False
         # what the AD pins see: the world outside the board, which a reset leaves alone
-        self._ad_inputs = [self.config.ad0, *self.config.ad_inputs]
+        self._adc = AdConverter(self.ram, [self.config.ad0, *self.config.ad_inputs])
         self.power_on()
 
     # ------------------------------------------------------------------ lifecycle
@@ -264,11 +258,8 @@ class Board:
         self._now = t
 
     def _sample_ad(self) -> None:
-        """The board samples its AD inputs (spec 10.4): each measured register (0022h) gets
-        the channel's input minus its reference (000Ch), signed in the 16-bit word."""
-        r = self.ram
-        for ch, v in enumerate(self._ad_inputs):
-            write_u16(r, AD_VALUES + 2 * ch, (v - read_u16(r, AD_REFERENCE + 2 * ch)) & 0xFFFF)
+        """The board samples its AD inputs (:meth:`AdConverter.sample`, spec 10.4)."""
+        self._adc.sample()
         self._touch(AD_VALUES, 2 * AD_CHANNELS)
 
     def _period(self) -> None:
@@ -402,9 +393,9 @@ class Board:
     def set_ad_input(self, channel: int, counts: int) -> None:
         """Set the input of AD0-AD10 (0..1023 counts of 0-5 V, what the pin sees). The measured
         register (0022h) then reads the input minus the channel's reference (spec 10.4)."""
-        _check_ad(channel, counts)
+        AdConverter.check(channel, counts)
         self.tick()
-        self._ad_inputs[channel] = counts
+        self._adc.inputs[channel] = counts
         self._sample_ad()
 
     def sensors_at_rest(self) -> None:
@@ -414,20 +405,20 @@ class Board:
         from rcb4hv.rom.calibration import calibrated_ad_inputs
 
         for ch, counts in calibrated_ad_inputs(self.rom).items():
-            if not self._ad_inputs[ch]:
+            if not self._adc.inputs[ch]:
                 self.set_ad_input(ch, counts)
 
     def ad_input(self, channel: int) -> int:
         """The input of AD``channel`` (0..1023 counts), as set by the host or a backend."""
-        return self._ad_inputs[channel]
+        return self._adc.inputs[channel]
 
     def ad_reference(self, channel: int) -> int:
         """The reference word of AD``channel`` (RAM 000Ch + 2 x channel)."""
-        return read_u16(self.ram, AD_REFERENCE + 2 * channel)
+        return self._adc.reference(channel)
 
     def ad_measured(self, channel: int) -> int:
         """The measured register of AD``channel`` (RAM 0022h + 2 x channel), signed."""
-        return s16(read_u16(self.ram, AD_VALUES + 2 * channel))
+        return self._adc.measured(channel)
 
     def set_servo_position(self, ics: int, position: int) -> None:
         """Move a virtual servo by hand (as if pushed while free)."""
@@ -457,11 +448,8 @@ class Board:
         for ics, p in positions.items():
             if ics in physical:
                 physical[ics] = min(max(p, 0), 0xFFFF)
-        inputs = self._ad_inputs
         for ch, v in ad.items():
-            if not 0 <= ch < AD_CHANNELS:
-                raise ValueError("AD channels are 0-10")
-            inputs[ch] = min(max(v, 0), AD_MAX)
+            self._adc.clamp(ch, v)
         if ad:
             self._sample_ad()
 

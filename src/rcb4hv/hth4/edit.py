@@ -11,7 +11,7 @@ free slot). Motions: :func:`rename_motion`, :func:`move_motion`, :func:`bind_but
 :func:`new_motion`. Servos: :func:`set_trim`, :func:`set_home`.
 
 When entries change length or order, every JUMP / CALL into the motion, in any motion, and
-the startup / priority / low-power addresses are rewritten (:func:`apply_layout`). Motions
+the startup / priority / low-power addresses are rewritten (:func:`apply_entry_edit`). Motions
 are addressed by their 1-based slot, poses by their 0-based index.
 """
 
@@ -29,7 +29,7 @@ from rcb4hv.hth4.motioncode import retarget_motion, retarget_project, slot_size
 from rcb4hv.hth4.poses import (
     DEFAULT_CHECKS,
     Checks,
-    Layout,
+    EntryEdit,
     delete_pose_entries,
     insert_pose_entries,
     motion_poses,
@@ -42,7 +42,7 @@ from rcb4hv.robot.model import RobotModel
 
 __all__ = [
     "TRIM_LIMIT",
-    "apply_layout",
+    "apply_entry_edit",
     "bind_button",
     "delete_pose",
     "duplicate_pose",
@@ -92,18 +92,18 @@ def _starts(entries: tuple[bytes, ...]) -> list[int]:
     return out
 
 
-def apply_layout(project: Project, slot: int, layout: Layout) -> Project:
-    """``project`` with motion ``slot``'s entries replaced by ``layout`` and every address
+def apply_entry_edit(project: Project, slot: int, change: EntryEdit) -> Project:
+    """``project`` with motion ``slot``'s entries replaced by ``change`` and every address
     into the motion moved with the entry it points into (poses module docstring)."""
     motion = _motion(project, slot)
-    if layout.entries == motion.frames:
+    if change.entries == motion.frames:
         return project
-    size = sum(map(len, layout.entries))
+    size = sum(map(len, change.entries))
     room = slot_size(motion)
     if size > room:
         raise EditError(f"motion {slot}: {size} bytes do not fit its {room}-byte slot")
-    old, new = _starts(motion.frames), _starts(layout.entries)
-    new_index = {o: n for n, o in enumerate(layout.origins) if o is not None}
+    old, new = _starts(motion.frames), _starts(change.entries)
+    new_index = {o: n for n, o in enumerate(change.origins) if o is not None}
     base = motion.address
     end = base + old[-1] + (1 if old[-1] < room else 0)
 
@@ -121,14 +121,14 @@ def apply_layout(project: Project, slot: int, layout: Layout) -> Project:
         if j == len(motion.frames):
             return base + new[-1]
         n = new_index[j]
-        if inner and len(layout.entries[n]) != len(motion.frames[j]):
+        if inner and len(change.entries[n]) != len(motion.frames[j]):
             raise EditError(
                 f"motion {slot}: a branch targets {address:05X}h inside an entry that changed "
                 "length; edit it in HeartToHeart4"
             )
         return base + new[n] + inner
 
-    edited = replace(motion, frames=layout.entries)
+    edited = replace(motion, frames=change.entries)
     return retarget_project(_put(project, edited), where)
 
 
@@ -145,7 +145,7 @@ def set_pose(
 ) -> Project:
     """Pose ``index`` of motion ``slot`` with new servo values and/or frame count."""
     m = used_motion(project, slot)
-    return apply_layout(project, slot, set_pose_entries(m, index, positions, speed, checks))
+    return apply_entry_edit(project, slot, set_pose_entries(m, index, positions, speed, checks))
 
 
 def insert_pose(
@@ -160,7 +160,7 @@ def insert_pose(
     m = _motion(project, slot)
     if m.is_empty:
         raise EditError(f"motion slot {slot} is empty: create the motion first (new_motion)")
-    return apply_layout(project, slot, insert_pose_entries(m, at, positions, speed, checks))
+    return apply_entry_edit(project, slot, insert_pose_entries(m, at, positions, speed, checks))
 
 
 def duplicate_pose(project: Project, slot: int, index: int) -> Project:
@@ -174,12 +174,12 @@ def duplicate_pose(project: Project, slot: int, index: int) -> Project:
 
 def delete_pose(project: Project, slot: int, index: int) -> Project:
     """Pose ``index`` of motion ``slot`` removed."""
-    return apply_layout(project, slot, delete_pose_entries(used_motion(project, slot), index))
+    return apply_entry_edit(project, slot, delete_pose_entries(used_motion(project, slot), index))
 
 
 def move_pose(project: Project, slot: int, index: int, to: int) -> Project:
     """Pose ``index`` moved to position ``to`` within its linear chain."""
-    return apply_layout(project, slot, move_pose_entries(used_motion(project, slot), index, to))
+    return apply_entry_edit(project, slot, move_pose_entries(used_motion(project, slot), index, to))
 
 
 # ----------------------------------------------------------------------------- mirroring
@@ -194,7 +194,7 @@ def mirror_pose(
 ) -> Project:
     """Pose ``index`` of motion ``slot`` replaced by its left-right mirror image."""
     m = used_motion(project, slot)
-    return apply_layout(project, slot, mirror_motion_entries(m, model, checks, pose=index))
+    return apply_entry_edit(project, slot, mirror_motion_entries(m, model, checks, pose=index))
 
 
 def _free_target(project: Project, to: int) -> Motion:
@@ -237,11 +237,11 @@ def mirror_motion(
     ``to`` named ``name`` (default: the source name + `` (mirror)``), with no button bound and
     the current ``date``."""
     m = used_motion(project, slot)
-    layout = mirror_motion_entries(m, model, checks)
+    change = mirror_motion_entries(m, model, checks)
     if to is None:
-        return apply_layout(project, slot, layout)
+        return apply_entry_edit(project, slot, change)
     target = _free_target(project, to)
-    mirrored = _shift(replace(m, frames=layout.entries), target)
+    mirrored = _shift(replace(m, frames=change.entries), target)
     if sum(map(len, mirrored.frames)) > slot_size(target):
         raise EditError(f"motion {slot} does not fit slot {to}")
     new = replace(

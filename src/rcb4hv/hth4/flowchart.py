@@ -33,13 +33,13 @@ from pathlib import Path
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
-    Builder,
     ExtraElement,
     XmlReader,
     parse_document,
     root_reader,
     serialize,
 )
+from rcb4hv.hth4._xmlbuild import Builder
 from rcb4hv.hth4.flowchart_model import (
     Flowchart,
     FlowchartLine,

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rcb4hv.hth4._xml import XSI_FIRST_LAYOUT, Builder, ExtraElement, XmlLayout, XmlReader
+from rcb4hv.hth4._xml import XSI_FIRST_LAYOUT, ExtraElement, XmlLayout, XmlReader
+from rcb4hv.hth4._xmlbuild import Builder
 from rcb4hv.hth4.model import Point
 
 __all__ = [

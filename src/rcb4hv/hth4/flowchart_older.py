@@ -37,7 +37,6 @@ from typing import Final
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     XSI_TYPE,
-    Builder,
     ExtraElement,
     XmlLayout,
     XmlNode,
@@ -46,6 +45,7 @@ from rcb4hv.hth4._xml import (
     root_reader,
     serialize,
 )
+from rcb4hv.hth4._xmlbuild import Builder
 from rcb4hv.hth4.flowchart_model import (
     Flowchart,
     FlowchartActivity,

@@ -28,7 +28,7 @@ from rcb4hv.hth4.poses import (
     DEFAULT_CHECKS,
     SPECIAL_POSITIONS,
     Checks,
-    Layout,
+    EntryEdit,
     motion_blocks,
     pose_entry,
 )
@@ -103,7 +103,7 @@ def mirror_motion_entries(
     model: RobotModel | None,
     checks: Checks = DEFAULT_CHECKS,
     pose: int | None = None,
-) -> Layout:
+) -> EntryEdit:
     """``motion``'s entries with every pose (or only pose number ``pose``) and every
     SetStretch / SetSpeed entry mirrored; entry lengths do not change."""
     table = mirror_map(model)
@@ -122,4 +122,4 @@ def mirror_motion_entries(
                 entries[block.entry] = swapped
     if pose is not None and not any(b.pose and b.pose.index == pose for b in motion_blocks(motion)):
         raise EditError(f"motion {motion.slot} has no pose {pose + 1}")
-    return Layout(tuple(entries), tuple(range(len(entries))))
+    return EntryEdit(tuple(entries), tuple(range(len(entries))))

@@ -7,7 +7,7 @@ SetSpeed, MOVE, arithmetic, JUMP, CALL, RETURN, the closing ``03 0D 10 FF``) is 
 **block** that the editor shows and keeps byte for byte but does not edit.
 
 The functions here work on the entry list of one motion and say, for each new entry, which
-old entry it came from (:class:`Layout`); :mod:`rcb4hv.hth4.edit` turns that into new ROM
+old entry it came from (:class:`EntryEdit`); :mod:`rcb4hv.hth4.edit` turns that into new ROM
 addresses for every JUMP / CALL in the project. The rule: a branch keeps pointing at the
 instruction it pointed at; a branch to a deleted pose goes to what followed it; the motion's
 start (its first byte, where the remote, the startup hook and CALLs enter) stays its start.
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from rcb4hv.errors import EditError, JointLimitError, ProtocolError
@@ -41,7 +41,7 @@ __all__ = [
     "DEFAULT_CHECKS",
     "Block",
     "Checks",
-    "Layout",
+    "EntryEdit",
     "Pose",
     "delete_pose_entries",
     "insert_pose_entries",
@@ -235,7 +235,7 @@ DEFAULT_CHECKS = Checks()
 
 
 @dataclass(frozen=True)
-class Layout:
+class EntryEdit:
     """A motion's new entries and, for each, the index of the old entry it came from (None
     for a new entry). Old entries missing from ``origins`` were deleted."""
 
@@ -260,7 +260,7 @@ def set_pose_entries(
     positions: Mapping[int, int] | None = None,
     speed: int | None = None,
     checks: Checks = DEFAULT_CHECKS,
-) -> Layout:
+) -> EntryEdit:
     """Pose ``index`` with the servos in ``positions`` changed (servos it did not name are
     added) and/or its frame count set to ``speed``."""
     pose = _pose(motion, index)
@@ -271,7 +271,7 @@ def set_pose_entries(
     entries = list(motion.frames)
     if values != pose.values or new_speed != pose.speed:
         entries[pose.entry] = pose_entry(values, new_speed, pose.set_update_flag)
-    return Layout(tuple(entries), tuple(_identity(motion)))
+    return EntryEdit(tuple(entries), tuple(_identity(motion)))
 
 
 def insert_pose_entries(
@@ -280,7 +280,7 @@ def insert_pose_entries(
     positions: Mapping[int, int],
     speed: int,
     checks: Checks = DEFAULT_CHECKS,
-) -> Layout:
+) -> EntryEdit:
     """A new pose inserted as pose ``at`` (0 = first; the number of poses = after the last,
     before the block that follows it)."""
     poses = motion_poses(motion)
@@ -299,7 +299,7 @@ def insert_pose_entries(
     origins = _identity(motion)
     entries.insert(where, pose_entry(positions, speed))
     origins.insert(where, None)
-    return Layout(tuple(entries), tuple(origins))
+    return EntryEdit(tuple(entries), tuple(origins))
 
 
 def _body_end(motion: Motion) -> int:
@@ -311,14 +311,14 @@ def _body_end(motion: Motion) -> int:
     return end
 
 
-def delete_pose_entries(motion: Motion, index: int) -> Layout:
+def delete_pose_entries(motion: Motion, index: int) -> EntryEdit:
     """Pose ``index`` removed."""
     pose = _pose(motion, index)
     entries = list(motion.frames)
     origins = _identity(motion)
     del entries[pose.entry]
     del origins[pose.entry]
-    return Layout(tuple(entries), tuple(origins))
+    return EntryEdit(tuple(entries), tuple(origins))
 
 
 def _chain(motion: Motion, index: int) -> list[Pose]:
@@ -335,7 +335,7 @@ def _chain(motion: Motion, index: int) -> list[Pose]:
     return [b.pose for b in blocks[lo : hi + 1] if b.pose is not None]
 
 
-def move_pose_entries(motion: Motion, index: int, to: int) -> Layout:
+def move_pose_entries(motion: Motion, index: int, to: int) -> EntryEdit:
     """Pose ``index`` moved to be pose ``to``, inside its linear chain (swapping places with
     the poses between); EditError if ``to`` lies in another chain."""
     chain = _chain(motion, index)
@@ -355,12 +355,12 @@ def move_pose_entries(motion: Motion, index: int, to: int) -> Layout:
     for place, source in zip(slots, order, strict=True):
         entries[place] = motion.frames[source]
         origins[place] = source
-    return Layout(tuple(entries), tuple(origins))
+    return EntryEdit(tuple(entries), tuple(origins))
 
 
 def replace_pose_values(
     motion: Motion, updates: Iterable[tuple[int, Mapping[int, int]]], checks: Checks
-) -> Layout:
+) -> EntryEdit:
     """Several poses' servo values replaced at once (mirroring): (pose index, values)."""
     poses = motion_poses(motion)
     entries = list(motion.frames)
@@ -369,9 +369,4 @@ def replace_pose_values(
         checks.check(values, None, f"motion {motion.slot} pose {index + 1}")
         if dict(values) != pose.values:
             entries[pose.entry] = pose_entry(values, pose.speed, pose.set_update_flag)
-    return Layout(tuple(entries), tuple(_identity(motion)))
-
-
-def entry_layout(entries: Sequence[bytes]) -> Layout:
-    """A layout that only replaces entries in place (same count, same order)."""
-    return Layout(tuple(entries), tuple(range(len(entries))))
+    return EntryEdit(tuple(entries), tuple(_identity(motion)))

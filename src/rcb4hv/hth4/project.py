@@ -16,7 +16,6 @@ from rcb4hv.errors import Hth4FormatError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
-    Builder,
     ExtraElement,
     XmlNode,
     XmlReader,
@@ -24,6 +23,7 @@ from rcb4hv.hth4._xml import (
     root_reader,
     serialize,
 )
+from rcb4hv.hth4._xmlbuild import Builder
 from rcb4hv.hth4.model import (
     Kri3Settings,
     Motion,

@@ -17,13 +17,13 @@ from rcb4hv.errors import Hth4FormatError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
-    Builder,
     ExtraElement,
     XmlLayout,
     parse_document,
     root_reader,
     serialize,
 )
+from rcb4hv.hth4._xmlbuild import Builder
 
 __all__ = ["TrimEntry", "TrimFile", "dump_trim", "load_trim", "parse_trim", "save_trim"]
 

@@ -36,6 +36,7 @@ from enum import IntEnum
 from typing import Final
 
 from rcb4hv.errors import IcsError
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN  # the same 3500..11500 (+-135 degrees)
 
 __all__ = [
     "BAUD_RATES",
@@ -43,8 +44,6 @@ __all__ = [
     "ID_READ",
     "MAX_ID",
     "POSITION_FREE",
-    "POSITION_MAX",
-    "POSITION_MIN",
     "EepromReply",
     "IdReply",
     "Kind",
@@ -71,8 +70,6 @@ BAUD_RATES: Final = (115200, 625000, 1250000)
 MAX_ID: Final = 31  # 5 bits of the command byte
 EEPROM_SIZE: Final = 64
 POSITION_FREE: Final = 0  # "position 0 frees the servo and still returns its position"
-POSITION_MIN: Final = 3500  # -135 degrees (FACTS "Position scale")
-POSITION_MAX: Final = 11500  # +135 degrees
 WIRE_MAX: Final = 0x3FFF  # two 7-bit halves
 ID_SC_READ: Final = 0
 ID_SC_WRITE: Final = 1

@@ -11,15 +11,16 @@ SIO line *is* the board's servo slot):
 * :class:`Plant`: where the horn is and how it moves (default :class:`SlewPlant`);
 * :class:`LiveValues`: the working stretch and speed (default: a dict of its own).
 
-Motion of the default plant: a constant-rate slew toward the target at the no-load speed of a
-KRS-3304R2 (0.13 s / 60 degrees, FACTS "Servo figures") times ``speed / 127``, at 8000/270
-counts per degree (FACTS "Position scale"). Rotation mode, punch, dead band and damping are
-stored and reported but do not change the motion.
+Motion of the default plant: a constant-rate slew toward the target at the no-load speed of
+the default servo, a KRS-3304R2 (:data:`rcb4hv.robot.servos.DEFAULT_SERVO`: 0.13 s / 60
+degrees), times ``speed / 127``, at :data:`rcb4hv.protocol.COUNTS_PER_DEGREE`. Rotation mode,
+punch, dead band and damping are stored and reported but do not change the motion.
 """
 
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass, field
 from typing import Final, Protocol
 
@@ -34,14 +35,17 @@ from rcb4hv.ics.codec import (
 )
 from rcb4hv.ics.eeprom import Eeprom
 from rcb4hv.ics.settings import IcsSettings
+from rcb4hv.protocol import COUNTS_PER_DEGREE
+from rcb4hv.protocol.ranges import STRETCH_MAX as SPEED_MAX
+from rcb4hv.robot.servos import DEFAULT_SERVO
 
 __all__ = ["COUNTS_PER_S_AT_127", "EmulatedServo", "LiveValues", "Plant", "SlewPlant"]
 
 log = logging.getLogger(__name__)
 
-COUNTS_PER_DEGREE: Final = 8000 / 270
-COUNTS_PER_S_AT_127: Final = 60 / 0.13 * COUNTS_PER_DEGREE  # ~13675 counts/s
-SPEED_MAX: Final = 127
+COUNTS_PER_S_AT_127: Final = math.degrees(DEFAULT_SERVO.no_load_speed) * COUNTS_PER_DEGREE
+"""The default plant's slew rate at speed 127: the KRS-3304R2's no-load speed (~13675
+counts/s)."""
 AMBIENT_C: Final = 25.0  # room temperature: below the 26.7 degC end of the rcb4 table
 
 

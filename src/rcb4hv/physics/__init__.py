@@ -9,8 +9,9 @@
 
 MuJoCo is imported when a world is built: without ``pip install 'rcb4hv[sim]'`` that raises
 :class:`~rcb4hv.errors.PhysicsUnavailableError`; importing this package never needs it.
-The servo model's figures (stall torque, speed, stretch, damping, friction) are in
-:mod:`rcb4hv.robot.mjcf`; the documentation page "Physics" lists them with their sources.
+The servo model's figures (stall torque, speed, stretch, damping) are in
+:mod:`rcb4hv.robot.servos`, the contact's (friction) in :mod:`rcb4hv.robot.mjcf`; the
+documentation page "Physics" lists them with their sources.
 """
 
 from rcb4hv.physics.backend import PhysicsBackend

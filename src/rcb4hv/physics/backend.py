@@ -13,7 +13,7 @@ After every output period (the moment a real RCB-4 sends its servo frame on the 
    servo does (Kondo's own motions command 2100 or 12700 to push a joint to its end);
 3. a target moves towards the command at most at the servo's speed cap (its SetSpeed value
    as a fraction of the no-load speed), and the servo's stiffness follows its SetStretch
-   value (:func:`rcb4hv.robot.mjcf.stiffness`);
+   value (:func:`rcb4hv.robot.servos.stiffness`);
 4. the simulated joint angles go back into the board as the servos' measured positions
    (``RobotModel.value``), reported into the blocks at the next period as the ICS reply
    would be, and the gyro and accelerometer into their AD channels as inputs: a calibrated
@@ -35,7 +35,7 @@ from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 from rcb4hv.protocol.memory import CENTER, NO_BLOCK, S16, SERVO, U16
 from rcb4hv.protocol.servomode import output_mode
-from rcb4hv.robot.mjcf import speed_cap, wheel_duty
+from rcb4hv.robot.servos import speed_cap, wheel_duty
 from rcb4hv.rom.calibration import calibrated_ad_inputs
 
 __all__ = ["PhysicsBackend"]

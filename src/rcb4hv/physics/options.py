@@ -1,10 +1,11 @@
 """Overrides of the physics model's chosen constants, in one place, for sensitivity studies.
 
-Every figure of the servo and contact model (:mod:`rcb4hv.robot.mjcf`) and of the sensors
-(:mod:`rcb4hv.physics.sensors`) is documented with its source or named as a choice; a
-:class:`PhysicsOptions` scales the chosen ones by a factor (1 = as documented), so a study
-(``bench/sensitivity.py``, ``make sensitivity``) can vary one at a time without touching the
-documented values. The default options change nothing.
+Every figure of the servo model (:mod:`rcb4hv.robot.servos`), the contact
+(:mod:`rcb4hv.robot.mjcf`) and the sensors (:mod:`rcb4hv.physics.sensors`) is documented
+with its source or named as a choice; a :class:`PhysicsOptions` scales the chosen ones by a
+factor (1 = as documented), so a study (``bench/sensitivity.py``, ``make sensitivity``) can
+vary one at a time without touching the documented values. The default options change
+nothing.
 """
 
 from __future__ import annotations
@@ -21,13 +22,13 @@ class PhysicsOptions:
     """Factors on the model's chosen figures (each 1.0 by default)."""
 
     stiffness: float = 1.0
-    """x the stretch -> stiffness gain (``mjcf.stiffness``: FULL_TORQUE_ERROR_DEG)."""
+    """x the stretch -> stiffness gain (``servos.stiffness``: FULL_TORQUE_ERROR_DEG)."""
     speed_cap: float = 1.0
-    """x the speed cap (``mjcf.speed_cap``: the ICS speed as a fraction of no-load speed)."""
+    """x the speed cap (``servos.speed_cap``: the ICS speed as a fraction of no-load speed)."""
     free_damping: float = 1.0
-    """x a free servo's damping (``mjcf.FREE_DAMPING_FRACTION``)."""
+    """x a free servo's damping (``servos.FREE_DAMPING_FRACTION``)."""
     armature: float = 1.0
-    """x the gear train's reflected inertia (``mjcf.armature``: MOTOR_TIME_CONSTANT)."""
+    """x the gear train's reflected inertia (``servos.armature``: MOTOR_TIME_CONSTANT)."""
     friction: float = 1.0
     """x the feet's sliding friction (``mjcf.FLOOR_FRICTION``)."""
     gyro_scale: float = 1.0

@@ -1,8 +1,9 @@
 """A robot with no project: an emulated board set up by host frames for a model's servos.
 
 :func:`robot_board` gives an emulated :class:`~rcb4hv.emulator.Board` on a virtual clock with
-a servo block for every servo the model maps (HeartToHeart4's layout: block n at 0090h + 20n,
-ICS ID = index // 2), each holding the model's joint angle 0, servo output on and the ROM
+a servo block for every servo the model maps, where HeartToHeart4 puts it (the block of ICS
+number n at 0090h + 20·n, :meth:`rcb4hv.protocol.memory.ADDR.servo_block`; the servo's ICS ID
+is n // 2), each holding the model's joint angle 0, servo output on and the ROM
 program stopped (it would install its own allocation table). It is
 set up the way a host would, through real MOVE frames, so it can be driven with servo
 commands (or a host client) and given a :class:`~rcb4hv.physics.PhysicsBackend`: the
@@ -14,13 +15,10 @@ from __future__ import annotations
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import SimulationError
 from rcb4hv.protocol import ICS_COUNT, Ack, Command, Data, Move, Ram, decode_reply, encode_command
-from rcb4hv.protocol.memory import ADDR, SERVO, SYS, ServoBlock, pack_alloc
+from rcb4hv.protocol.memory import ADDR, SYS, ServoBlock, pack_alloc
 from rcb4hv.robot.model import RobotModel
 
-__all__ = ["BLOCKS_AT", "robot_board"]
-
-BLOCKS_AT = 0x0090
-"""RAM address of the first servo block (HeartToHeart4's ``ram_address`` of slot 0)."""
+__all__ = ["robot_board"]
 
 
 def _send(board: Board, cmd: Command) -> None:
@@ -34,8 +32,8 @@ def robot_board(model: RobotModel) -> Board:
     indices = model.indices
     board = Board(EmulatorConfig(virtual_servos=indices), clock=VirtualClock())
     table: list[int | None] = [None] * ICS_COUNT
-    for k, index in enumerate(indices):
-        address = BLOCKS_AT + SERVO.SIZE * k
+    for index in indices:
+        address = ADDR.servo_block(index)
         table[index] = address
         centre = model.motion_value(index, 0.0)
         block = ServoBlock(ics_id=index // 2, measured=centre, output=centre, end=centre)

@@ -15,16 +15,14 @@ from typing import Any
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
 from rcb4hv.physics.options import PhysicsOptions
 from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
-from rcb4hv.robot.mjcf import (
+from rcb4hv.robot.mjcf import FLOOR_FRICTION, TIMESTEP, to_mjcf
+from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
+from rcb4hv.robot.servos import (
     DEFAULT_SERVO,
-    FLOOR_FRICTION,
     FREE_DAMPING_FRACTION,
-    TIMESTEP,
     back_emf_damping,
     stiffness,
-    to_mjcf,
 )
-from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 
 __all__ = ["BasePose", "PhysicsWorld", "engine_version", "require_mujoco"]
 
@@ -242,7 +240,7 @@ class PhysicsWorld:
 
     def spin(self, index: int, duty: float) -> None:
         """Wheel servo ``index`` drives its motor at ``duty`` (-1..1): torque ``duty x
-        stall`` against its back-EMF damping (:data:`rcb4hv.robot.mjcf.WHEEL_FULL_SCALE_DEG`)."""
+        stall`` against its back-EMF damping (:data:`rcb4hv.robot.servos.WHEEL_FULL_SCALE_DEG`)."""
         s = self.servos[index]
         m = self.m
         if not self._powered[index]:

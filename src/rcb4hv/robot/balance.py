@@ -37,8 +37,8 @@ from rcb4hv.robot.kinematics import (
     forward,
     rotation_about,
 )
-from rcb4hv.robot.mjcf import DEFAULT_SERVO, stiffness
 from rcb4hv.robot.model import RobotModel, Vec3
+from rcb4hv.robot.servos import DEFAULT_SERVO, stiffness
 
 __all__ = [
     "CONTACT_TOL",
@@ -316,7 +316,7 @@ def pose_balance(
     """Balance and static servo loads of ``model`` holding joint ``angles`` (rad by name).
 
     ``compliant``: the servos give under load as the physics' servos do (a position gain,
-    :func:`rcb4hv.robot.mjcf.stiffness` at ``stretch``, default the board's), so each joint
+    :func:`rcb4hv.robot.servos.stiffness` at ``stretch``, default the board's), so each joint
     sags by its static torque over that gain; the sagged pose is found by fixed-point
     iteration (:data:`COMPLIANCE_ITERATIONS`). ``compliant=False``: the joints are rigid.
     """

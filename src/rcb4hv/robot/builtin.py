@@ -11,16 +11,18 @@ import os
 from collections.abc import Callable, Iterable, Mapping
 from functools import cache
 from pathlib import Path
+from typing import Literal
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.khr3hv import khr3hv, khr3hv_22
 from rcb4hv.robot.kxr import kxr_l2, kxr_l2_gripper
-from rcb4hv.robot.model import RobotModel
+from rcb4hv.robot.model import RobotModel, side_of_name
 
 __all__ = [
     "BUILTIN",
     "check_indices",
     "detect_robot",
+    "even_side",
     "load_builtin",
     "load_robot",
 ]
@@ -81,24 +83,17 @@ def load_robot(name_or_path: str | os.PathLike[str], joint_map: str | None = Non
 
 # --------------------------------------------------------------------- detection
 
-# the words a HeartToHeart4 project's servo names use for each side
-_RIGHT_WORDS = ("右", "right", "r_")
-_LEFT_WORDS = ("左", "left", "l_")
 
-
-def _sides(names: Mapping[int, str]) -> str | None:
-    """Which side the project's even indices (SIO1-4) are: "right", "left" or None."""
-    votes = {"right": 0, "left": 0}
+def even_side(names: Mapping[int, str]) -> Literal["left", "right"] | None:
+    """Which side a project's even indices (SIO1-4) drive, from its servo names
+    (:func:`~rcb4hv.robot.model.side_of_name`): "right", "left", or None when no name states
+    a side or two names disagree (no vote: the index set alone then decides)."""
+    found = set()
     for index, name in names.items():
-        low = name.lower()
-        even = index % 2 == 0
-        if any(w in low for w in _RIGHT_WORDS):
-            votes["right" if even else "left"] += 1
-        elif any(w in low for w in _LEFT_WORDS):
-            votes["left" if even else "right"] += 1
-    if votes["right"] == votes["left"]:
-        return None
-    return "right" if votes["right"] > votes["left"] else "left"
+        side = side_of_name(name)
+        if side is not None:
+            found.add(side if index % 2 == 0 else ("left" if side == "right" else "right"))
+    return found.pop() if len(found) == 1 else None
 
 
 def detect_robot(
@@ -116,14 +111,13 @@ def detect_robot(
     """
     names = dict(servo_names)
     used = frozenset(names if indices is None else indices)
-    side = _sides({i: n for i, n in names.items() if i in used})
-    even_side = {"khr3hv": "left", "khr3hv-22": "left", "kxr-l2": "right",
-                 "kxr-l2-gripper": "right"}  # fmt: skip
+    side = even_side({i: n for i, n in names.items() if i in used})
+    models = [load_builtin(name) for name in BUILTIN]
     matches = [
-        name
-        for name in BUILTIN
-        if frozenset(load_builtin(name).indices) == used
-        and (side is None or even_side[name] == side)
+        m.name
+        for m in models
+        if frozenset(m.indices) == used
+        and (side is None or even_side({s.index: s.joint for s in m.servos}) == side)
     ]
     return matches[0] if len(matches) == 1 else None
 

@@ -29,7 +29,6 @@ TOML is read with :mod:`tomllib` (Python 3.11+) or its backport ``tomli`` on 3.1
 from __future__ import annotations
 
 import os
-import re
 import sys
 from collections.abc import Mapping
 from pathlib import Path
@@ -37,7 +36,15 @@ from typing import Any
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.kinematics import IDENTITY, compose, from_xyz_rpy
-from rcb4hv.robot.model import Joint, JointKind, RobotModel, ServoJoint, ServoSpec, Side
+from rcb4hv.robot.model import (
+    Joint,
+    JointKind,
+    RobotModel,
+    ServoJoint,
+    ServoSpec,
+    Side,
+    side_of_name,
+)
 from rcb4hv.robot.urdf import UrdfRobot, parse_urdf
 
 if sys.version_info >= (3, 11):
@@ -49,10 +56,6 @@ __all__ = ["build_model", "load_urdf_robot", "parse_joint_map", "to_joint_map"]
 
 _KINDS = ("pitch", "roll", "yaw", "grip")
 _SIDES = ("left", "right", "centre")
-_SIDE_RE = {
-    "left": re.compile(r"^(l|left)[_\-]|[_\-](l|left)$|^left|left$", re.IGNORECASE),
-    "right": re.compile(r"^(r|right)[_\-]|[_\-](r|right)$|^right|right$", re.IGNORECASE),
-}
 _SWAPS = (
     ("l_", "r_"),
     ("left", "right"),
@@ -100,10 +103,7 @@ def parse_joint_map(text: str, source: str = "joint map") -> dict[str, Any]:
 
 
 def _side_of(name: str) -> Side:
-    for side in ("left", "right"):
-        if _SIDE_RE[side].search(name):
-            return "left" if side == "left" else "right"
-    return "centre"
+    return side_of_name(name) or "centre"
 
 
 def _mirror_name(name: str, names: set[str]) -> str | None:

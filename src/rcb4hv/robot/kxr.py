@@ -30,7 +30,8 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, Vec3
 from rcb4hv.robot.servos import KRS_3304R2
@@ -39,7 +40,6 @@ from rcb4hv.robot.shapes import solid_many
 __all__ = ["KXR_SIGNS", "KXR_STANDARD_TRIM", "kxr_l2", "kxr_l2_gripper"]
 
 MM, G = 0.001, 0.001
-SERVO_HALF_RANGE = 4000  # counts: 3500..11500 around 7500 (FACTS.md)
 
 # joint -> (ICS ID, right sign, left sign), from the fixture (module docstring)
 _MAP: dict[str, tuple[int, int, int]] = {
@@ -145,8 +145,8 @@ def _limits(name: str) -> tuple[float, float, tuple[float, float]]:
     lo, hi = frame
     for index in (2 * ics, 2 * ics + 1):
         sign, trim = KXR_SIGNS[index], KXR_STANDARD_TRIM[index]
-        a = sign * (-SERVO_HALF_RANGE - trim) / COUNTS_PER_DEGREE
-        b = sign * (SERVO_HALF_RANGE - trim) / COUNTS_PER_DEGREE
+        a = sign * (POSITION_MIN - CENTER - trim) / COUNTS_PER_DEGREE
+        b = sign * (POSITION_MAX - CENTER - trim) / COUNTS_PER_DEGREE
         if index % 2 == 0:  # right joint: mirror into the left joint's terms
             kind = _KINDS[name]
             if kind in ("roll", "yaw"):

@@ -1,23 +1,22 @@
 """MJCF (MuJoCo's XML) of a :class:`~rcb4hv.robot.model.RobotModel`.
 
-:func:`to_mjcf` writes one self-contained document: a ground plane, the robot on a free joint
-(its root link), one body per link with the link's inertial and geoms, one hinge per joint
-with its limits (a ``wheel`` joint turns without limits), one servo actuator per mapped
-joint (a wheel's drives its speed, :data:`WHEEL_FULL_SCALE_DEG`) and an IMU site on the
-root link with a gyro and an accelerometer. The physics of :mod:`rcb4hv.physics` loads it
-and drives the actuators itself (stiffness from each servo's stretch, limp when free);
-exported on its own (``rcb4hv robot export NAME --format mjcf``) the actuators are plain
-position servos at the default stretch, ready for MuJoCo's viewer or a controller.
+:func:`to_mjcf` writes one self-contained document: a ground plane, the robot on a free
+joint (its root link), one body per link with the link's inertial and geoms, one hinge per
+joint with its limits (a ``wheel`` joint turns without limits), one servo actuator per
+mapped joint (a wheel's drives its speed, :data:`rcb4hv.robot.servos.WHEEL_FULL_SCALE_DEG`)
+and an IMU site on the root link with a gyro and an accelerometer. The physics of
+:mod:`rcb4hv.physics` loads it and drives the actuators itself (stiffness from each servo's
+stretch, limp when free); exported on its own (``rcb4hv robot export NAME --format mjcf``)
+the actuators are plain position servos at the default stretch, ready for MuJoCo's viewer or
+a controller.
 
 Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q)`` clamped to the servo's
 stall torque, on a hinge with the servo's back-EMF damping ``stall_torque / no_load_speed`` and
 the gear train's reflected inertia (``armature``): together a DC motor's straight
 torque-speed line, so a joint can neither push harder than the stall torque nor turn faster
-than the no-load speed. The figures and their sources are below
-(the physics documentation lists them all).
-
-The servo model's figures live here, beside the MJCF that carries them, so the export and
-:mod:`rcb4hv.physics` use one set (each with its source).
+than the no-load speed. The servo model and its figures (each with its source) are
+:mod:`rcb4hv.robot.servos`, which the export and :mod:`rcb4hv.physics` share; the contact
+figures are below (the physics documentation lists them all).
 
 Only the ground plane collides with the robot (no self-collision): legs and arms pass
 through each other, which keeps the contact count, and so the cost, low.
@@ -25,37 +24,30 @@ through each other, which keeps the contact count, and so the cost, low.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from xml.sax.saxutils import quoteattr
 
 from rcb4hv.robot.geometry import geom_lowest_z
 from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.model import Geom, Joint, Link, RobotModel, ServoSpec, Vec3, chain
+from rcb4hv.robot.servos import (
+    DEFAULT_SERVO,
+    DEFAULT_STRETCH,
+    armature,
+    back_emf_damping,
+    stiffness,
+)
 
 __all__ = [
-    "DEFAULT_SERVO",
-    "DEFAULT_SPEED",
-    "DEFAULT_STRETCH",
     "FLOOR_FRICTION",
-    "FREE_DAMPING_FRACTION",
     "FRICTION_CONE",
-    "FULL_TORQUE_ERROR_DEG",
     "IMU_SITE",
-    "MOTOR_TIME_CONSTANT",
-    "STRETCH_MAX",
     "TIMESTEP",
-    "WHEEL_FULL_SCALE_DEG",
-    "armature",
-    "back_emf_damping",
     "lowest_point",
-    "speed_cap",
-    "stiffness",
     "to_mjcf",
-    "wheel_duty",
 ]
 
-# ----------------------------------------------------------------------------- servo model
+# ------------------------------------------------------------------------ simulation and contact
 
 TIMESTEP = 0.002
 """Physics step (s). The fastest dynamics are a servo's position loop (at most
@@ -64,34 +56,6 @@ constant 20 ms): 2 ms resolves both with 10 or more steps, and a 10/15/20/25 ms 
 is a whole number of steps. The fixture's motions give the same outcomes at 1 ms (checked:
 falls, end poses and turns agree, displacements within a few mm; docs/physics.md), at about
 two thirds of the cost."""
-
-STRETCH_MAX = 127
-"""ICS stretch and speed run 1-127 (Kondo ICS 3.5 software manual)."""
-
-DEFAULT_STRETCH = 60
-"""Stretch assumed for a servo the board never sent a SetStretch (12h) to. Chosen: the
-middle of the 1-127 range (no primary source gives the factory value)."""
-
-DEFAULT_SPEED = STRETCH_MAX
-"""Speed parameter assumed when none was sent: full speed (the servo's own maximum)."""
-
-FULL_TORQUE_ERROR_DEG = 2.0
-"""At stretch 127 a servo reaches its stall torque at this angle error (degrees); stiffness
-scales with stretch (kp = stretch/127 x stall / error). Chosen - no public source converts
-stretch to N·m/rad (FACTS.md). It puts kp of a KRS-3304 at stretch 60 at 18.4 N·m/rad, inside
-the kp 10-30 kxreus's MuJoCo models of the same servos use."""
-
-MOTOR_TIME_CONSTANT = 0.008
-"""Mechanical time constant of a servo's motor (s): the time its speed takes to reach 63% of
-no-load speed from rest. Gearing leaves it unchanged (the reflected inertia grows with the
-ratio squared, stall torque and 1/speed with the ratio), so it is the servo's as well. Small
-DC micromotors of a servo's size have 7-8.5 ms (Faulhaber 1331 SR: 7 ms, 1524 SR: 8.2-8.5 ms,
-their datasheets); 8 ms taken. It keeps the "0.13 s/60°" rating honest: a servo with this
-time constant turns 60° in 0.14 s from rest."""
-
-FREE_DAMPING_FRACTION = 0.1
-"""A free servo's motor is disconnected: only gear and bearing friction remain, taken as this
-fraction of the powered back-EMF damping (chosen)."""
 
 FLOOR_FRICTION = 0.4
 """Sliding friction of a plastic (ABS/polycarbonate) foot sole on a hard floor. Published
@@ -108,64 +72,6 @@ default, the pyramidal cone, is a linearised approximation that lets loaded cont
 its XML reference says "elliptic cones are a better model of the physical reality" and its
 computation chapter names them the first cure for contact slip. With the pyramidal cone the
 KXR's feet crept: single steps turned it ~15° and the get-up from the back fell back."""
-
-DEFAULT_SERVO = ServoSpec(
-    "KRS-3304R2",
-    stall_torque=1.36,
-    no_load_speed=8.06,
-    mass=0.0337,
-    source="Kondo KRS-3304R2 ICS: 13.9 kgf·cm, 0.13 s/60° at 11.1 V (FACTS.md)",
-)
-"""The servo assumed for a joint-map entry without a servo type."""
-
-
-def _clamp_parameter(value: int | None, default: int) -> int:
-    """An ICS stretch/speed byte as the servo takes it: 1-127; anything else (HeartToHeart4
-    motions send 0) leaves the servo at ``default``."""
-    if value is None or not 1 <= value <= STRETCH_MAX:
-        return default
-    return value
-
-
-def stiffness(spec: ServoSpec, stretch: int | None) -> float:
-    """Position gain kp (N·m/rad) of a servo at ``stretch`` (see FULL_TORQUE_ERROR_DEG)."""
-    s = _clamp_parameter(stretch, DEFAULT_STRETCH)
-    return s / STRETCH_MAX * spec.stall_torque / math.radians(FULL_TORQUE_ERROR_DEG)
-
-
-def speed_cap(spec: ServoSpec, speed: int | None) -> float:
-    """Largest rotation speed (rad/s) at ICS ``speed``: that fraction of the no-load speed."""
-    return _clamp_parameter(speed, DEFAULT_SPEED) / STRETCH_MAX * spec.no_load_speed
-
-
-def armature(spec: ServoSpec) -> float:
-    """Reflected inertia (kg·m²) of the servo's motor and gear train at its output shaft:
-    J = time constant x stall torque / no-load speed (see MOTOR_TIME_CONSTANT)."""
-    return MOTOR_TIME_CONSTANT * spec.stall_torque / spec.no_load_speed
-
-
-def back_emf_damping(spec: ServoSpec) -> float:
-    """Viscous damping (N·m·s/rad) of a powered servo: a DC motor's torque falls linearly
-    from the stall torque at rest to 0 at the no-load speed, so b = stall / no-load speed."""
-    return spec.stall_torque / spec.no_load_speed
-
-
-WHEEL_FULL_SCALE_DEG = 135.0
-"""A servo in wheel (rotation) mode turns continuously; the value sent sets its speed: 7500
-stops it, the distance from 7500 is the speed and its sign the direction, 3500 and 11500
-are full speed (the ICS tools step the command within 3500-11500 in rotation mode,
-KXR-KITS.md §5). Kondo publishes no value-to-speed scale, so it is taken linear: the
-command's joint-angle equivalent (the model's one conversion, sign and trim included) over
-135° (= 4000 counts) is the motor's duty, -1..1. A ``wheel`` joint's actuator applies
-``duty x stall torque``; with the hinge's back-EMF damping (stall / no-load speed) that is a
-DC motor's torque-speed line, so an unloaded wheel settles at ``duty x no-load speed``."""
-
-
-def wheel_duty(angle: float) -> float:
-    """The motor duty (-1..1) of a wheel servo sent the value whose joint-angle equivalent is
-    ``angle`` (rad; see :data:`WHEEL_FULL_SCALE_DEG`)."""
-    return max(-1.0, min(1.0, angle / math.radians(WHEEL_FULL_SCALE_DEG)))
-
 
 IMU_SITE = "imu"
 """The site on the root link carrying the gyro and the accelerometer."""

@@ -34,6 +34,7 @@ the ICS bus) or a physical servo position -> ``angle(s)`` / ``value(s)`` with th
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Literal
@@ -54,11 +55,40 @@ __all__ = [
     "Side",
     "Vec3",
     "chain",
+    "side_of_name",
 ]
 
 Vec3 = tuple[float, float, float]
 JointKind = Literal["pitch", "roll", "yaw", "grip", "wheel"]
 Side = Literal["left", "right", "centre"]
+
+
+def _side_words(kanji: str, word: str) -> re.Pattern[str]:
+    c = word[0]
+    return re.compile(
+        rf"{kanji}"  # HeartToHeart4's 左 / 右, wherever it stands
+        rf"|(?<![A-Za-z])(?i:{word})(?![A-Za-z])"  # the whole word: left_knee, front left leg
+        rf"|^[{c}{c.upper()}](?=[\s_\-.])|[\s_\-.][{c}{c.upper()}]$"  # l_knee, knee_L
+        rf"|^{c}(?=[A-Z])"  # camel case: lKnee
+    )
+
+
+_SIDE_WORDS: dict[Literal["left", "right"], re.Pattern[str]] = {
+    "left": _side_words("左", "left"),
+    "right": _side_words("右", "right"),
+}
+
+
+def side_of_name(name: str) -> Literal["left", "right"] | None:
+    """The side a joint's or servo's name states: HeartToHeart4's 左 / 右, the word ``left`` /
+    ``right`` (any case, not inside another word), or ``l`` / ``r`` set off at either end
+    (``l_knee``, ``R shoulder``, ``knee_l``, ``lKnee``); None when it states none
+    (``shoulder_pitch`` holds ``r_`` and ``leg`` starts with ``l``, but neither names a side)
+    or both."""
+    found = [side for side, word in _SIDE_WORDS.items() if word.search(name.strip())]
+    return found[0] if len(found) == 1 else None
+
+
 GeomShape = Literal["box", "cylinder", "sphere"]
 LimitVerdict = Literal["ok", "advisory", "hard"]
 
@@ -301,7 +331,7 @@ class RobotModel:
             out[target] = -a if j.kind in ("roll", "yaw") else a
         return out
 
-    def within_limits(self, angles: Mapping[str, float]) -> list[str]:
+    def out_of_limits(self, angles: Mapping[str, float]) -> list[str]:
         """Names of the joints whose angle lies outside their hard (mechanical) limits."""
         return [n for n, a in angles.items() if self.limit_check(n, a) == "hard"]
 

@@ -21,8 +21,10 @@ from rcb4hv.hth4.keyframes import chain_flowchart_xml
 from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.hth4.session import EditSession
+from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 from rcb4hv.robot import RobotModel
+from rcb4hv.robot.servos import TRAVEL_DEG
 
 __all__ = ["Editor", "JointRow"]
 
@@ -125,7 +127,9 @@ class Editor:
 
     def degrees(self, ics: int, value: int) -> float | None:
         """The joint angle of motion value ``value`` in degrees (None: not a joint or special)."""
-        if self.model is None or ics not in self.model.indices or not 3500 <= value <= 11500:
+        if self.model is None or ics not in self.model.indices:
+            return None
+        if not POSITION_MIN <= value <= POSITION_MAX:
             return None
         return math.degrees(self.model.motion_angle(ics, value))
 
@@ -142,7 +146,7 @@ class Editor:
         rows = []
         for ics, value in pose.positions:
             deg = self.degrees(ics, value)
-            label, lo, hi = f"ICS {ics}", -135.0, 135.0  # an ICS servo turns +-135 deg
+            label, lo, hi = f"ICS {ics}", -TRAVEL_DEG, TRAVEL_DEG  # the servo's own travel
             note = ""
             if self.model is not None and ics in self.model.indices:
                 joint = self.model.joint(self.model.servo(ics).joint)
@@ -161,7 +165,7 @@ class Editor:
             return {}
         out = {}
         for ics, value in pose.positions:
-            if ics in model.indices and 3500 <= value <= 11500:
+            if ics in model.indices and POSITION_MIN <= value <= POSITION_MAX:
                 out[model.servo(ics).joint] = model.motion_angle(ics, value)
         return out
 

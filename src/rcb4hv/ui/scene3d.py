@@ -10,7 +10,7 @@ it, red when the pose is marked fallen.
 Usage (inside a NiceGUI page)::
 
     view = RobotScene(model)
-    view.update({"left_knee_pitch": 0.5})          # joint angles in radians
+    view.update({"l_knee_pitch": 0.5})             # joint angles in radians
     view.update_servos({16: 8000})                 # or motion-space servo values by ICS number
 """
 

@@ -11,6 +11,7 @@ from nicegui import ui
 
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
 from rcb4hv.robot import RobotModel
+from rcb4hv.robot.servos import TRAVEL_DEG
 from rcb4hv.session import BoardState
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.live3d import live_view
@@ -19,8 +20,6 @@ from rcb4hv.ui.plot import angle_chart, set_series
 __all__ = ["COLUMNS", "build", "joint_name", "servo_rows"]
 
 COLUMNS = ("ics", "joint", "id", "port", "trim", "measured", "degrees", "output", "state")
-LIMIT_DEG = 135.0
-"""Slider range: positions 3500..11500 are about -135..+135 degrees."""
 
 
 def joint_name(model: RobotModel | None, ics: int) -> str:
@@ -131,7 +130,7 @@ def _servo_controls(
             tid(ui.label(joint_name(ctx.robot, ics)), f"joint-{ics}").classes("text-xs")
         slider = (
             tid(
-                ui.slider(min=-LIMIT_DEG, max=LIMIT_DEG, step=0.5, value=round(degrees, 1)),
+                ui.slider(min=-TRAVEL_DEG, max=TRAVEL_DEG, step=0.5, value=round(degrees, 1)),
                 f"slider-{ics}",
             )
             .props("label")

@@ -14,6 +14,8 @@ import unicodedata
 from dataclasses import dataclass
 from typing import Literal
 
+from rcb4hv.robot.model import Side, side_of_name
+
 __all__ = ["Part", "Role", "parse_servo_name"]
 
 Part = Literal[
@@ -35,7 +37,6 @@ Part = Literal[
 Axis = Literal["pitch", "roll", "yaw"]
 Position = Literal["front", "middle", "rear"]
 Segment = Literal["root", "mid", "tip"]
-Side = Literal["left", "right", "centre"]
 
 
 @dataclass(frozen=True)
@@ -72,8 +73,6 @@ _AXES: tuple[tuple[str, Axis], ...] = (
     (r"ロール|roll", "roll"),
     (r"ヨー|yaw", "yaw"),
 )
-_RIGHT = re.compile(r"右|right|^r(?=[\s_\-.]|[A-Z])", re.I)
-_LEFT = re.compile(r"左|left|^l(?=[\s_\-.]|[A-Z])", re.I)
 _SEGMENT_JA = re.compile(r"[(\s]\s*(元|根元|中|先)\s*\)?\s*$|(元|先)$")
 _SEGMENT_EN = re.compile(r"\b(?:leg|arm)\b\W*(root|base|mid|middle|tip|end)\b", re.I)
 _POSITION_JA = re.compile(r"(前|中|後)(?=脚|足|\(|車輪|輪|腕)|^[右左]?(前|後)")
@@ -99,11 +98,7 @@ def parse_servo_name(name: str | None) -> Role | None:
     if part is None and _POSITION_JA.search(n) is None:
         return None
     part = part or "leg"  # 右前（ヨー）: a limb position and an axis name a leg joint
-    side: Side = "centre"
-    if _RIGHT.search(n):
-        side = "right"
-    elif _LEFT.search(n):
-        side = "left"
+    side: Side = side_of_name(n) or "centre"
     axis: Axis | None = None
     for pattern, a in _AXES:
         if re.search(pattern, n, re.I):

@@ -14,6 +14,7 @@ from rcb4hv.robot.kit.code import Family, KitCode
 from rcb4hv.robot.kit.figures import fig, vec
 from rcb4hv.robot.kxr import SOLE_STEPS, SOLE_TOP
 from rcb4hv.robot.model import Geom, JointKind, Vec3
+from rcb4hv.robot.servos import TRAVEL_DEG
 
 __all__ = ["template"]
 
@@ -25,7 +26,7 @@ _AXIS: dict[JointKind, Vec3] = {
     "wheel": _Y,
     "grip": (-1.0, 0.0, 0.0),
 }
-WHEEL_LIMITS = (-135.0, 135.0)  # a wheel's "angle" is its speed command (servos.py: ±135°)
+WHEEL_LIMITS = (-TRAVEL_DEG, TRAVEL_DEG)  # a wheel's "angle" is its speed command
 
 # chosen torso boxes (size, centre; mm): the body between the hips/shoulders of each family
 _TORSO: dict[str, tuple[Vec3, Vec3]] = {
@@ -89,7 +90,7 @@ def _arm(arms: int) -> list[Slot]:
         order = ("yaw", "roll")
     first, second = order
     pos: dict[str, Vec3] = {"roll": roll, "yaw": yaw}
-    lim: dict[str, tuple[float, float]] = {"roll": (-30.0, 185.0), "yaw": (-135.0, 135.0)}
+    lim: dict[str, tuple[float, float]] = {"roll": (-30.0, 185.0), "yaw": (-TRAVEL_DEG, TRAVEL_DEG)}
     upper = segment(pos[second], elbow, light=True)
     return [
         pitch,
