@@ -1,0 +1,169 @@
+"""Program blocks: every entry of a motion decodes into a typed block and encodes back exactly."""
+
+from __future__ import annotations
+
+import json
+import re
+from collections import Counter
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rcb4hv import protocol as p
+from rcb4hv.errors import EditError
+from rcb4hv.hth4 import Motion, Project, load_project
+from rcb4hv.hth4.blocks import (
+    Block,
+    Program,
+    compile_program,
+    dump_program,
+    motion_program,
+    program_from_json,
+    put_program,
+)
+from rcb4hv.hth4.model import motion_rom_address
+from tests.strategies import commands
+
+
+@pytest.fixture(scope="module")
+def kxr(kxr_project_path: Path) -> Project:
+    return load_project(kxr_project_path)
+
+
+def _through_json(program: Program) -> Program:
+    return program_from_json(json.loads(dump_program(program)))
+
+
+def test_every_fixture_motion_encodes_back_exactly(kxr: Project) -> None:
+    for m in kxr.used_motions:
+        program = _through_json(motion_program(kxr, m.slot))
+        assert compile_program(kxr, m.slot, program) == m.frames, m.slot
+
+
+def test_fixture_block_kinds_and_no_raw_blocks(kxr: Project) -> None:
+    kinds = Counter(b.kind for m in kxr.used_motions for b in motion_program(kxr, m.slot).blocks)
+    assert kinds == {
+        "pose": 472,
+        "jump": 86,
+        "button_branch": 71,
+        "return": 68,
+        "end": 65,
+        "servo_stretch": 57,
+        "call": 12,
+        "counter_set": 9,
+        "counter_loop": 9,
+        "wait": 5,
+        "ad_branch": 4,
+        "servo_speed": 1,
+    }
+
+
+def test_fixture_golden_blocks(kxr: Project) -> None:
+    # slot 5, "slow walk forward (5 times)": a counter loop around the steps
+    blocks = [b.to_json() for b in motion_program(kxr, 5).blocks]
+    assert blocks[0] == {"kind": "counter_set", "counter": 0, "value": 5}
+    loop = next(b for b in blocks if b["kind"] == "counter_loop")
+    assert loop == {"kind": "counter_loop", "counter": 0, "if": "equal", "to": "L2"}
+    assert blocks[-1] == {"kind": "end"}
+    # slot 23 waits 1 s on timer 0; slot 41 calls other motions by slot, not by address
+    assert {"kind": "wait", "timer": 0, "ms": 1000} in [
+        b.to_json() for b in motion_program(kxr, 23).blocks
+    ]
+    calls = [b for b in motion_program(kxr, 41).blocks if b.kind == "call"]
+    assert calls[0].fields == {"to": {"motion": 47}}
+    branch = next(b for b in motion_program(kxr, 41).blocks if b.kind == "button_branch")
+    assert branch.fields["buttons"] == []  # no button held: word 0
+
+
+def _project(frames: tuple[bytes, ...], slots: int = 3) -> Project:
+    motions = tuple(
+        Motion(
+            key=f"M{n:03d}",
+            number=n - 1,
+            name=f"m{n}",
+            date="2020-01-01T00:00:00",
+            frames=frames if n == 1 else (),
+            address=motion_rom_address(n),
+        )
+        for n in range(1, slots + 1)
+    )
+    return Project(motions=motions)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(commands, min_size=1, max_size=12), st.booleans())
+def test_any_command_list_encodes_back_exactly(cmds: list[p.Command], end: bool) -> None:
+    frames = tuple(p.encode_command(c) for c in cmds) + ((b"\x03\x0d\x10\xff",) if end else ())
+    project = _project(frames)
+    program = _through_json(motion_program(project, 1))
+    assert compile_program(project, 1, program) == frames
+    # the blocks relocate: the same program compiled into slot 2 keeps internal branches
+    moved = compile_program(project, 2, program)
+    assert len(b"".join(moved)) == len(b"".join(frames))
+
+
+def test_branches_follow_their_labels_when_blocks_are_inserted() -> None:
+    pose = p.RunConstFrameServo(10, {0: 7500}).encode()
+    start = motion_rom_address(1)
+    frames = (pose, p.Jump(start, p.ALWAYS).encode(), b"\x03\x0d\x10\xff")
+    project = _project(frames)
+    program = motion_program(project, 1)
+    assert program.blocks[0].label == "L1"
+    assert program.blocks[1].fields == {"to": "L1"}
+    extra = Block("pose", {"frames": 5, "positions": {"0": 8000}})
+    edited = replace(program, blocks=(extra, *program.blocks))
+    out = put_program(project, 1, edited)
+    jump = p.decode_command(out.motion(1).frames[2])
+    assert jump == p.Jump(start + len(pose), p.ALWAYS)  # follows the labelled pose
+
+
+def test_hand_written_blocks_encode() -> None:
+    project = _project((b"\x03\x0d\x10\xff",))
+    text = {
+        "blocks": [
+            {"label": "top", "kind": "pose", "frames": 10, "positions": {"0": 7500, "1": 7600}},
+            {"kind": "button_branch", "buttons": ["UP", "S1"], "if": "equal", "to": "top"},
+            {"kind": "counter_set", "counter": 2, "value": 3},
+            {"kind": "counter_loop", "counter": 2, "if": "equal", "to": 5},
+            {"kind": "variable_arith", "op": "add", "variable": 1, "value": -1},
+            {"kind": "wait", "timer": 0, "ms": 500},
+            {"kind": "mixing", "ics": 8, "field": "mix1_source", "value": 0x4024},
+            {"kind": "call", "to": {"motion": 2}},
+            {"kind": "end"},
+        ]
+    }
+    entries = compile_program(project, 1, program_from_json(text))
+    cmds = [p.decode_command(e.rstrip(b"\xff")) for e in entries]
+    base = motion_rom_address(1)
+    assert cmds[1] == p.Sub(p.Ram(0x0350), p.Data(b"\x02\x01"), no_write=True)
+    assert cmds[2] == p.Jump(base, p.Condition.if_zero())
+    assert cmds[3] == p.Move(p.Ram(0x0459), p.Data(b"\x03"))
+    assert cmds[6] == p.Add(p.Ram(0x0464), p.Data(b"\xff\xff"))
+    assert cmds[10] == p.Move(p.Ics(14, 8), p.Data(b"\x24\x40"))
+    assert cmds[11] == p.Call(motion_rom_address(2), p.ALWAYS)
+    # the counter loop's index 5 is the wait, which branches to its own compare
+    wait_at = base + sum(len(e) for e in entries[:7])
+    assert cmds[5] == p.Jump(wait_at, p.Condition.if_zero())
+    assert cmds[9] == p.Jump(wait_at + 9, p.Condition.if_not_zero())
+
+
+@pytest.mark.parametrize(
+    ("block", "field"),
+    [
+        ({"kind": "pose", "frames": 300, "positions": {}}, "blocks[0].frames"),
+        ({"kind": "pose", "frames": 3, "positions": {"40": 1}}, "blocks[0].positions.40"),
+        ({"kind": "button_branch", "buttons": ["UPP"], "to": 0}, "blocks[0].buttons[0]"),
+        ({"kind": "jump", "to": "nowhere"}, "blocks[0].to"),
+        ({"kind": "move", "dst": "VAR99", "src": "#01"}, "blocks[0].dst"),
+        ({"kind": "wait", "timer": 0, "ms": 150}, "blocks[0].ms"),
+        ({"kind": "jump", "to": 0, "if": "sometimes"}, "blocks[0].if"),
+        ({"kind": "teleport"}, "blocks[0].kind"),
+    ],
+)
+def test_bad_fields_are_named(block: dict[str, object], field: str) -> None:
+    project = _project((b"\x03\x0d\x10\xff",))
+    with pytest.raises(EditError, match="^" + re.escape(field)):
+        compile_program(project, 1, program_from_json({"blocks": [block]}))

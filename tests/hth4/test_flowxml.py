@@ -1,0 +1,64 @@
+"""Motions as HeartToHeart4 flowchart XML: HeartToHeart4's own flowcharts compile to the
+motions it stored, and every motion goes through XML and back unchanged."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from rcb4hv.errors import EditError
+from rcb4hv.hth4 import Project, load_project, parse_motion_xml
+from rcb4hv.hth4.blocks import motion_program
+from rcb4hv.hth4.blocks.flowxml import EXACT_NAME, motion_from_xml, motion_xml
+
+
+@pytest.fixture(scope="module")
+def kxr(kxr_project_path: Path) -> Project:
+    return load_project(kxr_project_path)
+
+
+@pytest.mark.parametrize(
+    ("name", "slot"),
+    [
+        ("HAC_KXR_STAND_UP.xml", 72),
+        ("HAC_KXR_TURN_LEFT.xml", 69),  # a button loop
+        ("HAC_KXR_WALK_FORWARD.xml", 66),  # two button branches, True arrows both ways
+        ("XL2G_201_挨拶.xml", 21),
+        ("XL2G_291_ホームポジション.xml", 39),
+    ],
+)
+def test_hth4_flowcharts_compile_to_the_stored_motion(
+    kxr: Project, kxr_dir: Path, name: str, slot: int
+) -> None:
+    assert motion_from_xml(kxr, slot, (kxr_dir / name).read_bytes()) == kxr.motion(slot).frames
+
+
+def test_every_motion_goes_through_xml_unchanged(kxr: Project) -> None:
+    drawn = 0
+    for m in kxr.used_motions:
+        xml = motion_xml(kxr, m.slot)
+        assert motion_from_xml(kxr, m.slot, xml) == m.frames, m.slot
+        chart = parse_motion_xml(xml)
+        assert chart.start is not None
+        drawn += chart.name != EXACT_NAME
+    assert drawn == 61  # the other 4 are laid out otherwise than a drawing compiles
+
+
+def test_looping_motion_is_drawn_with_true_arrows(kxr: Project) -> None:
+    chart = parse_motion_xml(motion_xml(kxr, 69))
+    assert chart.name == "canvas"
+    assert [line.connect_mode for line in chart.lines].count("True") == 1
+    cmp = [a for a in chart.activities if a.base_name == "CmpButton"]
+    assert len(cmp) == 1 and cmp[0].program_code[-1].hex() == "070bffffff0514"
+    assert len(chart.activities) == sum(
+        b.kind not in ("jump", "return", "end") for b in motion_program(kxr, 69).blocks
+    )
+
+
+def test_a_chart_without_start_is_refused(kxr: Project) -> None:
+    xml = motion_xml(kxr, 69).replace(
+        b"<MotionFlag>Start</MotionFlag>", b"<MotionFlag>None</MotionFlag>"
+    )
+    with pytest.raises(EditError, match="one Start box"):
+        motion_from_xml(kxr, 69, xml)
