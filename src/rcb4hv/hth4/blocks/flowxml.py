@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import uuid
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Final
 
 from rcb4hv.errors import EditError, ProtocolError
@@ -33,7 +33,7 @@ from rcb4hv.hth4.flowchart_model import Flowchart, FlowchartActivity, FlowchartL
 from rcb4hv.hth4.model import Point, Project
 from rcb4hv.protocol import Jump, Return, decode_command
 
-__all__ = ["EXACT_NAME", "compile_flowchart", "motion_from_xml", "motion_xml"]
+__all__ = ["EXACT_NAME", "compile_flowchart", "motion_from_xml", "motion_xml", "put_flowchart"]
 
 EXACT_NAME: Final = "rcb4hv-exact"
 """``CanvasData/Name`` of a chart whose boxes are the motion's blocks in ROM order."""
@@ -285,3 +285,13 @@ def motion_xml(project: Project, slot: int) -> bytes:
         exact[i].next = i + 1
     chart = _chart(slot, blocks, exact, list(range(len(exact))), exact=True)
     return dump_motion_xml(chart)
+
+
+def put_flowchart(project: Project, slot: int, data: bytes | str) -> Project:
+    """``project`` with the flowchart file ``data`` compiled into slot ``slot`` (its name, date
+    and button stay: a flowchart holds none of them)."""
+    entries = motion_from_xml(project, slot, data)
+    return replace(
+        project,
+        motions=tuple(replace(m, frames=entries) if m.slot == slot else m for m in project.motions),
+    )

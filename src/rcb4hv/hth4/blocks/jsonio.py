@@ -11,7 +11,7 @@
                 {"kind": "end"}]}
 
 :func:`program_json` / :func:`program_from_json` convert; :func:`dump_program` gives the file
-text (two-space indent, one key order, so diffs stay small) and :func:`load_program` reads a
+text (one line per block, so diffs stay small) and :func:`load_program` reads a
 file. Structure errors are :class:`~rcb4hv.errors.EditError` naming the field; the fields of
 each block are checked when the program is compiled
 (:func:`~rcb4hv.hth4.blocks.program.compile_program`).
@@ -83,8 +83,15 @@ def program_from_json(obj: Json, where: str = "program") -> Program:
 
 
 def dump_program(program: Program) -> str:
-    """The file text of ``program``: JSON, two-space indent, a final newline."""
-    return json.dumps(program_json(program), ensure_ascii=False, indent=2) + "\n"
+    """The file text of ``program``: JSON, one line per header field and per block (so a
+    changed block is one changed line in a diff), a final newline."""
+    obj = program_json(program)
+    blocks = obj.pop("blocks")
+    assert isinstance(blocks, list)
+    head = [f"  {json.dumps(k)}: {json.dumps(v, ensure_ascii=False)}," for k, v in obj.items()]
+    rows = ",\n".join(f"    {json.dumps(b, ensure_ascii=False)}" for b in blocks)
+    body = f'  "blocks": [\n{rows}\n  ]' if blocks else '  "blocks": []'
+    return "{\n" + "\n".join(head) + "\n" + body + "\n}\n"
 
 
 def load_program(path: str | os.PathLike[str]) -> Program:
