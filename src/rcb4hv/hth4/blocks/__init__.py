@@ -11,12 +11,19 @@ HeartToHeart4 flowcharts.
 
 from rcb4hv.hth4.blocks.jsonio import dump_program, load_program, program_from_json, program_json
 from rcb4hv.hth4.blocks.kinds import KINDS, Block
-from rcb4hv.hth4.blocks.program import Program, compile_program, motion_program, put_program
+from rcb4hv.hth4.blocks.program import (
+    Program,
+    block_spans,
+    compile_program,
+    motion_program,
+    put_program,
+)
 
 __all__ = [
     "KINDS",
     "Block",
     "Program",
+    "block_spans",
     "compile_program",
     "dump_program",
     "load_program",
