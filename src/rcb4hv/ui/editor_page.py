@@ -35,7 +35,7 @@ from rcb4hv.hth4.edit import (
     set_pose,
 )
 from rcb4hv.robot import RobotModel
-from rcb4hv.ui import trim_panel
+from rcb4hv.ui import flow_editor, trim_panel
 from rcb4hv.ui.context import UiContext, attempt, tid
 from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
@@ -146,6 +146,7 @@ def build(ctx: UiContext) -> None:
         tid(ui.button("Save", icon="save", color="green"), "editor-save").on_click(lambda: save())
         downloads = ui.row()
     trims_refresh = trim_panel.build(ctx, ed, on_change=lambda: redraw())
+    flow_refresh = flow_editor.build(ctx, ed, on_change=lambda: redraw())
 
     view: list[RobotScene | None] = [None]  # the RobotScene, built when a model is known
     player: list[Player] = []
@@ -380,6 +381,7 @@ def build(ctx: UiContext) -> None:
                 chart.set_content("")
             draw_joints()
             trims_refresh()
+            flow_refresh()
             scene = view[0]
             if player:
                 player[0].playing = False
