@@ -51,6 +51,17 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
         user.find(marker="flow-step").click()
         await until(lambda: "at block 1 after 1 instructions" in one(user, "flow-step-status").text)
         assert 'stroke="#2e7d32"' in one(user, "flow-chart").content  # the current block
+        # bind the motion on the pad's layout: S3 + right is free in the fixture
+        assert "↑+← → M013" in one(user, "bind-list").text
+        assert "M069" not in one(user, "bind-list").text
+        user.find(marker="bind-pad-s3").click()
+        user.find(marker="bind-pad-right").click()
+        await until(lambda: "(0804h)" in one(user, "bind-word").text)
+        user.find(marker="bind-apply").click()
+        await until(lambda: "5 edits" in one(user, "editor-status").text)
+        assert "→+S3 → M069" in one(user, "bind-list").text
+        user.find(marker="editor-undo").click()
+        await until(lambda: "4 edits" in one(user, "editor-status").text)
         user.find(marker="editor-undo").click()
         await until(lambda: "3 edits" in one(user, "editor-status").text)
         user.find(marker="editor-redo").click()

@@ -9,7 +9,8 @@ changes them. "Add after" inserts a block of the chosen kind after the selected 
 change is one undoable edit of the page's session (Undo / Redo and Save as for poses).
 "Step" runs the motion in the emulator one instruction at a time
 (:class:`~rcb4hv.project.stepper.MotionStepper`) and outlines the block being run; "Restart"
-starts it again from the motion's first block.
+starts it again from the motion's first block. The remote buttons that start the motion are
+chosen on the pad's layout (:mod:`rcb4hv.ui.bind_panel`).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from rcb4hv.hth4.blocks.edit import (
 )
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.stepper import MotionStepper
+from rcb4hv.ui import bind_panel
 from rcb4hv.ui.context import UiContext, tid
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.programsvg import block_text, program_svg
@@ -157,6 +159,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
                 js_handler="(e) => emit(e.target.closest('[data-block]')?.dataset.block ?? '')",
             )
             form = ui.column().classes("grow")
+            bind_refresh = bind_panel.build(ed, on_change)
 
     def select(index: int) -> None:
         view.selected = index
@@ -234,5 +237,6 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
         target_sel.value = None
         target_sel.update()
         draw_form(blocks)
+        bind_refresh()
 
     return refresh
