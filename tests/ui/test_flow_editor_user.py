@@ -77,3 +77,37 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
     assert [b.kind for b in blocks[:5]] == ["pose", "pose", "button_branch", "counter_loop", "pose"]
     assert blocks[2].fields["buttons"] == ["S1", "S2"]
     assert blocks[3].fields["to"] == blocks[1].label
+
+
+def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_path: Path) -> None:
+    src = tmp_path / "kxr.h4p"
+    src.write_bytes(kxr_project_path.read_bytes())
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        one(user, "editor-path").set_value(str(src))
+        user.find(marker="editor-open").click()
+        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        assert one(user, "settings-startup").value == 39  # the fixture starts with M039
+        assert one(user, "settings-ad-1").value == 273
+        one(user, "settings-startup").set_value(0)
+        user.find(marker="settings-startup-apply").click()
+        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        one(user, "settings-ad-2").set_value(280)
+        user.find(marker="settings-ad-apply").click()
+        await until(lambda: "2 edits" in one(user, "editor-status").text)
+        one(user, "settings-mix-servo").set_value(14)
+        one(user, "settings-mix-source").set_value("AD1")
+        one(user, "settings-mix-rate").set_value(8)
+        user.find(marker="settings-mix-apply").click()
+        await until(lambda: "3 edits" in one(user, "editor-status").text)
+        one(user, "settings-mix-source").set_value("nowhere")
+        user.find(marker="settings-mix-apply").click()
+        await user.should_see("mixing source 'nowhere'")
+        user.find(marker="editor-save").click()
+        await until(lambda: one(user, "editor-status").text.endswith(" - saved"))
+
+    run(scenario)
+    p = hth4.load_project(src)
+    assert p.startup_motion_address == -1
+    assert p.adc_reference_words[1:3] == (273, 280)
+    assert (p.servo(14).mixing1_address, p.servo(14).mixing1_rate) == (0x0024, 8)

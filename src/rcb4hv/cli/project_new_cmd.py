@@ -7,20 +7,21 @@ from pathlib import Path
 
 import click
 
-from rcb4hv.cli._util import IntegerType, handle_errors
+from rcb4hv.cli._util import handle_errors
 from rcb4hv.cli.project_common import parse_buttons
 from rcb4hv.errors import EditError
 from rcb4hv.hth4 import save_project
 from rcb4hv.hth4.edit import bind_button
 from rcb4hv.hth4.newproject import (
+    mixing_source,
     new_project,
     set_ad_reference,
     set_low_power,
     set_mixing,
+    set_priority,
     set_startup,
 )
 from rcb4hv.hth4.session import EditSession
-from rcb4hv.protocol.memory import ADDR
 
 __all__ = ["register"]
 
@@ -81,16 +82,6 @@ def _pair(text: str, what: str) -> tuple[str, str]:
     return key.strip(), value.strip()
 
 
-def _address(text: str) -> int | None:
-    """A mixing source: NONE, ADn (its measured word), a RAM address (hex with h or 0x)."""
-    t = text.upper()
-    if t == "NONE":
-        return None
-    if t.startswith("AD") and t[2:].isdigit() and int(t[2:]) < ADDR.AD_COUNT:
-        return int(ADDR.AD_VALUES + 2 * int(t[2:]))
-    return IntegerType().convert(text, None, None)
-
-
 @click.command("settings")
 @click.argument("file", type=_FILE)
 @click.option("--startup", type=click.IntRange(0, 999), default=None, help="Slot (0: none).")
@@ -104,6 +95,14 @@ def _address(text: str) -> int | None:
     "14.1=AD1*8.",
 )
 @click.option("--ad-reference", multiple=True, metavar="CH=VALUE", help="AD calibration.")
+@click.option(
+    "--priority",
+    multiple=True,
+    metavar="I=SLOT,PORT,COMPARE,VALUE",
+    help="Priority check I (0-12) calls SLOT when PORT (Battery, AD0-AD10, PA1-PA4) compares "
+    "COMPARE (Equals, LessThanOrEqualTo, ...) to VALUE, e.g. 0=2,Battery,LessThanOrEqualTo,223; "
+    "I=0 clears it.",
+)
 @_OUT
 @handle_errors
 def settings_command(
@@ -113,6 +112,7 @@ def settings_command(
     low_power_value: int | None,
     mixing: tuple[str, ...],
     ad_reference: tuple[str, ...],
+    priority: tuple[str, ...],
     output: Path,
 ) -> None:
     """Change the start-up and low-power motions, mixing and the AD calibration of FILE."""
@@ -130,7 +130,7 @@ def settings_command(
         ics, _, which = key.partition(".")
         source, _, rate = value.partition("*")
         try:
-            args = (int(ics), int(which or "1"), _address(source), int(rate or "1"))
+            args = (int(ics), int(which or "1"), mixing_source(source), int(rate or "1"))
         except ValueError:
             raise click.BadParameter(f"--mixing: {text!r} is not ICS.N=SOURCE*RATE") from None
         session.apply(set_mixing, *args)
@@ -142,5 +142,23 @@ def settings_command(
             if isinstance(exc, EditError):
                 raise
             raise click.BadParameter(f"--ad-reference: {text!r} is not CH=VALUE") from None
+    for text in priority:
+        session.apply(set_priority, *_priority(text))
     session.save(output)
     click.echo(f"{output}: settings written")
+
+
+def _priority(text: str) -> tuple[int, int | None, str, str, int]:
+    from rcb4hv.project.image import COMPARE
+
+    index, value = _pair(text, "--priority")
+    parts = [p.strip() for p in value.split(",")]
+    try:
+        if parts == ["0"]:
+            return int(index), None, "Battery", "LessThanOrEqualTo", 0
+        slot, port, compare, threshold = parts
+        if compare not in COMPARE:
+            raise click.BadParameter(f"--priority: {compare!r} is not one of {', '.join(COMPARE)}")
+        return int(index), int(slot), port, compare, int(threshold, 0)
+    except ValueError:
+        raise click.BadParameter(f"--priority: {text!r} is not I=SLOT,PORT,COMPARE,VALUE") from None

@@ -8,11 +8,13 @@ then HeartToHeart4's closing ``03 0D 10 FF``) and the start-up program calling i
 
 Settings (pure functions from a project to a new one, as :mod:`rcb4hv.hth4.edit`):
 :func:`set_startup`, :func:`set_low_power`, :func:`set_priority`, :func:`set_mixing`,
-:func:`set_ad_reference`.
+:func:`set_ad_reference` (:func:`set_ad_references`); :func:`mixing_source` reads a mixing
+source as a user writes it.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import replace
 from typing import Final
 
@@ -36,8 +38,10 @@ from rcb4hv.robot.model import RobotModel
 __all__ = [
     "HOME_FRAMES",
     "HOME_NAME",
+    "mixing_source",
     "new_project",
     "set_ad_reference",
+    "set_ad_references",
     "set_low_power",
     "set_mixing",
     "set_priority",
@@ -139,7 +143,6 @@ def set_priority(
     project: Project,
     index: int,
     slot: int | None,
-    *,
     port: str = "Battery",
     compare_type: str = "LessThanOrEqualTo",
     value: int = 0,
@@ -187,6 +190,27 @@ def set_mixing(
         servo = replace(servo, mixing2_address=address, mixing2_rate=rate)
     servos = tuple(servo if s.device_number == ics else s for s in project.servos)
     return replace(project, servos=servos)
+
+
+def mixing_source(text: str) -> int | None:
+    """A mixing source written ``AD1`` (its measured word), a RAM address (``0024h``, ``0x24``,
+    ``36``) or ``none`` (None)."""
+    t = text.strip().upper()
+    if t in ("", "NONE"):
+        return None
+    if t.startswith("AD") and t[2:].isdigit() and int(t[2:]) < ADDR.AD_COUNT:
+        return int(ADDR.AD_VALUES + 2 * int(t[2:]))
+    try:
+        return int(t[:-1], 16) if t.endswith("H") else int(t, 0)
+    except ValueError:
+        raise EditError(f"mixing source {text!r}: ADn, a RAM address or none") from None
+
+
+def set_ad_references(project: Project, values: Mapping[int, int]) -> Project:
+    """The analog calibration of several channels at once (channel -> value)."""
+    for channel, value in values.items():
+        project = set_ad_reference(project, channel, value)
+    return project
 
 
 def set_ad_reference(project: Project, channel: int, value: int) -> Project:

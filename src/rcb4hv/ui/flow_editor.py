@@ -10,7 +10,8 @@ change is one undoable edit of the page's session (Undo / Redo and Save as for p
 "Step" runs the motion in the emulator one instruction at a time
 (:class:`~rcb4hv.project.stepper.MotionStepper`) and outlines the block being run; "Restart"
 starts it again from the motion's first block. The remote buttons that start the motion are
-chosen on the pad's layout (:mod:`rcb4hv.ui.bind_panel`).
+chosen on the pad's layout (:mod:`rcb4hv.ui.bind_panel`); the project settings are
+:mod:`rcb4hv.ui.settings_panel`.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from rcb4hv.hth4.blocks.edit import (
 )
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.stepper import MotionStepper
-from rcb4hv.ui import bind_panel
+from rcb4hv.ui import bind_panel, settings_panel
 from rcb4hv.ui.context import UiContext, tid
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.programsvg import block_text, program_svg
@@ -160,6 +161,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             )
             form = ui.column().classes("grow")
             bind_refresh = bind_panel.build(ed, on_change)
+    settings_refresh = settings_panel.build(ed, on_change)
 
     def select(index: int) -> None:
         view.selected = index
@@ -238,5 +240,6 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
         target_sel.update()
         draw_form(blocks)
         bind_refresh()
+        settings_refresh()
 
     return refresh
