@@ -20,9 +20,9 @@ from collections import Counter
 from pathlib import Path
 
 from rcb4hv.errors import Rcb4Error
-from rcb4hv.hth4 import load_project
+from rcb4hv.hth4 import load_project, parse_motion_xml
 from rcb4hv.hth4.blocks import compile_program, dump_program, motion_program, program_from_json
-from rcb4hv.hth4.blocks.flowxml import motion_from_xml, motion_xml
+from rcb4hv.hth4.blocks.flowxml import EXACT_NAME, motion_from_xml, motion_xml
 
 
 def main() -> int:
@@ -54,14 +54,17 @@ def main() -> int:
             if compile_program(project, m.slot, back) != m.frames:
                 failures.append(f"{f} motion {m.slot}: JSON round trip")
                 row["json_fail"] += 1
-            if motion_from_xml(project, m.slot, motion_xml(project, m.slot)) != m.frames:
+            xml = motion_xml(project, m.slot)
+            row["xml_exact_form"] += parse_motion_xml(xml).name == EXACT_NAME
+            if motion_from_xml(project, m.slot, xml) != m.frames:
                 failures.append(f"{f} motion {m.slot}: XML round trip")
                 row["xml_fail"] += 1
         totals.update(row)
         totals["projects"] += 1
         print(
             f"{f.name}: {row['motions']} motions, {row['entries']} entries, {row['raw']} raw, "
-            f"{row['json_fail']} JSON / {row['xml_fail']} XML round-trip failures"
+            f"{row['json_fail']} JSON / {row['xml_fail']} XML round-trip failures, "
+            f"{row['xml_exact_form']} flowcharts in the exact form"
         )
     ratio = totals["raw"] / totals["entries"] if totals["entries"] else 0.0
     if args.json:
@@ -69,7 +72,9 @@ def main() -> int:
     else:
         print(
             f"\n{totals['projects']} projects, {totals['motions']} motions, "
-            f"{totals['entries']} entries; raw blocks {totals['raw']} ({100 * ratio:.3f} %)"
+            f"{totals['entries']} entries; raw blocks {totals['raw']} ({100 * ratio:.3f} %); "
+            f"{totals['motions'] - totals['xml_exact_form']} motions drawn as HeartToHeart4 "
+            "flowcharts, the others in the exact form"
         )
         for kind, n in kinds.most_common():
             print(f"  {kind:16s} {n}")
