@@ -6,8 +6,9 @@ conditional ``JUMP FFFFFF`` whose target is the box its ``True`` arrow goes to, 
 arrow (like a ``Normal`` one) is the box that follows. From the ``Start`` box it places each
 box's frames and follows the next arrow; reaching a box already placed it writes a JUMP to
 it, reaching a box with no next arrow a RETURN (``03 0D 10``). Then it places the ``True``
-targets in the order their boxes were placed (a target already placed gets a JUMP to it too,
-unreachable but written), fills in the compare boxes' JUMPs, and closes with ``03 0D 10 FF``.
+targets, the last one met first (a stack: the fixture's motion 17, four analog branches,
+shows the order; a target already placed gets a JUMP to it too, unreachable but written),
+fills in the compare boxes' JUMPs, and closes with ``03 0D 10 FF``.
 :func:`compile_flowchart` does exactly that.
 
 :func:`motion_xml` draws a motion as such a flowchart: every block but the plain JUMPs
@@ -21,7 +22,6 @@ by concatenating the boxes. Either way ``motion_from_xml(motion_xml(m)) == m.fra
 from __future__ import annotations
 
 import uuid
-from collections import deque
 from dataclasses import dataclass, replace
 from typing import Final
 
@@ -80,7 +80,7 @@ def _compile(base: int, boxes: list[_Box], start: int) -> tuple[bytes, ...]:
     entries: list[bytes] = []
     at: dict[int, int] = {}
     fixups: list[tuple[int, int]] = []  # (entry index, target box)
-    pending: deque[int] = deque()
+    pending: list[int] = []
     addr = base
 
     def emit(e: bytes) -> None:
@@ -107,7 +107,7 @@ def _compile(base: int, boxes: list[_Box], start: int) -> tuple[bytes, ...]:
 
     chain(start)
     while pending:
-        chain(pending.popleft())
+        chain(pending.pop())
     emit(END)
     for i, target in fixups:
         entries[i] = _patched(entries[i], at[target])
