@@ -13,6 +13,7 @@ import json
 from collections.abc import Sequence
 
 from rcb4hv.hth4.blocks import Block
+from rcb4hv.ui.flowsvg import side_arrow, svg_start
 
 __all__ = ["block_text", "program_svg"]
 
@@ -47,12 +48,7 @@ def program_svg(
     """The blocks as boxes with their branch arrows; ``selected`` / ``current`` highlighted."""
     labels = {b.label: i for i, b in enumerate(blocks) if b.label is not None}
     height = len(blocks) * (BOX_H + GAP) + GAP
-    parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{BOX_W + 220}" height="{height}" '
-        f'font-family="monospace" font-size="11" data-testid="program-svg">',
-        '<defs><marker id="parr" markerWidth="8" markerHeight="8" refX="7" refY="4" '
-        'orient="auto"><path d="M0,0 L8,4 L0,8 z" fill="#555"/></marker></defs>',
-    ]
+    parts = svg_start(BOX_W + 220, height, "program-svg", "parr")
 
     def y(i: int) -> int:
         return GAP + i * (BOX_H + GAP)
@@ -65,11 +61,9 @@ def program_svg(
         bend = BOX_W + 20 + 12 * (i % 12)
         conditional = b.fields.get("if", "always") != "always"
         color = "#c62828" if conditional else "#616161"
-        parts.append(
-            f'<path d="M{BOX_W},{y(i) + BOX_H // 2} C{bend},{y(i) + BOX_H // 2} '
-            f'{bend},{y(j) + BOX_H // 2} {BOX_W},{y(j) + BOX_H // 2}" fill="none" '
-            f'stroke="{color}" marker-end="url(#parr)" data-from="{i}" data-to="{j}"/>'
-        )
+        y1, y2 = y(i) + BOX_H // 2, y(j) + BOX_H // 2
+        attrs = f'data-from="{i}" data-to="{j}"'
+        parts.append(side_arrow(BOX_W, y1, y2, bend, color, "parr", attrs))
     for i, b in enumerate(blocks):
         fill = "#e3f2fd" if b.kind == "pose" else "#f5f5f5"
         if b.kind in ("jump", "call", "return", "end") or "to" in b.fields:
