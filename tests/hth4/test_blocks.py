@@ -161,9 +161,26 @@ def test_hand_written_blocks_encode() -> None:
         ({"kind": "wait", "timer": 0, "ms": 150}, "blocks[0].ms"),
         ({"kind": "jump", "to": 0, "if": "sometimes"}, "blocks[0].if"),
         ({"kind": "teleport"}, "blocks[0].kind"),
+        ({"kind": "pose", "frames": 3, "positions": {}, "speed": 4}, "blocks[0].speed"),
     ],
 )
 def test_bad_fields_are_named(block: dict[str, object], field: str) -> None:
     project = _project((b"\x03\x0d\x10\xff",))
     with pytest.raises(EditError, match="^" + re.escape(field)):
         compile_program(project, 1, program_from_json({"blocks": [block]}))
+
+
+def test_every_kind_has_its_fields() -> None:
+    # each kind's template compiles, and every field a decoded block has is a known one
+    from rcb4hv.hth4.blocks.edit import BLOCK_TEMPLATES
+    from rcb4hv.hth4.blocks.kinds import FIELDS
+
+    project = _project((b"\x03\x0d\x10\xff",))
+    for kind, fields in BLOCK_TEMPLATES.items():
+        assert set(fields) <= set(FIELDS[kind]), kind
+        program = program_from_json({"blocks": [{"kind": kind, **fields}, {"kind": "end"}]})
+        entries = compile_program(project, 1, program)
+        back = motion_program(
+            replace(project, motions=(replace(project.motions[0], frames=entries),)), 1
+        )
+        assert back.blocks[0].kind == kind, kind

@@ -58,7 +58,7 @@ BLOCK_TEMPLATES: dict[str, dict[str, Json]] = {
     "move": {"dst": "VAR0", "src": "VAR1", "size": 2},
     "arith": {"op": "and", "dst": "VAR0", "src": "#FF 00"},
     "ics_comm": {"ics": 0, "tx_count": 1, "tx_address": 0x0462, "rx_address": 0x0464},
-    "raw": {"hex": "03 0D 10"},
+    "raw": {"hex": "03 FE 01"},
 }
 """The fields a new block of each kind starts with (``to`` 0: the program's first block)."""
 assert set(BLOCK_TEMPLATES) == set(KINDS)

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from rcb4hv.errors import EditError, ProtocolError
-from rcb4hv.hth4.blocks.fields import Json, condition_json, ics_map_json
+from rcb4hv.hth4.blocks.fields import Fields, Json, condition_json, ics_map_json
 from rcb4hv.hth4.blocks.operands import operand_name
 from rcb4hv.hth4.motioncode import split_frames
 from rcb4hv.protocol import (
@@ -70,7 +70,7 @@ from rcb4hv.protocol import (
 )
 from rcb4hv.protocol.memory import SERVO, Button
 
-__all__ = ["KINDS", "Block", "Namer", "Resolver", "decode_group", "pairs", "waits"]
+__all__ = ["FIELDS", "KINDS", "Block", "Namer", "Resolver", "decode_group", "pairs", "waits"]
 
 Namer = Callable[[int], Json]
 """ROM address -> the JSON of a branch target (a label, a motion, an address)."""
@@ -103,6 +103,7 @@ class Block:
         if label is not None and (not isinstance(label, str) or not label):
             raise EditError(f"{where}.label: a label is a non-empty string, not {label!r}")
         rest = {k: v for k, v in obj.items() if k not in ("kind", "label")}
+        Fields(rest, where).check_known(FIELDS[str(kind)])
         return cls(str(kind), rest, label)
 
 
@@ -150,6 +151,35 @@ KINDS: Final = (
     "raw",
 )  # fmt: skip
 """Every block kind."""
+
+_BRANCH_TAIL: Final = ("if", "to")
+FIELDS: Final[dict[str, tuple[str, ...]]] = {
+    "pose": ("frames", "positions", "update"),
+    "servo_stretch": ("values",),
+    "servo_speed": ("values",),
+    "servo_single": ("ics", "frames", "position", "update"),
+    "servo_series": ("moves", "update"),
+    "jump": _BRANCH_TAIL,
+    "call": _BRANCH_TAIL,
+    "return": (),
+    "end": (),
+    "button_branch": ("buttons", *_BRANCH_TAIL),
+    **{k: (name, "value", *_BRANCH_TAIL) for k, (_, name, _, _) in BRANCH_KINDS.items()},
+    "compare_branch": ("dst", "src", "size", *_BRANCH_TAIL),
+    "counter_loop": ("counter", *_BRANCH_TAIL),
+    "compare": ("dst", "src", "size"),
+    "wait": ("timer", "ms"),
+    **{k: (name, "value") for k, (_, name, _, _) in VALUE_KINDS.items()},
+    "mixing": ("ics", "field", "value"),
+    "servo_setting": ("ics", "field", "value"),
+    "variable_arith": ("op", "variable", "value"),
+    "move": ("dst", "src", "size"),
+    "arith": ("op", "dst", "src", "size", "no_write", "count"),
+    "ics_comm": ("ics", "tx_count", "tx_address", "rx_address"),
+    "raw": ("hex",),
+}
+"""The fields each kind may have (any other is refused, naming it)."""
+assert set(FIELDS) == set(KINDS)
 
 
 def _numbered(name: str, prefix: str) -> int | None:
