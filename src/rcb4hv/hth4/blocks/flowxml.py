@@ -43,13 +43,18 @@ END: Final = RETURN + b"\xff"
 BOX: Final = Size(64, 48)
 PER_ROW: Final = 8
 
-# kind -> (BaseName, Group, Description). Pos, ServoParam and CmpButton are HeartToHeart4's
-# own (its files); the others are this module's names for the same boxes.
+# kind -> (BaseName, Group, Description) as HeartToHeart4's own flowcharts name those boxes
+# (the fixture's and Kondo's KHR-3HV sample flowcharts: a "MotionJump" box holds a CALL, a
+# "Loop" box the counter step and its branch); other kinds get the kind as BaseName.
 _BOXES: Final = {
     "pose": ("Pos", "Position", "ポジション設定"),
     "servo_stretch": ("ServoParam", "Set", "サーボモーターの特性を設定"),
     "servo_speed": ("ServoParam", "Set", "サーボモーターの特性を設定"),
     "button_branch": ("CmpButton", "Compare", "コントローラーボタンで分岐"),
+    "counter_loop": ("Loop", "Compare", "繰り返し処理"),
+    "counter_set": ("SetCounter", "Set", "パラメーターのセット"),
+    "variable_set": ("SetCounter", "Set", "パラメーターのセット"),
+    "call": ("MotionJump", "Jump", "Causes the motion flow to jump to the assigned motion"),
 }
 
 
@@ -247,7 +252,7 @@ def _chart(
                 connected_guids=",".join(g for g, _ in links[i]),
                 connect_types=",".join(t for _, t in links[i]),
                 program_code=tuple(boxes[i].code),
-                hint="",
+                hint=description,
             )
         )
     rows = (len(keep) + PER_ROW - 1) // PER_ROW
