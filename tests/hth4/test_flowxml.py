@@ -62,3 +62,11 @@ def test_a_chart_without_start_is_refused(kxr: Project) -> None:
     )
     with pytest.raises(EditError, match="one Start box"):
         motion_from_xml(kxr, 69, xml)
+
+
+def test_two_plain_arrows_out_of_a_box_are_refused(kxr: Project) -> None:
+    xml = motion_xml(kxr, 69).replace(
+        b"<ConnectMode>True</ConnectMode>", b"<ConnectMode>Normal</ConnectMode>"
+    )
+    with pytest.raises(EditError, match="none is marked True"):
+        motion_from_xml(kxr, 69, xml)

@@ -138,8 +138,13 @@ def compile_flowchart(chart: Flowchart, base: int) -> tuple[bytes, ...]:
                 continue
             if modes.get(guid) == "True":
                 box.true = ends[guid]
-            else:
+            elif box.next is None:
                 box.next = ends[guid]
+            else:
+                raise EditError(
+                    f"flowchart box {a.name}: two arrows leave it and none is marked True, "
+                    "so which one branches is not known"
+                )
         if box.true is not None and not _ends_in_jump(box.code):
             raise EditError(f"flowchart box {a.name}: a True arrow but no JUMP to send along it")
         boxes.append(box)
