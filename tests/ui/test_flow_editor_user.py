@@ -34,6 +34,8 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
         await until(lambda: "1 edits" in one(user, "editor-status").text)
         await until(lambda: one(user, "flow-field-buttons").value == '["UP"]')
         one(user, "flow-field-buttons").set_value('["S1", "S2"]')
+        assert "not_equal" in one(user, "flow-field-if").options  # a condition is chosen
+        one(user, "flow-field-if").set_value("not_equal")
         user.find(marker="flow-apply").click()
         await until(lambda: "2 edits" in one(user, "editor-status").text)
         one(user, "flow-kind").set_value("counter_loop")
@@ -76,6 +78,7 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
     blocks = motion_program(edited, TURN_LEFT).blocks
     assert [b.kind for b in blocks[:5]] == ["pose", "pose", "button_branch", "counter_loop", "pose"]
     assert blocks[2].fields["buttons"] == ["S1", "S2"]
+    assert blocks[2].fields["if"] == "not_equal"
     assert blocks[3].fields["to"] == blocks[1].label
 
 

@@ -32,6 +32,8 @@ from rcb4hv.hth4.blocks.edit import (
     remove_block,
     set_block,
 )
+from rcb4hv.hth4.blocks.fields import CONDITION_NAMES
+from rcb4hv.hth4.blocks.kinds import OPS, SERVO_FIELDS, VAR_OPS
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.stepper import MotionStepper
 from rcb4hv.ui import bind_panel, settings_panel
@@ -109,10 +111,23 @@ def _parse(text: str) -> object:
         return text  # a bare word: a label, an operand, a condition name
 
 
+def _choices(kind: str, name: str, value: object) -> list[object] | None:
+    """The values a field can take when they are a short list (a select), else None."""
+    if name == "if":
+        options: list[object] = list(CONDITION_NAMES.values())
+    elif name == "op":
+        options = list(VAR_OPS if kind == "variable_arith" else OPS)
+    elif name == "field":
+        options = list(SERVO_FIELDS)
+    else:
+        return None
+    return options if value in options else [*options, value]
+
+
 def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
     """The panel; returns its refresh function (call it when the project or motion changes)."""
     view = ProgramView(ed)
-    fields: dict[str, ui.input] = {}
+    fields: dict[str, ui.input | ui.select] = {}
 
     def fail(exc: Exception) -> None:
         ui.notify(str(exc), type="negative", multi_line=True)
@@ -194,7 +209,11 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
     def apply_fields() -> None:
         if view.selected is None:
             return
-        values = {k: _parse(box.value or "") for k, box in fields.items() if box.value != ""}
+        values = {
+            k: box.value if isinstance(box, ui.select) else _parse(box.value or "")
+            for k, box in fields.items()
+            if box.value not in ("", None)
+        }
         edit(set_block, view.selected, values)
 
     def step() -> None:
@@ -220,10 +239,16 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
         with form:
             ui.label(f"block {view.selected}: {b.kind}" + (f" ({b.label})" if b.label else ""))
             for name, value in b.fields.items():
-                text = value if isinstance(value, str) else json.dumps(value, ensure_ascii=False)
-                fields[name] = tid(ui.input(name, value=text), f"flow-field-{name}").classes(
-                    "w-full"
-                )
+                choices = _choices(b.kind, name, value)
+                element: ui.input | ui.select
+                if choices is not None:
+                    element = ui.select(choices, label=name, value=value)
+                else:
+                    text = (
+                        value if isinstance(value, str) else json.dumps(value, ensure_ascii=False)
+                    )
+                    element = ui.input(name, value=text)
+                fields[name] = tid(element, f"flow-field-{name}").classes("w-full")
             tid(ui.button("Apply", icon="check").props("dense"), "flow-apply").on_click(
                 apply_fields
             )
