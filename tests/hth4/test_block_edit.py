@@ -72,3 +72,25 @@ def test_remove_move_set_connect(kxr: Project) -> None:
         connect_block(kxr, TURN_LEFT, 0, 2)
     with pytest.raises(EditError, match=r"blocks\[3\]\.buttons"):
         set_block(kxr, TURN_LEFT, 3, {"buttons": "UP", "to": 0})
+
+
+def test_other_motions_follow_the_blocks_they_branch_into(kxr: Project) -> None:
+    # motion 41 calls motion 47 at its start; a CALL into the middle of 47 (its third block)
+    # follows that block when a block is inserted before it
+    from dataclasses import replace as _replace
+
+    from rcb4hv.hth4.blocks import put_program
+    from rcb4hv.protocol import Call, decode_command
+
+    m47 = kxr.motion(47)
+    third = m47.address + sum(len(e) for e in m47.frames[:2])
+    program = motion_program(kxr, 41)
+    blocks = (
+        program.blocks[0].__class__("call", {"to": {"motion": 47, "offset": third - m47.address}}),
+    )
+    p = put_program(kxr, 41, _replace(program, blocks=blocks + program.blocks))
+    p = insert_block(p, 47, 1, "wait", {"timer": 0, "ms": 500})
+    call = decode_command(p.motion(41).frames[0])
+    assert isinstance(call, Call)
+    assert call.address == third + 25  # the wait's 25 bytes came before it
+    assert p.startup_motion_address == kxr.startup_motion_address

@@ -3,7 +3,9 @@
 
 Each reads the motion as a program (:func:`~rcb4hv.hth4.blocks.program.motion_program`),
 changes its block list and compiles it back (:func:`~rcb4hv.hth4.blocks.program.put_program`),
-so every branch keeps going to the block it names, wherever that block moves.
+so every branch keeps going to the block it names, wherever that block moves; branches of
+other motions into it, and the start-up and priority addresses, move with the entry they
+point into, as for pose edits (:func:`rcb4hv.hth4.edit.apply_layout`).
 :func:`insert_block`, :func:`remove_block`, :func:`move_block`, :func:`set_block`,
 :func:`connect_block`. Blocks are addressed by their 0-based index in the program.
 """
@@ -14,10 +16,20 @@ from collections.abc import Mapping
 from dataclasses import replace
 
 from rcb4hv.errors import EditError
+from rcb4hv.hth4.blocks.encode import encode_block
 from rcb4hv.hth4.blocks.fields import Json
 from rcb4hv.hth4.blocks.kinds import KINDS, Block
-from rcb4hv.hth4.blocks.program import Program, motion_program, put_program
+from rcb4hv.hth4.blocks.program import (
+    Program,
+    block_spans,
+    compile_program,
+    motion_program,
+    put_program,
+)
+from rcb4hv.hth4.edit import layout_map
 from rcb4hv.hth4.model import Project
+from rcb4hv.hth4.motioncode import retarget_project
+from rcb4hv.hth4.poses import Layout
 
 __all__ = [
     "BLOCK_TEMPLATES",
@@ -76,8 +88,36 @@ def _index(program: Program, index: int, what: str = "block") -> None:
         raise EditError(f"the motion has {len(program.blocks)} blocks; no {what} {index}")
 
 
-def _put(project: Project, slot: int, program: Program, blocks: list[Block]) -> Project:
-    return put_program(project, slot, replace(program, blocks=tuple(blocks)))
+def _put(
+    project: Project,
+    slot: int,
+    program: Program,
+    blocks: list[Block],
+    origins: list[int | None] | None = None,
+) -> Project:
+    """``program`` with ``blocks`` compiled into ``slot``; ``origins`` (for each new block, the
+    index of the old block it is, None for a new one; default: the same blocks) moves every
+    branch of another motion, and the start-up and priority addresses, into the motion with
+    the entry they point into (:func:`rcb4hv.hth4.edit.layout_map`)."""
+    new = replace(program, blocks=tuple(blocks))
+    old = project.motion(slot)
+    entries = compile_program(project, slot, new)
+    spans = block_spans(old)
+    made = [len(encode_block(b, lambda t, w: 0, "", 0)) for b in blocks]
+    entry_origins: list[int | None] = []
+    for n, count in enumerate(made):
+        k = n if origins is None else origins[n]
+        if k is None or k >= len(spans):
+            entry_origins += [None] * count
+            continue
+        first, old_count = spans[k]
+        same = count == old_count
+        entry_origins += [first + j if same or j == 0 else None for j in range(count)]
+    where = layout_map(old, Layout(entries, tuple(entry_origins)))
+    others = replace(  # the motion's own branches are compiled from its labels
+        project, motions=tuple(replace(m, frames=()) if m is old else m for m in project.motions)
+    )
+    return put_program(retarget_project(others, where), slot, new)
 
 
 def _labelled(blocks: list[Block], index: int) -> tuple[list[Block], str]:
@@ -118,7 +158,9 @@ def insert_block(
     blocks = _numbered_targets(list(program.blocks))
     new = Block(kind, dict(BLOCK_TEMPLATES[kind] if fields is None else fields))
     blocks.insert(at, new)
-    return _put(project, slot, program, _numbered_targets(blocks))
+    origins: list[int | None] = list(range(len(program.blocks)))
+    origins.insert(at, None)
+    return _put(project, slot, program, _numbered_targets(blocks), origins)
 
 
 def remove_block(project: Project, slot: int, index: int) -> Project:
@@ -131,7 +173,8 @@ def remove_block(project: Project, slot: int, index: int) -> Project:
         if i != index and label is not None and b.fields.get("to") == label:
             raise EditError(f"block {i} branches to block {index}; connect it elsewhere first")
     del blocks[index]
-    return _put(project, slot, program, blocks)
+    origins: list[int | None] = [k for k in range(len(program.blocks)) if k != index]
+    return _put(project, slot, program, blocks, origins)
 
 
 def move_block(project: Project, slot: int, index: int, to: int) -> Project:
@@ -141,7 +184,9 @@ def move_block(project: Project, slot: int, index: int, to: int) -> Project:
     _index(program, to, "position")
     blocks = _numbered_targets(list(program.blocks))
     blocks.insert(to, blocks.pop(index))
-    return _put(project, slot, program, blocks)
+    origins: list[int | None] = list(range(len(program.blocks)))
+    origins.insert(to, origins.pop(index))
+    return _put(project, slot, program, blocks, origins)
 
 
 def set_block(project: Project, slot: int, index: int, fields: Mapping[str, Json]) -> Project:
