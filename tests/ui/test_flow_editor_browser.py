@@ -14,6 +14,7 @@ import pytest
 
 from rcb4hv import hth4
 from rcb4hv.hth4.blocks import motion_program
+from tests.ui.browser import SHOTS
 from tests.ui.test_editor_browser import _choose, _input, _wait_text
 
 pytestmark = pytest.mark.slow
@@ -64,6 +65,8 @@ def test_program_panel_in_the_browser(page: Any, kxr_project_path: Path, tmp_pat
     _wait_text(page, "flow-step-status", "at block 0")
     page.get_by_test_id("flow-step").click()
     _wait_text(page, "flow-step-status", "at block 1")
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.get_by_test_id("flow-panel").screenshot(path=str(SHOTS / "program-panel.png"))
     _input(page, "editor-path").fill(str(out))
     page.get_by_test_id("editor-save").click()
     _wait_text(page, "editor-status", f"{out} - 4 edits - saved")

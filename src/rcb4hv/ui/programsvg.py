@@ -31,7 +31,7 @@ def block_text(block: Block) -> str:
         count = len(positions) if isinstance(positions, dict) else 0
         parts.append(f"{f.get('frames')} frames, {count} servos")
     for k, v in f.items():
-        if k not in _SKIP:
+        if k not in _SKIP and not (block.kind == "pose" and k == "frames"):
             parts.append(f"{k}={json.dumps(v, ensure_ascii=False)}")
     to = f.get("to")
     if isinstance(to, dict):
