@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from rcb4hv import protocol as p
 from rcb4hv.errors import EditError
-from rcb4hv.hth4 import Motion, Project, load_project
+from rcb4hv.hth4 import Project, load_project
 from rcb4hv.hth4.blocks import (
     Block,
     Program,
@@ -25,6 +25,7 @@ from rcb4hv.hth4.blocks import (
     put_program,
 )
 from rcb4hv.hth4.model import motion_rom_address
+from tests.hth4._programs import one_motion_project
 from tests.strategies import commands
 
 
@@ -78,26 +79,11 @@ def test_fixture_golden_blocks(kxr: Project) -> None:
     assert branch.fields["buttons"] == []  # no button held: word 0
 
 
-def _project(frames: tuple[bytes, ...], slots: int = 3) -> Project:
-    motions = tuple(
-        Motion(
-            key=f"M{n:03d}",
-            number=n - 1,
-            name=f"m{n}",
-            date="2020-01-01T00:00:00",
-            frames=frames if n == 1 else (),
-            address=motion_rom_address(n),
-        )
-        for n in range(1, slots + 1)
-    )
-    return Project(motions=motions)
-
-
 @settings(max_examples=150, deadline=None)
 @given(st.lists(commands, min_size=1, max_size=12), st.booleans())
 def test_any_command_list_encodes_back_exactly(cmds: list[p.Command], end: bool) -> None:
     frames = tuple(p.encode_command(c) for c in cmds) + ((b"\x03\x0d\x10\xff",) if end else ())
-    project = _project(frames)
+    project = one_motion_project(frames)
     program = _through_json(motion_program(project, 1))
     assert compile_program(project, 1, program) == frames
     # the blocks relocate: the same program compiled into slot 2 keeps internal branches
@@ -109,7 +95,7 @@ def test_branches_follow_their_labels_when_blocks_are_inserted() -> None:
     pose = p.RunConstFrameServo(10, {0: 7500}).encode()
     start = motion_rom_address(1)
     frames = (pose, p.Jump(start, p.ALWAYS).encode(), b"\x03\x0d\x10\xff")
-    project = _project(frames)
+    project = one_motion_project(frames)
     program = motion_program(project, 1)
     assert program.blocks[0].label == "L1"
     assert program.blocks[1].fields == {"to": "L1"}
@@ -121,7 +107,7 @@ def test_branches_follow_their_labels_when_blocks_are_inserted() -> None:
 
 
 def test_hand_written_blocks_encode() -> None:
-    project = _project((b"\x03\x0d\x10\xff",))
+    project = one_motion_project((b"\x03\x0d\x10\xff",))
     text = {
         "blocks": [
             {"label": "top", "kind": "pose", "frames": 10, "positions": {"0": 7500, "1": 7600}},
@@ -165,7 +151,7 @@ def test_hand_written_blocks_encode() -> None:
     ],
 )
 def test_bad_fields_are_named(block: dict[str, object], field: str) -> None:
-    project = _project((b"\x03\x0d\x10\xff",))
+    project = one_motion_project((b"\x03\x0d\x10\xff",))
     with pytest.raises(EditError, match="^" + re.escape(field)):
         compile_program(project, 1, program_from_json({"blocks": [block]}))
 
@@ -175,7 +161,7 @@ def test_every_kind_has_its_fields() -> None:
     from rcb4hv.hth4.blocks.edit import BLOCK_TEMPLATES
     from rcb4hv.hth4.blocks.kinds import FIELDS
 
-    project = _project((b"\x03\x0d\x10\xff",))
+    project = one_motion_project((b"\x03\x0d\x10\xff",))
     for kind, fields in BLOCK_TEMPLATES.items():
         assert set(fields) <= set(FIELDS[kind]), kind
         program = program_from_json({"blocks": [{"kind": kind, **fields}, {"kind": "end"}]})

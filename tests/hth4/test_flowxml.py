@@ -6,11 +6,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from rcb4hv import protocol as p
 from rcb4hv.errors import EditError
 from rcb4hv.hth4 import Project, load_project, parse_motion_xml
 from rcb4hv.hth4.blocks import motion_program
 from rcb4hv.hth4.blocks.flowxml import EXACT_NAME, motion_from_xml, motion_xml
+from rcb4hv.hth4.model import motion_rom_address
+from tests.hth4._programs import one_motion_project
+from tests.strategies import commands
 
 
 @pytest.fixture(scope="module")
@@ -70,3 +76,21 @@ def test_two_plain_arrows_out_of_a_box_are_refused(kxr: Project) -> None:
     )
     with pytest.raises(EditError, match="none is marked True"):
         motion_from_xml(kxr, 69, xml)
+
+
+@settings(max_examples=120, deadline=None)
+@given(st.lists(commands, min_size=1, max_size=10), st.booleans(), st.data())
+def test_any_motion_goes_through_xml_unchanged(
+    cmds: list[p.Command], end: bool, data: st.DataObject
+) -> None:
+    base = motion_rom_address(1)
+    frames = [p.encode_command(c) for c in cmds]
+    # some branches back into the motion, as flowcharts make them
+    for i, f in enumerate(frames):
+        if f[1] in (p.Op.JUMP, p.Op.CALL) and data.draw(st.booleans()):
+            to = data.draw(st.integers(0, len(frames) - 1))
+            cond = p.decode_command(f).condition  # type: ignore[union-attr]
+            frames[i] = p.Jump(base + sum(map(len, frames[:to])), cond).encode()
+    entries = tuple(frames) + ((b"\x03\x0d\x10\xff",) if end else ())
+    project = one_motion_project(entries)
+    assert motion_from_xml(project, 1, motion_xml(project, 1)) == entries
