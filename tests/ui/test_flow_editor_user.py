@@ -95,6 +95,10 @@ def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_p
         one(user, "settings-startup").set_value(0)
         user.find(marker="settings-startup-apply").click()
         await until(lambda: "1 edits" in one(user, "editor-status").text)
+        board.ram[0x0024:0x0026] = (300).to_bytes(2, "little")  # AD1 now reads 300
+        user.find(marker="settings-ad-read").click()
+        await until(lambda: one(user, "settings-ad-1").value == 300)
+        one(user, "settings-ad-1").set_value(273)
         one(user, "settings-ad-2").set_value(280)
         user.find(marker="settings-ad-apply").click()
         await until(lambda: "2 edits" in one(user, "editor-status").text)

@@ -176,7 +176,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             )
             form = ui.column().classes("grow")
             bind_refresh = bind_panel.build(ed, on_change)
-    settings_refresh = settings_panel.build(ed, on_change)
+    settings_refresh = settings_panel.build(ctx, ed, on_change)
 
     def select(index: int) -> None:
         view.selected = index

@@ -1,5 +1,7 @@
 """Project settings on the Editor page: the start-up and low-power motions, mixing and the AD
-calibration, each "Apply" one undoable edit (:mod:`rcb4hv.hth4.newproject`)."""
+calibration, each "Apply" one undoable edit (:mod:`rcb4hv.hth4.newproject`). "Read from board"
+fills the AD calibration with the board's inputs now, as HeartToHeart4's calibration reads
+the sensors of the robot at rest."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ from collections.abc import Callable
 
 from nicegui import ui
 
+from rcb4hv.client import Robot
 from rcb4hv.errors import EditError, Rcb4Error
 from rcb4hv.hth4.newproject import (
     mixing_source,
@@ -15,14 +18,26 @@ from rcb4hv.hth4.newproject import (
     set_mixing,
     set_startup,
 )
-from rcb4hv.protocol.memory import ADDR
-from rcb4hv.ui.context import tid
+from rcb4hv.protocol.memory import ADDR, read_u16
+from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.editor_state import Editor
 
-__all__ = ["build"]
+__all__ = ["build", "rest_values"]
 
 
-def build(ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
+def rest_values(robot: Robot) -> list[int]:
+    """AD0-AD10 as the board reads its inputs now: measured + reference (the measured register
+    holds the input minus the reference, spec 10.4), for an analog calibration at rest."""
+    size = 2 * ADDR.AD_COUNT
+    measured = robot.read_ram(ADDR.AD_VALUES, size)
+    reference = robot.read_ram(ADDR.AD_REFERENCE, size)
+    return [
+        (read_u16(measured, 2 * i) + read_u16(reference, 2 * i)) & 0xFFFF
+        for i in range(ADDR.AD_COUNT)
+    ]
+
+
+def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
     """The settings panel; returns its refresh function."""
 
     def apply(fn: object, *args: object) -> None:
@@ -58,6 +73,9 @@ def build(ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
                 tid(ui.number(f"AD{i}", format="%d").classes("w-20"), f"settings-ad-{i}")
                 for i in range(ADDR.AD_COUNT)
             ]
+            tid(
+                ui.button("Read from board", icon="sensors").props("dense"), "settings-ad-read"
+            ).on_click(lambda: read_board())
             tid(ui.button("Apply").props("dense"), "settings-ad-apply").on_click(
                 lambda: apply(
                     set_ad_references,
@@ -81,6 +99,15 @@ def build(ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
                 apply(set_mixing, int(servo.value), int(which.value), where, int(rate.value or 0))
 
             tid(ui.button("Apply").props("dense"), "settings-mix-apply").on_click(mix)
+
+    async def read_board() -> None:
+        """Fill AD1-AD10 with the board's inputs now (the robot still); AD0, the supply, keeps
+        its reference."""
+        values = await guarded(ctx.session.submit(rest_values, label="read AD"), "Read AD")
+        if values is not None:
+            for r, v in list(zip(refs, values, strict=True))[1:]:
+                r.value = v
+            ui.notify("AD1-AD10 read from the board: Apply stores them")
 
     def refresh() -> None:
         if ed.session is None:
