@@ -170,3 +170,18 @@ def test_every_kind_has_its_fields() -> None:
             replace(project, motions=(replace(project.motions[0], frames=entries),)), 1
         )
         assert back.blocks[0].kind == kind, kind
+
+
+def test_moves_to_the_host_and_arithmetic_on_rom_encode_back() -> None:
+    cmds = [
+        p.Move(p.Com(), p.Ram(0x0462), 2),
+        p.Add(p.Com(), p.Data(b"\x01\x00")),
+        p.Xor(p.Rom(0x1000), p.Ics(2, 5), 1, True),
+        p.Shift.left(p.Ram(0x0470), 3, 2),
+    ]
+    frames = tuple(c.encode() for c in cmds)
+    project = one_motion_project(frames)
+    program = _through_json(motion_program(project, 1))
+    assert [b.kind for b in program.blocks] == ["move", "arith", "arith", "arith"]
+    assert program.blocks[0].fields == {"dst": "COM", "src": "VAR0", "size": 2}
+    assert compile_program(project, 1, program) == frames

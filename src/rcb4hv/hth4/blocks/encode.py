@@ -100,13 +100,15 @@ def _compare(f: Fields, kind: str) -> Sub:
     return Sub(*_operands(f), no_write=True)  # compare_branch
 
 
-def _operands(f: Fields) -> tuple[Ram | Ics | Rom, Ram | Ics | Rom | Data, int | None]:
+def _operands(f: Fields) -> tuple[Ram | Ics | Rom | Com, Ram | Ics | Rom | Data, int | None]:
     dst = parse_operand(f.get("dst"), f.path("dst"))
     src = parse_operand(f.get("src"), f.path("src"))
     size = f.integer("size", 1, 128) if f.has("size") else None
-    if isinstance(src, Com) or isinstance(dst, Data):
-        raise EditError(f"{f.where}: COM is not a source and a literal is not a destination")
-    return dst, src, size  # type: ignore[return-value]
+    if isinstance(dst, Data):
+        raise EditError(f"{f.path('dst')}: a literal is a source, not a destination")
+    if isinstance(src, Com):
+        raise EditError(f"{f.path('src')}: COM (the host) is a destination, not a source")
+    return dst, src, size
 
 
 def _encode_data(kind: str, f: Fields) -> bytes:

@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 from rcb4hv.errors import EditError
 from rcb4hv.hth4.blocks.encode import encode_block
 from rcb4hv.hth4.blocks.fields import Json
-from rcb4hv.hth4.blocks.kinds import Block, decode_group, exact_command, pairs, waits
+from rcb4hv.hth4.blocks.kinds import Block, Resolver, decode_group, exact_command, pairs, waits
 from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.motioncode import slot_size
 from rcb4hv.protocol import Call, Jump
@@ -125,7 +125,7 @@ def motion_program(project: Project, slot: int) -> Program:
     )
 
 
-def _resolver(project: Project, addresses: dict[str, int], starts: list[int]):  # type: ignore[no-untyped-def]
+def _resolver(project: Project, addresses: dict[str, int], starts: list[int]) -> Resolver:
     def resolve(target: Json, where: str) -> int:
         if isinstance(target, str):
             if target not in addresses:
