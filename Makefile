@@ -58,9 +58,10 @@ bench: $(VENV)/.installed-bench
 screenshots: $(VENV)/.installed-dev
 	rm -rf build/screenshots
 	tools/ensure-browser $(BIN)/python
-	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py tests/ui/test_posing_browser.py
+	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py tests/ui/test_posing_browser.py tests/ui/test_flow_editor_browser.py
 	mkdir -p docs
 	cp build/screenshots/servos.png build/screenshots/remote.png build/screenshots/project.png docs/
+	cp build/screenshots/program-panel.png docs/
 	cp build/screenshots/3d-view.png build/screenshots/3d-preview.png docs/
 	cp build/screenshots/posing-handles.png build/screenshots/posing-balance.png docs/
 

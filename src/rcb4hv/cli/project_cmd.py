@@ -7,7 +7,15 @@ from typing import Any
 
 import click
 
-from rcb4hv.cli import _output, edit_cmd, project_check_cmd, project_pose_cmd, project_sim_cmd
+from rcb4hv.cli import (
+    _output,
+    edit_cmd,
+    project_check_cmd,
+    project_motion_cmd,
+    project_new_cmd,
+    project_pose_cmd,
+    project_sim_cmd,
+)
 from rcb4hv.cli._util import (
     Connection,
     handle_errors,
@@ -300,4 +308,6 @@ def register(cli: click.Group) -> None:
     project_sim_cmd.register(project)
     edit_cmd.register(project)
     project_pose_cmd.register(project)
+    project_motion_cmd.register(project)
+    project_new_cmd.register(project)
     cli.add_command(project)

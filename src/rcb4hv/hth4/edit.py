@@ -25,7 +25,7 @@ from rcb4hv.errors import EditError
 from rcb4hv.hth4.keyframes import END_MARKER, now_text
 from rcb4hv.hth4.mirror import mirror_motion_entries
 from rcb4hv.hth4.model import Motion, Project, ServoConfig
-from rcb4hv.hth4.motioncode import retarget_motion, retarget_project, slot_size
+from rcb4hv.hth4.motioncode import AddressMap, retarget_motion, retarget_project, slot_size
 from rcb4hv.hth4.poses import (
     DEFAULT_CHECKS,
     Checks,
@@ -47,6 +47,7 @@ __all__ = [
     "delete_pose",
     "duplicate_pose",
     "insert_pose",
+    "layout_map",
     "mirror_motion",
     "mirror_pose",
     "move_motion",
@@ -98,6 +99,16 @@ def apply_entry_edit(project: Project, slot: int, change: EntryEdit) -> Project:
     motion = _motion(project, slot)
     if change.entries == motion.frames:
         return project
+    edited = replace(motion, frames=change.entries)
+    return retarget_project(_put(project, edited), layout_map(motion, change))
+
+
+def layout_map(motion: Motion, change: EntryEdit) -> AddressMap:
+    """Where each ROM address into ``motion`` goes when its entries become ``change``'s: with
+    the entry it points into (a deleted entry's: what followed it; the start stays the
+    start); EditError if the new entries do not fit the slot, or for a point inside an entry
+    that changed length."""
+    slot = motion.slot
     size = sum(map(len, change.entries))
     room = slot_size(motion)
     if size > room:
@@ -128,8 +139,7 @@ def apply_entry_edit(project: Project, slot: int, change: EntryEdit) -> Project:
             )
         return base + new[n] + inner
 
-    edited = replace(motion, frames=change.entries)
-    return retarget_project(_put(project, edited), where)
+    return where
 
 
 # ----------------------------------------------------------------------------- poses

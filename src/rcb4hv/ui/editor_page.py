@@ -40,7 +40,7 @@ from rcb4hv.hth4.edit import (
     set_pose,
 )
 from rcb4hv.robot import RobotModel
-from rcb4hv.ui import trim_panel
+from rcb4hv.ui import flow_editor, trim_panel
 from rcb4hv.ui.context import UiContext, attempt, tid
 from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
@@ -169,6 +169,7 @@ class EditorPage:
             tid(ui.button("Save", icon="save", color="green"), "editor-save").on_click(self.save)
             self.downloads = ui.row()
         self.trims_refresh = trim_panel.build(self.ctx, ed, on_change=self.redraw)
+        self.flow_refresh = flow_editor.build(self.ctx, ed, on_change=self.redraw)
 
     # ------------------------------------------------------------------ editing
 
@@ -444,6 +445,7 @@ class EditorPage:
                 self.chart.set_content("")
             self.draw_joints()
             self.trims_refresh()
+            self.flow_refresh()
             self.player.stop()  # the view shows the edited pose, not the preview
             if self.scene is not None:
                 self.scene.update(ed.pose_angles())

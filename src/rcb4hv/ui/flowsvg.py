@@ -11,10 +11,29 @@ from rcb4hv.errors import ProtocolError
 from rcb4hv.hth4 import Flowchart
 from rcb4hv.protocol import ALWAYS, Call, Jump, Return, RunConstFrameServo, decode_command
 
-__all__ = ["canvas_svg", "motion_graph", "motion_svg"]
+__all__ = ["canvas_svg", "motion_graph", "motion_svg", "side_arrow", "svg_start"]
 
 BOX_W, BOX_H, GAP = 300, 30, 16
 LABEL_MAX = 44
+
+
+def svg_start(width: int, height: int, testid: str, marker: str) -> list[str]:
+    """The opening of a flowchart SVG: the element and an arrow-head marker named ``marker``."""
+    return [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+        f'font-family="monospace" font-size="11" data-testid="{testid}">',
+        f'<defs><marker id="{marker}" markerWidth="8" markerHeight="8" refX="7" refY="4" '
+        'orient="auto"><path d="M0,0 L8,4 L0,8 z" fill="#555"/></marker></defs>',
+    ]
+
+
+def side_arrow(x: int, y1: int, y2: int, bend: int, color: str, marker: str, attrs: str) -> str:
+    """A branch drawn on the right of the boxes: from (x, y1) out to ``bend`` and back to
+    (x, y2), with the arrow head ``marker`` and extra attributes ``attrs``."""
+    return (
+        f'<path d="M{x},{y1} C{bend},{y1} {bend},{y2} {x},{y2}" fill="none" '
+        f'stroke="{color}" marker-end="url(#{marker})" {attrs}/>'
+    )
 
 
 def _short(text: str) -> str:
@@ -73,12 +92,7 @@ def motion_svg(
     poses = poses or {}
     nodes, edges = motion_graph(frames, origin)
     height = len(nodes) * (BOX_H + GAP) + GAP
-    parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{BOX_W + 200}" height="{height}" '
-        f'font-family="monospace" font-size="11" data-testid="flowchart-svg">',
-        '<defs><marker id="arr" markerWidth="8" markerHeight="8" refX="7" refY="4" '
-        'orient="auto"><path d="M0,0 L8,4 L0,8 z" fill="#555"/></marker></defs>',
-    ]
+    parts = svg_start(BOX_W + 200, height, "flowchart-svg", "arr")
 
     def y(i: int) -> int:
         return GAP + i * (BOX_H + GAP)
@@ -92,11 +106,8 @@ def motion_svg(
         elif j >= 0:
             bend = BOX_W + 20 + 14 * (n % 8)
             color = "#c62828" if kind == "jump" else "#1565c0"
-            parts.append(
-                f'<path d="M{BOX_W},{y(i) + BOX_H // 2} C{bend},{y(i) + BOX_H // 2} '
-                f'{bend},{y(j) + BOX_H // 2} {BOX_W},{y(j) + BOX_H // 2}" fill="none" '
-                f'stroke="{color}" marker-end="url(#arr)" class="edge-{kind}"/>'
-            )
+            y1, y2 = y(i) + BOX_H // 2, y(j) + BOX_H // 2
+            parts.append(side_arrow(BOX_W, y1, y2, bend, color, "arr", f'class="edge-{kind}"'))
     for i, (addr, label) in enumerate(nodes):
         fill = "#fff3e0" if label.startswith(("JUMP", "CALL", "RETURN")) else "#f5f5f5"
         pose = poses.get(i)

@@ -1,0 +1,120 @@
+"""``rcb4hv project motion-export``, ``motion-import`` and ``motion-xml``: motions as program
+files (JSON, :mod:`rcb4hv.hth4.blocks`) and as HeartToHeart4 flowchart XML."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import click
+
+from rcb4hv.cli._util import handle_errors
+from rcb4hv.errors import EditError
+from rcb4hv.files import write_atomic
+from rcb4hv.hth4.blocks import dump_program, load_program, motion_program, put_program
+from rcb4hv.hth4.blocks.flowxml import motion_xml, put_flowchart
+from rcb4hv.hth4.model import Project
+from rcb4hv.hth4.session import EditSession
+
+__all__ = ["register"]
+
+_FILE = click.Path(exists=True, dir_okay=False, path_type=Path)
+_SLOT_FILE = re.compile(r"(\d{1,3})\.(json|xml)")
+
+
+def register(project: click.Group) -> None:
+    """Add ``motion-export``, ``motion-import`` and ``motion-xml`` to the ``project`` group."""
+    project.add_command(export_command)
+    project.add_command(import_command)
+    project.add_command(xml_command)
+
+
+def _one_or_all(slot: int | None, every: bool) -> None:
+    if (slot is None) == (not every):
+        raise click.UsageError("give --motion N or --all (one of them)")
+
+
+@click.command("motion-export")
+@click.argument("file", type=_FILE)
+@click.option("--motion", "slot", type=click.IntRange(1, 999), default=None, help="Slot.")
+@click.option("--all", "every", is_flag=True, help="Every used motion, as DIR/NNN.json.")
+@click.option(
+    "-o", "--output", type=click.Path(path_type=Path), default=None, help="File (or DIR)."
+)
+@handle_errors
+def export_command(file: Path, slot: int | None, every: bool, output: Path | None) -> None:
+    """Write motion --motion of FILE as a JSON program (stdout without -o), or --all of them
+    into directory -o (one NNN.json per used motion)."""
+    _one_or_all(slot, every)
+    session = EditSession.open(file)
+    project = session.project
+    if slot is not None:
+        text = dump_program(motion_program(project, slot))
+        if output is None:
+            click.echo(text, nl=False)
+        else:
+            write_atomic(output, text.encode())
+            click.echo(f"{output}: motion {slot}")
+        return
+    if output is None:
+        raise click.UsageError("--all needs -o DIR")
+    output.mkdir(parents=True, exist_ok=True)
+    for m in project.used_motions:
+        path = output / f"{m.slot:03d}.json"
+        write_atomic(path, dump_program(motion_program(project, m.slot)).encode())
+    click.echo(f"{output}: {len(project.used_motions)} motions")
+
+
+def _put_file(project: Project, slot: int, path: Path) -> Project:
+    if path.suffix.lower() == ".xml":
+        return put_flowchart(project, slot, path.read_bytes())
+    return put_program(project, slot, load_program(path))
+
+
+@click.command("motion-import")
+@click.argument("file", type=_FILE)
+@click.argument("program", type=click.Path(exists=True, path_type=Path))
+@click.option("--motion", "slot", type=click.IntRange(1, 999), default=None, help="Slot.")
+@click.option("--all", "every", is_flag=True, help="Every NNN.json / NNN.xml of directory PROGRAM.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@handle_errors
+def import_command(file: Path, program: Path, slot: int | None, every: bool, output: Path) -> None:
+    """Compile PROGRAM (a JSON program or a HeartToHeart4 flowchart .xml) into slot --motion of
+    FILE, or with --all every NNN.json / NNN.xml of directory PROGRAM into slot NNN; write -o.
+
+    Branches by label follow the program wherever it goes; slots without a file keep their
+    motion."""
+    _one_or_all(slot, every)
+    session = EditSession.open(file)
+    if slot is not None:
+        if program.is_dir():
+            raise click.UsageError("--motion N takes one program file; --all takes a directory")
+        session.apply(_put_file, slot, program)
+        done = [slot]
+    else:
+        if not program.is_dir():
+            raise click.UsageError("--all takes a directory of NNN.json / NNN.xml files")
+        done = []
+        for path in sorted(program.iterdir()):
+            m = _SLOT_FILE.fullmatch(path.name)
+            if m is None:
+                continue
+            session.apply(_put_file, int(m[1]), path)
+            done.append(int(m[1]))
+        if not done:
+            raise EditError(f"{program}: no NNN.json or NNN.xml files")
+    session.save(output)
+    changed = [m.slot for m in session.changed_motions]
+    click.echo(f"{output}: {len(done)} motion(s) imported, {len(changed)} changed")
+
+
+@click.command("motion-xml")
+@click.argument("file", type=_FILE)
+@click.option("--motion", "slot", type=click.IntRange(1, 999), required=True, help="Slot.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@handle_errors
+def xml_command(file: Path, slot: int, output: Path) -> None:
+    """Write motion --motion of FILE as a HeartToHeart4 flowchart (.xml), branches included."""
+    project = EditSession.open(file).project
+    write_atomic(output, motion_xml(project, slot))
+    click.echo(f"{output}: motion {slot} as a flowchart")

@@ -1,0 +1,102 @@
+"""``project motion-export`` / ``motion-import`` / ``motion-xml`` on the fixture: every motion
+goes out and back unchanged (``project diff`` exits 0), and hand edits land where they say."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.hth4 import load_project
+from rcb4hv.hth4.blocks import motion_program
+from rcb4hv.protocol import decode_command
+
+TURN_LEFT = 69
+
+
+def _run(*args: object) -> tuple[int, str]:
+    r = CliRunner().invoke(cli, [str(a) for a in args])
+    return r.exit_code, r.output
+
+
+def test_export_all_import_all_changes_nothing(kxr_project_path: Path, tmp_path: Path) -> None:
+    code, out = _run("project", "motion-export", kxr_project_path, "--all", "-o", tmp_path / "p")
+    assert code == 0, out
+    files = sorted((tmp_path / "p").iterdir())
+    assert len(files) == len(load_project(kxr_project_path).used_motions) == 65
+    assert files[0].name == "001.json"
+    result = tmp_path / "out.h4p"
+    code, out = _run(
+        "project", "motion-import", kxr_project_path, tmp_path / "p", "--all", "-o", result
+    )
+    assert code == 0, out
+    assert "65 motion(s) imported, 0 changed" in out
+    assert _run("project", "diff", kxr_project_path, result)[0] == 0
+    assert result.read_bytes() == kxr_project_path.read_bytes()
+
+
+def test_every_motion_through_xml_changes_nothing(kxr_project_path: Path, tmp_path: Path) -> None:
+    for m in load_project(kxr_project_path).used_motions:
+        xml = tmp_path / f"{m.slot:03d}.xml"
+        assert (
+            _run("project", "motion-xml", kxr_project_path, "--motion", m.slot, "-o", xml)[0] == 0
+        )
+    result = tmp_path / "out.h4p"
+    code, out = _run("project", "motion-import", kxr_project_path, tmp_path, "--all", "-o", result)
+    assert code == 0, out
+    assert _run("project", "diff", kxr_project_path, result)[0] == 0
+
+
+def test_a_hand_edit_moves_the_branches_with_it(kxr_project_path: Path, tmp_path: Path) -> None:
+    program = tmp_path / "turn.json"
+    code, _ = _run(
+        "project", "motion-export", kxr_project_path, "--motion", TURN_LEFT, "-o", program
+    )
+    assert code == 0
+    obj = json.loads(program.read_text(encoding="utf-8"))
+    # a wait before the button test: every later block moves 25 bytes, the loop still closes
+    at = next(i for i, b in enumerate(obj["blocks"]) if b["kind"] == "button_branch")
+    obj["blocks"].insert(at, {"kind": "wait", "timer": 1, "ms": 300})
+    program.write_text(json.dumps(obj), encoding="utf-8")
+    result = tmp_path / "out.h4p"
+    assert (
+        _run("project", "motion-import", kxr_project_path, program, "--motion", 70, "-o", result)[0]
+        == 0
+    )
+    code, out = _run("project", "diff", kxr_project_path, result)
+    assert code == 1 and "70" in out
+    project = load_project(result)
+    blocks = [b.to_json() for b in motion_program(project, 70).blocks]
+    assert {"kind": "wait", "timer": 1, "ms": 300} in blocks
+    branch = next(b for b in blocks if b["kind"] == "button_branch")
+    assert branch["to"] == "L1" and blocks[0]["label"] == "L1"
+    jump = decode_command(project.motion(70).frames[at + 4])
+    assert getattr(jump, "address", None) == project.motion(70).address  # relocated to slot 70
+
+
+def test_bad_program_names_the_field(kxr_project_path: Path, tmp_path: Path) -> None:
+    program = tmp_path / "bad.json"
+    program.write_text(
+        json.dumps({"blocks": [{"kind": "pose", "frames": 10, "positions": {"0": -5}}]}),
+        encoding="utf-8",
+    )
+    code, out = _run(
+        "project",
+        "motion-import",
+        kxr_project_path,
+        program,
+        "--motion",
+        1,
+        "-o",
+        tmp_path / "o.h4p",
+    )
+    assert code == 1
+    assert "blocks[0].positions.0" in out
+    assert not (tmp_path / "o.h4p").exists()
+
+
+def test_one_of_motion_or_all(kxr_project_path: Path, tmp_path: Path) -> None:
+    code, out = _run("project", "motion-export", kxr_project_path, "-o", tmp_path / "x")
+    assert code == 2 and "--motion N or --all" in out

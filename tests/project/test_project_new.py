@@ -1,0 +1,93 @@
+"""``project new`` for every built-in model builds, checks clean and stands in physics;
+``project bind`` and ``project settings`` edit what they say and nothing else."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.cli.project_common import load_image
+from rcb4hv.hth4 import dump_project, load_project, parse_project
+from rcb4hv.hth4.blocks import motion_program
+from rcb4hv.hth4.diff import diff_projects
+from rcb4hv.hth4.newproject import HOME_NAME, new_project
+from rcb4hv.hth4.robotpick import project_model
+from rcb4hv.project.check import check_project
+from rcb4hv.project.physics_sim import play_physics
+from rcb4hv.protocol.memory import Button
+from rcb4hv.robot.builtin import BUILTIN, load_builtin
+
+
+def _run(*args: object) -> tuple[int, str]:
+    r = CliRunner().invoke(cli, [str(a) for a in args])
+    return r.exit_code, r.output
+
+
+@pytest.fixture(scope="module", params=BUILTIN)
+def made(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("new") / f"{request.param}.h4p"
+    code, out = _run("project", "new", "--robot", request.param, "-o", path)
+    assert code == 0, out
+    return path
+
+
+def test_new_project_holds_the_model(made: Path) -> None:
+    project = load_project(made)
+    model = load_builtin(made.stem)
+    assert project_model(project, None).name == model.name  # detected back from its servos
+    used = [s for s in project.servos if s.in_use]
+    assert sorted(s.device_number for s in used) == list(model.indices)
+    assert all(s.trim == 0 for s in project.servos)
+    home = project.motion(1)
+    assert home.name == HOME_NAME and project.startup_motion == home
+    blocks = motion_program(project, 1).blocks
+    assert [b.kind for b in blocks] == ["pose", "end"]
+    assert blocks[0].fields["positions"] == {str(s.device_number): s.position for s in used}
+    assert dump_project(parse_project(made.read_bytes())) == made.read_bytes()
+
+
+def test_new_project_checks_clean_and_stands(made: Path) -> None:
+    assert [f for f in check_project(load_project(made)) if f.severity == "error"] == []
+    image, layout, names = load_image(made)
+    run = play_physics(
+        image, load_builtin(made.stem), [1], names, motion_layout=layout, sequence=False
+    )
+    (motion,) = run.motions
+    assert motion.result.status == "completed"
+    assert not motion.outcome.fell and motion.outcome.end_pose == "upright"
+    assert motion.outcome.max_tilt_deg < 5.0
+
+
+def test_new_project_does_not_overwrite(tmp_path: Path) -> None:
+    path = tmp_path / "x.h4p"
+    path.write_bytes(b"keep")
+    code, out = _run("project", "new", "--robot", "kxr-l2", "-o", path)
+    assert code == 1 and "exists" in out
+    assert path.read_bytes() == b"keep"
+
+
+def test_bind_and_settings_change_only_what_they_say(tmp_path: Path) -> None:
+    base = tmp_path / "base.h4p"
+    base.write_bytes(dump_project(new_project(load_builtin("kxr-l2"), date="2026-01-01T00:00:00")))
+    bound = tmp_path / "bound.h4p"
+    assert _run("project", "bind", base, "--motion", 1, "--button", "UP,S1", "-o", bound)[0] == 0
+    assert load_project(bound).motion(1).button_data == Button.UP | Button.S1
+    assert len(diff_projects(load_project(base), load_project(bound))) == 1
+    out = tmp_path / "set.h4p"
+    code, text = _run(
+        "project", "settings", bound, "--low-power", 1, "--low-power-value", 300,
+        "--mixing", "14.1=AD1*8", "--ad-reference", "1=273", "--startup", 0, "-o", out,
+    )  # fmt: skip
+    assert code == 0, text
+    p = load_project(out)
+    assert p.startup_motion_address == -1
+    assert (p.low_power_motion_address, p.low_power_value) == (p.motion(1).address, 300)
+    assert (p.servo(14).mixing1_address, p.servo(14).mixing1_rate) == (0x0024, 8)
+    assert p.adc_reference_words[1] == 273
+    code, text = _run(
+        "project", "settings", out, "--ad-reference", "11=5", "-o", tmp_path / "y.h4p"
+    )
+    assert code == 1 and "AD channel 11" in text
