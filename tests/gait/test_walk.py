@@ -1,0 +1,74 @@
+"""Generated walks on the built-in KXR-L2 in physics: they go the commanded way, at least
+60 % of the commanded distance, without falling; the CLI stores them in a project."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.errors import RobotModelError
+from rcb4hv.gait.generate import default_params, walk
+from rcb4hv.gait.motion import new_project, store, walk_motion
+from rcb4hv.hth4 import load_project
+from rcb4hv.project.relocate import project_image
+from rcb4hv.project.run import run_motions
+from rcb4hv.robot.builtin import load_builtin
+from rcb4hv.robot.kinematics import forward
+
+KXR = load_builtin("kxr-l2")
+
+
+def test_every_pose_puts_the_feet_where_the_pattern_says() -> None:
+    w = walk(KXR, default_params(KXR, "forward", steps=2))
+    assert w.missed == 0
+    i = len(w.poses) // 2
+    frames = forward(KXR, w.poses[i])
+    lift = w.pattern.left[i, 2] - w.pattern.right[i, 2]
+    zl, zr = frames["l_foot"][2][3], frames["r_foot"][2][3]
+    assert zl - zr == pytest.approx(lift, abs=1e-3)
+
+
+@pytest.mark.parametrize(("direction", "axis", "sign"), [("forward", 0, 1), ("left", 1, 1)])
+def test_a_generated_walk_goes_the_commanded_way_without_falling(
+    direction: str, axis: int, sign: int
+) -> None:
+    params = default_params(KXR, direction, steps=2)  # type: ignore[arg-type]
+    motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
+    image, layout = project_image(store(new_project(KXR), motion))
+    (run,) = run_motions(image, [2], motion_layout=layout, robot=KXR).motions
+    out = run.outcome
+    assert not out.fell and out.end_pose == "upright"
+    travel = (out.dx_m, out.dy_m)
+    assert sign * travel[axis] >= 0.6 * params.commanded
+    assert abs(travel[1 - axis]) < 0.5 * abs(travel[axis])
+
+
+def test_a_leg_without_hip_yaw_does_not_pretend_to_turn() -> None:
+    with pytest.raises(RobotModelError, match="no hip yaw"):
+        walk(KXR, default_params(KXR, "turn-left", steps=2))
+
+
+def test_the_defaults_scale_with_the_leg() -> None:
+    small = default_params(KXR, "forward")
+    big = default_params(load_builtin("khr3hv"), "forward")
+    assert big.stride / small.stride == pytest.approx(0.2057 / 0.116, rel=0.05)
+    assert big.lift > small.lift
+    assert math.isclose(default_params(KXR, "turn-left").turn, 10.0)
+
+
+def test_the_cli_writes_a_new_project_and_adds_to_it(tmp_path: Path) -> None:
+    out = tmp_path / "walks.h4p"
+    args = ["gait", "--robot", "kxr-l2", "--steps", "2", "--into", str(out)]
+    r = CliRunner().invoke(cli, [*args, "--slot", "3", "--button", "UP"])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(cli, [*args, "--direction", "back", "--slot", "4"])
+    assert r.exit_code == 0, r.output
+    project = load_project(out)
+    assert project.motion(3).name == "gait forward" and project.motion(3).button_data != 0
+    assert project.motion(4).name == "gait back"
+    r = CliRunner().invoke(cli, [*args, "--slot", "3"])
+    assert r.exit_code != 0 and "slot 3" in r.output
