@@ -14,7 +14,7 @@ $(VENV)/.installed-plot: pyproject.toml | $(BIN)/python
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim,test]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim,gait,scale,test]'
 	touch $@ $(VENV)/.installed-plot
 
 $(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev

@@ -17,9 +17,10 @@ from dataclasses import dataclass
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.gait.pattern import Direction, GaitParams, Trajectory, trajectory
-from rcb4hv.robot.geometry import stance
+from rcb4hv.robot.geometry import CONTACT_TOLERANCE_M, geom_points, stance
 from rcb4hv.robot.ik import effectors, limb, solve_feet
 from rcb4hv.robot.kinematics import (
+    IDENTITY,
     Transform,
     center_of_mass,
     compose,
@@ -65,6 +66,7 @@ class Body:
     height: float
     com: tuple[float, float]
     zc: float
+    soles: tuple[tuple[float, float], tuple[float, float]] = ((0.0, 0.0), (0.0, 0.0))
 
     @property
     def width(self) -> float:
@@ -88,8 +90,20 @@ class Body:
         floor_com = stance(model, model.home).com[2]
         return cls(
             left, right, frames[left], frames[right], leg, home_drop - sink,
-            (com[0], com[1]), floor_com - sink,
+            (com[0], com[1]), floor_com - sink, (_sole(model, left), _sole(model, right)),
         )  # fmt: skip
+
+
+def _sole(model: RobotModel, foot: str) -> tuple[float, float]:
+    """The middle of the foot's lowest points (its sole), from the ankle, in the foot frame
+    at the zero pose (where the models stand with level soles)."""
+    pts = [p for g in model.link(foot).geoms for p in geom_points(g, IDENTITY)]
+    if not pts:
+        return (0.0, 0.0)
+    low = min(p[2] for p in pts)
+    sole = [p for p in pts if p[2] <= low + CONTACT_TOLERANCE_M]
+    xs, ys = [p[0] for p in sole], [p[1] for p in sole]
+    return ((min(xs) + max(xs)) / 2.0, (min(ys) + max(ys)) / 2.0)
 
 
 def _origin(model: RobotModel, foot: str) -> Transform:
@@ -163,7 +177,7 @@ def walk(model: RobotModel, params: GaitParams, period_s: float = 0.015) -> Walk
             f"{model.name}: its legs have no hip yaw joint, so a foot cannot turn under the "
             "body; a turn in place (made by slipping feet on the real robot) is not generated"
         )
-    pat = trajectory(params, body.zc, period_s)
+    pat = trajectory(params, body.zc, period_s, body.soles)
     pose = dict(model.home)
     poses: list[dict[str, float]] = []
     worst, missed = 0.0, 0
@@ -174,6 +188,8 @@ def walk(model: RobotModel, params: GaitParams, period_s: float = 0.015) -> Walk
         tx = float(pat.com[i, 0]) - (c * cx - s * cy)
         ty = float(pat.com[i, 1]) - (s * cx + c * cy)
         torso = compose(translation((tx, ty, body.height)), rotation_about(UP, yaw))
+        if params.lean:
+            torso = compose(torso, rotation_about((0.0, 1.0, 0.0), math.radians(params.lean)))
         feet = {
             body.left: _foot(tuple(pat.left[i]), body.home_left),
             body.right: _foot(tuple(pat.right[i]), body.home_right),

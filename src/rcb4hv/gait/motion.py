@@ -74,7 +74,7 @@ def _minimal_project(model: RobotModel) -> Project:
                 position=home,
             )
         )
-    return Project(servos=tuple(servos), project_title=model.title or model.name)
+    return Project(servos=tuple(servos), project_title=model.name)
 
 
 def walk_keyframes(model: RobotModel, w: Walk, period: int, every: int) -> list[Keyframe]:

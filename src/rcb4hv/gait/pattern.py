@@ -31,6 +31,7 @@ __all__ = [
     "trajectory",
 ]
 
+Point = tuple[float, float]
 Direction = Literal["forward", "back", "left", "right", "turn-left", "turn-right"]
 DIRECTIONS: tuple[Direction, ...] = ("forward", "back", "left", "right", "turn-left", "turn-right")
 
@@ -55,6 +56,8 @@ class GaitParams:
     lift: float
     step_time: float
     double_support: float = 0.25
+    lean: float = 0.0
+    """Torso pitch (degrees, + forward): 0 keeps it upright."""
 
     def __post_init__(self) -> None:
         if self.direction not in DIRECTIONS:
@@ -137,9 +140,21 @@ def _smooth(s: Array) -> Array:
     return np.asarray(s**3 * (10.0 - 15.0 * s + 6.0 * s * s), dtype=np.float64)
 
 
-def trajectory(p: GaitParams, zc: float, dt: float) -> Trajectory:
-    """Sample the walk every ``dt`` seconds for a CoM ``zc`` metres above the floor."""
+def trajectory(
+    p: GaitParams, zc: float, dt: float, soles: tuple[Point, Point] = ((0.0, 0.0), (0.0, 0.0))
+) -> Trajectory:
+    """Sample the walk every ``dt`` seconds for a CoM ``zc`` metres above the floor. The ZMP
+    reference lies on the middle of each sole: ``soles`` (left, right) is where that is from
+    the ankle (foot frame, x forward, y left)."""
     start, steps = plan_footsteps(p)
+    mid = {1: soles[0], -1: soles[1]}
+
+    def sole(side: int) -> Array:
+        x, y, _, yaw = feet[side]
+        dx, dy = mid[side]
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.array([x + c * dx - s * dy, y + s * dx + c * dy])
+
     feet = {1: np.array([start[0].x, start[0].y, 0.0, 0.0]),
             -1: np.array([start[1].x, start[1].y, 0.0, 0.0])}  # fmt: skip
     tds = p.step_time * p.double_support
@@ -155,11 +170,11 @@ def trajectory(p: GaitParams, zc: float, dt: float) -> Trajectory:
         left.append(feet[1].copy())
         right.append(feet[-1].copy())
 
-    ref = (feet[1][:2] + feet[-1][:2]) / 2.0
+    ref = (sole(1) + sole(-1)) / 2.0
     for _ in range(n_hold):
         emit(ref)
     for st in steps:
-        support = feet[-st.side][:2].copy()
+        support = sole(-st.side)
         for s in _smooth((np.arange(n_ds) + 1.0) / n_ds):
             emit(ref + (support - ref) * s)
         ref = support
@@ -171,7 +186,7 @@ def trajectory(p: GaitParams, zc: float, dt: float) -> Trajectory:
             feet[st.side][2] = p.lift * (1.0 - math.cos(2.0 * math.pi * phi)) / 2.0
             emit(ref)
         feet[st.side] = goal
-    centre = (feet[1][:2] + feet[-1][:2]) / 2.0
+    centre = (sole(1) + sole(-1)) / 2.0
     for s in _smooth((np.arange(n_ds) + 1.0) / n_ds):
         emit(ref + (centre - ref) * s)
     for _ in range(n_end):

@@ -1,0 +1,36 @@
+"""The trials of :mod:`rcb4hv.project.robust` as Ray tasks (the ``[scale]`` extra)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from rcb4hv.errors import ScaleError
+from rcb4hv.project.robust import Trial, require_ray, run_trial
+
+__all__ = ["run_ray"]
+
+
+def run_ray(
+    jobs: Sequence[Trial], address: str | None, progress: Callable[[int], object] | None
+) -> list[list[dict[str, Any]]]:
+    """Run ``jobs`` as Ray tasks on the cluster at ``address`` (None: start a local Ray, or
+    join the one already started in this process); the results in the jobs' order."""
+    ray = require_ray()
+    if not ray.is_initialized():
+        try:
+            ray.init(address=address, include_dashboard=False, log_to_driver=False)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            raise ScaleError(f"Ray at {address!r} answers nothing: {exc}") from exc
+    task = ray.remote(run_trial)
+    refs = [task.remote(j) for j in jobs]
+    order = {r: i for i, r in enumerate(refs)}
+    out: list[list[dict[str, Any]] | None] = [None] * len(refs)
+    pending = list(refs)
+    while pending:
+        done, pending = ray.wait(pending, num_returns=1)
+        for r in done:
+            out[order[r]] = ray.get(r)
+            if progress is not None:
+                progress(1)
+    return [r for r in out if r is not None]
