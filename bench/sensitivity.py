@@ -74,9 +74,7 @@ def verdicts(path: Path, options: PhysicsOptions) -> dict[int, tuple[str, str]]:
     image, lay, names = load_image(path)
     model = physics_robot(path, image, None)
     slots = sorted(names)
-    run = run_motions(
-        image, slots, names=names, motion_layout=lay, robot=model, options=options
-    )
+    run = run_motions(image, slots, names=names, motion_layout=lay, robot=model, options=options)
     return {r.result.slot or 0: (r.result.name, verdict(r.outcome)) for r in run.motions}
 
 

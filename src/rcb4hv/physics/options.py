@@ -41,14 +41,19 @@ class PhysicsOptions:
     """The floor's slope (degrees, 0..45), by turning gravity: not a factor."""
     floor_tilt_dir_deg: float = 0.0
     """Which way the floor falls (degrees from +x toward +y, the robot's start frame)."""
+    deadband_deg: float = 0.0
+    """A servo's dead band (degrees, 0..5; not a factor): it keeps its target until the
+    commanded angle moves further than this from it (ICS servos have a dead-band setting)."""
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.floor_tilt_deg <= 45.0:
             raise ValueError(
                 f"PhysicsOptions.floor_tilt_deg must be 0..45, not {self.floor_tilt_deg!r}"
             )
+        if not 0.0 <= self.deadband_deg <= 5.0:
+            raise ValueError(f"PhysicsOptions.deadband_deg must be 0..5, not {self.deadband_deg!r}")
         for f in fields(self):
-            if f.name.startswith("floor_tilt"):
+            if f.name.startswith("floor_tilt") or f.name == "deadband_deg":
                 continue
             v = getattr(self, f.name)
             if not isinstance(v, (int, float)) or not v > 0:

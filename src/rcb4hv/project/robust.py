@@ -26,7 +26,16 @@ from rcb4hv.physics import PhysicsOptions
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom.layout import MotionLayout
 
-__all__ = ["RANGES", "TILT_MAX_DEG", "Trial", "draw", "robust", "summarise", "wilson"]
+__all__ = [
+    "DEADBAND_MAX_DEG",
+    "RANGES",
+    "TILT_MAX_DEG",
+    "Trial",
+    "draw",
+    "robust",
+    "summarise",
+    "wilson",
+]
 
 RANGES: Mapping[str, tuple[float, float]] = {
     "friction": (0.6, 1.4),
@@ -40,6 +49,9 @@ friction of a table or floor, the servo figures read off Kondo's data sheets, th
 masses estimated from parts)."""
 TILT_MAX_DEG = 2.0
 """A trial's floor slopes 0..2 degrees, toward any direction (uniform)."""
+DEADBAND_MAX_DEG = 0.5
+"""A trial's servo dead band, 0..0.5 degrees (uniform): a documented choice (about four
+position counts; Kondo sets the ICS dead band in the servo, its angle is not published)."""
 Z95 = 1.959963984540054
 
 
@@ -48,7 +60,10 @@ def draw(rng: np.random.Generator) -> PhysicsOptions:
     values = {k: float(rng.uniform(lo, hi)) for k, (lo, hi) in RANGES.items()}
     tilt = float(rng.uniform(0.0, TILT_MAX_DEG))
     direction = float(rng.uniform(0.0, 360.0))
-    return PhysicsOptions(**values, floor_tilt_deg=tilt, floor_tilt_dir_deg=direction)
+    band = float(rng.uniform(0.0, DEADBAND_MAX_DEG))
+    return PhysicsOptions(
+        **values, floor_tilt_deg=tilt, floor_tilt_dir_deg=direction, deadband_deg=band
+    )
 
 
 @dataclass(frozen=True)
