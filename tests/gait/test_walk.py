@@ -72,3 +72,21 @@ def test_the_cli_writes_a_new_project_and_adds_to_it(tmp_path: Path) -> None:
     assert project.motion(4).name == "gait back"
     r = CliRunner().invoke(cli, [*args, "--slot", "3"])
     assert r.exit_code != 0 and "slot 3" in r.output
+
+
+def test_tune_keeps_the_best_candidate_and_writes_it(tmp_path: Path) -> None:
+    """gait tune with a stand-in for the trials (scored by the lift alone): CMA-ES keeps the
+    best candidate it tried and the CLI's path stores a walk."""
+    pytest.importorskip("cma", reason="cma (the [scale] extra) is not installed")
+    from typing import Any
+
+    from rcb4hv.gait.tune import tune
+
+    def fake(*_a: Any, **_k: Any) -> list[dict[str, Any]]:
+        return [{"fall_probability": 0.0, "dx_m": {"median": 0.05}}]
+
+    base = default_params(KXR, "forward", steps=1)
+    best, tried = tune(KXR, base, trials=1, evaluations=4, run=fake)
+    assert len(tried) >= 4
+    assert best.score == min(c.score for c in tried)
+    assert best.fall_probability == 0.0 and best.progress == pytest.approx(0.05)

@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from rcb4hv.cli._util import MOTION_SLOT, handle_errors
+from rcb4hv.cli.gait_cmd import RAY
 
 
 def register(cli: click.Group) -> None:
@@ -24,10 +25,7 @@ def register(cli: click.Group) -> None:
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--robot", default=None, help="Robot model (default: detected from FILE).")
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Processes (cores).")
-@click.option(
-    "--ray", "ray_address", is_flag=False, flag_value="", default=None, metavar="[ADDRESS]",
-    help="Run the trials as Ray tasks (a local Ray, or the cluster at ADDRESS).",
-)  # fmt: skip
+@RAY
 @click.option("--json", "as_json", is_flag=True, help="Print the figures as JSON.")
 @handle_errors
 def robust_command(

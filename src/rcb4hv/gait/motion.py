@@ -14,8 +14,15 @@ from pathlib import Path
 from typing import cast
 
 from rcb4hv.gait.generate import Walk
-from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes
-from rcb4hv.hth4.model import Motion, Project, ServoConfig
+from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes, now_text
+from rcb4hv.hth4.model import (
+    MAX_MOTIONS,
+    Motion,
+    Project,
+    ServoConfig,
+    motion_key,
+    motion_rom_address,
+)
 from rcb4hv.protocol import SystemRegister
 from rcb4hv.protocol.memory import ADDR, CENTER
 from rcb4hv.robot.ik import limb
@@ -74,7 +81,12 @@ def _minimal_project(model: RobotModel) -> Project:
                 position=home,
             )
         )
-    return Project(servos=tuple(servos), project_title=model.name)
+    empty = tuple(
+        Motion(key=motion_key(n), number=n - 1, name=motion_key(n), date=now_text(),
+               address=motion_rom_address(n))
+        for n in range(1, MAX_MOTIONS + 1)
+    )  # fmt: skip
+    return Project(servos=tuple(servos), motions=empty, project_title=model.name)
 
 
 def walk_keyframes(model: RobotModel, w: Walk, period: int, every: int) -> list[Keyframe]:
@@ -122,8 +134,6 @@ def walk_motion(
             if "a motion slot holds" in str(e):
                 continue
             raise
-        from rcb4hv.hth4.keyframes import now_text
-
         return replace(m, date=now_text()), every
     raise ValueError("the walk does not fit a motion slot; take fewer steps")
 

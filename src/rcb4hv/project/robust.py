@@ -102,7 +102,9 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
     d = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / d
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, centre - half), min(1.0, centre + half))
+    lo = 0.0 if k == 0 else max(0.0, centre - half)
+    hi = 1.0 if k == n else min(1.0, centre + half)
+    return (lo, hi)
 
 
 def _quartiles(xs: Sequence[float]) -> dict[str, float]:
