@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test docs package bench fuzz reliability sensitivity screenshots clean
+.PHONY: demo test docs package bench fuzz reliability sensitivity gait-plots screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -77,3 +77,7 @@ sensitivity: $(VENV)/.installed-dev
 
 clean:
 	rm -rf $(VENV) .build .mypy_cache .pytest_cache .ruff_cache build/screenshots
+
+# the plots of docs/gait.md: a generated walk's CoM and ZMP, fall probability against stride
+gait-plots: $(VENV)/.installed-dev
+	nice -n 10 $(BIN)/python -m bench.gait_plots --out docs
