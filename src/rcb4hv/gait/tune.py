@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from rcb4hv.errors import ScaleError
-from rcb4hv.gait.generate import default_params, walk
+from rcb4hv.gait.generate import walk
 from rcb4hv.gait.motion import new_project, store, walk_motion
 from rcb4hv.gait.pattern import GaitParams
 from rcb4hv.robot.model import RobotModel
@@ -118,8 +118,3 @@ def tune(
         es.tell(xs, scores)
     best = min(tried, key=lambda c: c.score)
     return best, tried
-
-
-def base_params(model: RobotModel, **kw: Any) -> GaitParams:
-    """The defaults the search starts from (:func:`rcb4hv.gait.generate.default_params`)."""
-    return default_params(model, **kw)
