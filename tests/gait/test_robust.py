@@ -113,3 +113,19 @@ def test_without_ray_the_error_says_which_extra(
     image, layout = upright
     with pytest.raises(ScaleError, match=r"rcb4hv\[scale\]"):
         robust(image, [2], layout=layout, robot=KXR, trials=1, use_ray=True)
+
+
+def test_an_address_that_answers_nothing_is_a_clear_error() -> None:
+    import socket
+
+    from rcb4hv.errors import ScaleError
+    from rcb4hv.project.robust_ray import probe
+
+    with socket.socket() as s:  # a port nobody listens on: bound, never listening
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+        with pytest.raises(ScaleError, match="answers nothing"):
+            probe(f"127.0.0.1:{port}")
+    with pytest.raises(ScaleError, match="HOST:PORT"):
+        probe("nowhere")
+    probe(None)

@@ -2,13 +2,33 @@
 
 from __future__ import annotations
 
+import socket
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from rcb4hv.errors import ScaleError
 from rcb4hv.project.robust import Trial, require_ray, run_trial
 
-__all__ = ["run_ray"]
+__all__ = ["PROBE_TIMEOUT_S", "probe", "run_ray"]
+
+PROBE_TIMEOUT_S = 5.0
+"""Seconds a cluster address has to accept a TCP connection (Ray itself waits minutes)."""
+
+
+def probe(address: str | None) -> None:
+    """:class:`ScaleError` unless ``address`` (``host:port`` or ``ray://host:port``; None,
+    ``auto`` and ``local`` are not probed) accepts a TCP connection."""
+    if address in (None, "", "auto", "local"):
+        return
+    assert address is not None
+    hostport = address.split("://", 1)[-1].rstrip("/")
+    host, _, port = hostport.rpartition(":")
+    if not host or not port.isdigit():
+        raise ScaleError(f"Ray address {address!r}: expected HOST:PORT or ray://HOST:PORT")
+    try:
+        socket.create_connection((host, int(port)), timeout=PROBE_TIMEOUT_S).close()
+    except OSError as exc:
+        raise ScaleError(f"Ray at {address!r} answers nothing: {exc}") from exc
 
 
 def run_ray(
@@ -18,6 +38,7 @@ def run_ray(
     join the one already started in this process); the results in the jobs' order."""
     ray = require_ray()
     if not ray.is_initialized():
+        probe(address)
         try:
             ray.init(address=address, include_dashboard=False, log_to_driver=False)
         except (ConnectionError, RuntimeError, ValueError) as exc:
