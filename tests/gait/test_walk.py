@@ -90,3 +90,24 @@ def test_tune_keeps_the_best_candidate_and_writes_it(tmp_path: Path) -> None:
     assert len(tried) >= 4
     assert best.score == min(c.score for c in tried)
     assert best.fall_probability == 0.0 and best.progress == pytest.approx(0.05)
+
+
+def test_play_sends_every_pose_and_waits_out_each_move() -> None:
+    from collections.abc import Mapping
+
+    from rcb4hv.gait.motion import play_motion
+
+    sent: list[tuple[int, dict[int, int]]] = []
+    waited: list[float] = []
+
+    class Client:
+        def run_const_frame_servo(self, speed: int, positions: Mapping[int, int]) -> None:
+            sent.append((speed, dict(positions)))
+
+    w = walk(KXR, default_params(KXR, "forward", steps=1))
+    motion, every = walk_motion(KXR, w, slot=2, name="walk")
+    n = play_motion(Client(), motion, 15, waited.append)
+    assert n == len(sent) > 10
+    assert len(sent[0][1]) == len(KXR.servos)  # the first pose names every servo
+    assert all(speed == every for speed, _ in sent[1:-1])
+    assert sum(waited) == pytest.approx(0.5 + (len(w.poses) - 1) * 0.015, abs=0.02)

@@ -109,14 +109,11 @@ def gait_command(
             raise ValueError("the new project does not round-trip; nothing written")
         write_atomic(into, data)
     if play:
+        from rcb4hv.gait.motion import play_motion
+
         robot = open_robot(port, baud, timeout)
         try:
-            from rcb4hv.hth4.poses import motion_blocks
-
-            for b in motion_blocks(motion):
-                if b.pose is not None:
-                    robot.client.run_const_frame_servo(b.pose.speed, b.pose.values)
-                    time.sleep(b.pose.speed * period / 1000.0)
+            play_motion(robot.client, motion, period, time.sleep)
         finally:
             robot.close()
     if as_json:

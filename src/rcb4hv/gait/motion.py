@@ -9,9 +9,10 @@ servo (the arms at home), the others only the legs' servos (the rest hold).
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
-from typing import cast
+from typing import Protocol, cast
 
 from rcb4hv.gait.generate import Walk
 from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes, now_text
@@ -34,6 +35,7 @@ __all__ = [
     "load_or_new",
     "new_project",
     "period_ms",
+    "play_motion",
     "store",
     "walk_keyframes",
     "walk_motion",
@@ -148,3 +150,25 @@ def load_or_new(path: Path, model: RobotModel) -> Project:
     from rcb4hv.hth4 import load_project
 
     return load_project(path) if path.exists() else new_project(model)
+
+
+class FramePlayer(Protocol):
+    """What :func:`play_motion` needs of a client (:class:`rcb4hv.client.Rcb4Client`)."""
+
+    def run_const_frame_servo(self, speed: int, positions: Mapping[int, int]) -> None: ...
+
+
+def play_motion(
+    client: FramePlayer, motion: Motion, period: int, sleep: Callable[[float], None]
+) -> int:
+    """Send ``motion``'s poses to a board as RunConstFrameServo commands, waiting out each
+    move (``sleep``, seconds); the number of poses sent."""
+    from rcb4hv.hth4.poses import motion_blocks
+
+    sent = 0
+    for b in motion_blocks(motion):
+        if b.pose is not None:
+            client.run_const_frame_servo(b.pose.speed, b.pose.values)
+            sleep(b.pose.speed * period / 1000.0)
+            sent += 1
+    return sent
