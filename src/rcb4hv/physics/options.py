@@ -14,7 +14,10 @@ from dataclasses import dataclass, fields, replace
 
 from rcb4hv.physics.sensors import SensorLayout
 
-__all__ = ["PhysicsOptions"]
+__all__ = ["NOT_FACTORS", "PhysicsOptions"]
+
+NOT_FACTORS = ("floor_tilt_deg", "floor_tilt_dir_deg", "deadband_deg")
+"""The :class:`PhysicsOptions` fields that are figures of their own (0 = none), not factors."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -53,7 +56,7 @@ class PhysicsOptions:
         if not 0.0 <= self.deadband_deg <= 5.0:
             raise ValueError(f"PhysicsOptions.deadband_deg must be 0..5, not {self.deadband_deg!r}")
         for f in fields(self):
-            if f.name.startswith("floor_tilt") or f.name == "deadband_deg":
+            if f.name in NOT_FACTORS:
                 continue
             v = getattr(self, f.name)
             if not isinstance(v, (int, float)) or not v > 0:
