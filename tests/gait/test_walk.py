@@ -41,10 +41,26 @@ def test_a_generated_walk_goes_the_commanded_way_without_falling(
     image, layout = project_image(store(new_project(KXR), motion))
     (run,) = run_motions(image, [2], motion_layout=layout, robot=KXR).motions
     out = run.outcome
-    assert not out.fell and out.end_pose == "upright"
+    assert out is not None and not out.fell and out.end_pose == "upright"
     travel = (out.dx_m, out.dy_m)
     assert sign * travel[axis] >= 0.6 * params.commanded
     assert abs(travel[1 - axis]) < 0.5 * abs(travel[axis])
+
+
+@pytest.mark.parametrize(("direction", "sign"), [("turn-right", -1)])
+def test_a_generated_turn_turns_the_commanded_way_without_falling(
+    direction: str, sign: int
+) -> None:
+    """On the KHR-3HV's 22-servo build (hip yaw joints): 2 steps of 10°."""
+    khr = load_builtin("khr3hv-22")
+    params = default_params(khr, direction, steps=2)  # type: ignore[arg-type]
+    motion, _ = walk_motion(khr, walk(khr, params), slot=2, name="turn")
+    image, layout = project_image(store(new_project(khr), motion))
+    (run,) = run_motions(image, [2], motion_layout=layout, robot=khr).motions
+    out = run.outcome
+    assert out is not None and not out.fell and out.end_pose == "upright"
+    assert sign * out.dyaw_deg >= 0.6 * params.commanded
+    assert math.hypot(out.dx_m, out.dy_m) < 0.03
 
 
 def test_a_leg_without_hip_yaw_does_not_pretend_to_turn() -> None:
