@@ -21,7 +21,6 @@ from typing import Any
 
 import numpy as np
 
-from rcb4hv.errors import ScaleError
 from rcb4hv.physics import PhysicsOptions
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom.layout import MotionLayout
@@ -164,7 +163,7 @@ def robust(
     if use_ray:
         from rcb4hv.project.robust_ray import run_ray
 
-        results = run_ray(jobs, ray_address, progress)
+        results = run_ray(run_trial, jobs, ray_address, progress)
     else:
         results = _run_pool(jobs, workers or os.cpu_count() or 1, progress)
     return summarise(results)
@@ -186,14 +185,3 @@ def _run_pool(
             if progress is not None:
                 progress(1)
     return out
-
-
-def require_ray() -> Any:
-    """The ``ray`` module, or :class:`ScaleError` saying which extra installs it."""
-    try:
-        import ray
-    except ImportError as exc:
-        raise ScaleError(
-            "Ray is not installed: pip install 'rcb4hv[scale]' (or pip install ray)"
-        ) from exc
-    return ray

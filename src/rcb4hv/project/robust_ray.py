@@ -1,15 +1,30 @@
-"""The trials of :mod:`rcb4hv.project.robust` as Ray tasks (the ``[scale]`` extra)."""
+"""The trials of :mod:`rcb4hv.project.robust` as Ray tasks (the ``[scale]`` extra): any
+picklable function over picklable jobs, so this module imports nothing of the trials."""
 
 from __future__ import annotations
 
 import socket
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, TypeVar
 
 from rcb4hv.errors import ScaleError
-from rcb4hv.project.robust import Trial, require_ray, run_trial
 
-__all__ = ["PROBE_TIMEOUT_S", "probe", "run_ray"]
+__all__ = ["PROBE_TIMEOUT_S", "probe", "require_ray", "run_ray"]
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+def require_ray() -> Any:
+    """The ``ray`` module, or :class:`ScaleError` saying which extra installs it."""
+    try:
+        import ray
+    except ImportError as exc:
+        raise ScaleError(
+            "Ray is not installed: pip install 'rcb4hv[scale]' (or pip install ray)"
+        ) from exc
+    return ray
+
 
 PROBE_TIMEOUT_S = 5.0
 """Seconds a cluster address has to accept a TCP connection (Ray itself waits minutes)."""
@@ -32,10 +47,14 @@ def probe(address: str | None) -> None:
 
 
 def run_ray(
-    jobs: Sequence[Trial], address: str | None, progress: Callable[[int], object] | None
-) -> list[list[dict[str, Any]]]:
-    """Run ``jobs`` as Ray tasks on the cluster at ``address`` (None: start a local Ray, or
-    join the one already started in this process); the results in the jobs' order."""
+    fn: Callable[[T], R],
+    jobs: Sequence[T],
+    address: str | None,
+    progress: Callable[[int], object] | None,
+) -> list[R]:
+    """Run ``fn`` on each of ``jobs`` as Ray tasks on the cluster at ``address`` (None: start
+    a local Ray, or join the one already started in this process); the results in the jobs'
+    order."""
     ray = require_ray()
     if not ray.is_initialized():
         probe(address)
@@ -43,10 +62,10 @@ def run_ray(
             ray.init(address=address, include_dashboard=False, log_to_driver=False)
         except (ConnectionError, RuntimeError, ValueError) as exc:
             raise ScaleError(f"Ray at {address!r} answers nothing: {exc}") from exc
-    task = ray.remote(run_trial)
+    task = ray.remote(fn)
     refs = [task.remote(j) for j in jobs]
     order = {r: i for i, r in enumerate(refs)}
-    out: list[list[dict[str, Any]] | None] = [None] * len(refs)
+    out: list[R | None] = [None] * len(refs)
     pending = list(refs)
     while pending:
         done, pending = ray.wait(pending, num_returns=1)
