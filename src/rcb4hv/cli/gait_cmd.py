@@ -50,7 +50,7 @@ def register(cli: click.Group) -> None:
 @click.option("--name", default=None, help="Motion name (default: 'gait DIRECTION').")
 @click.option("--replace", is_flag=True, help="Overwrite a used slot.")
 @click.option("--json", "as_json", is_flag=True, help="Print the walk's summary as JSON.")
-@click.option("--play", is_flag=True, help="Play the walk on the board at --port.")
+@click.option("--play", is_flag=True, help="Play the walk on the board (implied by --port URL).")
 @connection_options
 @handle_errors
 @click.pass_context
@@ -68,6 +68,8 @@ def gait_command(
         return
     if robot_name is None:
         raise click.UsageError("which robot: --robot NAME (rcb4hv robot list)")
+    # --port on the command line sends the walk to that board (RCB4HV_PORT alone does not)
+    play = play or ctx.get_parameter_source("port") == click.core.ParameterSource.COMMANDLINE
     from rcb4hv.cli.project_common import parse_buttons
     from rcb4hv.gait.generate import default_params, walk
     from rcb4hv.gait.motion import load_or_new, period_ms, store, walk_motion
