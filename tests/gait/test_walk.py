@@ -96,7 +96,7 @@ def test_tune_keeps_the_best_candidate_and_writes_it(tmp_path: Path) -> None:
     pytest.importorskip("cma", reason="cma (the [scale] extra) is not installed")
     from typing import Any
 
-    from rcb4hv.gait.tune import tune
+    from rcb4hv.gait.tune import BOUNDS, tune
 
     def fake(*_a: Any, **_k: Any) -> list[dict[str, Any]]:
         return [{"fall_probability": 0.0, "dx_m": {"median": 0.05}}]
@@ -106,6 +106,15 @@ def test_tune_keeps_the_best_candidate_and_writes_it(tmp_path: Path) -> None:
     assert len(tried) >= 4
     assert best.score == min(c.score for c in tried)
     assert best.fall_probability == 0.0 and best.progress == pytest.approx(0.05)
+    for c in tried:  # every candidate inside the documented ranges
+        p = c.params
+        assert BOUNDS["lift"][0] - 1e-9 <= p.lift / base.lift <= BOUNDS["lift"][1] + 1e-9
+        assert BOUNDS["step_time"][0] - 1e-9 <= p.step_time / base.step_time
+        assert p.step_time / base.step_time <= BOUNDS["step_time"][1] + 1e-9
+        assert BOUNDS["double_support"][0] - 1e-9 <= p.double_support
+        assert p.double_support <= BOUNDS["double_support"][1] + 1e-9
+        assert p.stride == base.stride and p.steps == base.steps
+    assert len({c.params for c in tried}) == len(tried)  # the search moves
 
 
 def test_play_sends_every_pose_and_waits_out_each_move() -> None:
