@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test docs package bench fuzz reliability sensitivity screenshots clean
+.PHONY: demo test docs package bench fuzz reliability sensitivity gait-plots screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -14,7 +14,7 @@ $(VENV)/.installed-plot: pyproject.toml | $(BIN)/python
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim,test]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,plot,docs,sim,gait,scale,test]'
 	touch $@ $(VENV)/.installed-plot
 
 $(VENV)/.installed-bench: pyproject.toml $(VENV)/.installed-dev
@@ -78,3 +78,7 @@ sensitivity: $(VENV)/.installed-dev
 
 clean:
 	rm -rf $(VENV) .build .mypy_cache .pytest_cache .ruff_cache build/screenshots
+
+# the plots of docs/gait.md: a generated walk's CoM and ZMP, fall probability against stride
+gait-plots: $(VENV)/.installed-dev
+	nice -n 10 $(BIN)/python -m bench.gait_plots --out docs

@@ -29,6 +29,7 @@ MODULES = (
     "bench.bench_ui",
     "bench.bench_view3d",
     "bench.bench_ik",
+    "bench.bench_robust",
 )
 
 RESULTS = Path(__file__).resolve().parent / "results.json"

@@ -30,6 +30,7 @@ from pathlib import Path
 from rcb4hv.cli.project_common import load_image
 from rcb4hv.cli.project_physics import physics_robot
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions
+from rcb4hv.physics.options import NOT_FACTORS
 from rcb4hv.project.physicsresult import PhysicsOutcome
 from rcb4hv.project.run import run_motions
 from rcb4hv.robot.mjcf import FLOOR_FRICTION
@@ -46,6 +47,7 @@ FIGURES = {
     "armature": f"armature ({MOTOR_TIME_CONSTANT * 1000:g} ms motor time constant)",
     "friction": f"foot friction ({FLOOR_FRICTION:g})",
     "gyro_scale": f"gyro scale ({DEFAULT_SENSORS.gyro_counts_per_dps:g} counts per °/s)",
+    "mass": "link masses and inertias (the models' estimates)",
     "accel_scale": f"accelerometer scale ({DEFAULT_SENSORS.accel_counts_per_g:.0f} counts per g)",
 }
 
@@ -100,6 +102,8 @@ def study(path: Path, factors: list[float]) -> list[str]:
     ]
     details: list[str] = []
     for f in fields(PhysicsOptions):
+        if f.name in NOT_FACTORS or f.name not in FIGURES:
+            continue
         cells = []
         for factor in factors:
             changed = flips(base, verdicts(path, PhysicsOptions(**{f.name: factor})))

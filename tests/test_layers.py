@@ -27,7 +27,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("emulator", "hth4"),
     ("client", "asm", "physics"),  # physics: MuJoCo as a servo backend of the emulator
     ("project",),
-    ("aio", "session", "hardware"),
+    ("aio", "session", "hardware", "gait"),  # gait: walks made through the IK and project
     ("ui",),
     ("cli",),
     ("__main__",),  # python -m rcb4hv

@@ -210,3 +210,7 @@ class IcsError(Rcb4Error):
 class IcsNoReply(IcsError, TimeoutError):
     """No ICS servo answered in time: no servo with that ID, a different baud rate, a servo
     still writing its EEPROM, or (through a board's 0Eh) the board's NAK for "no answer"."""
+
+
+class ScaleError(Rcb4Error):
+    """The distributed back end (Ray) is not installed, or its address answers nothing."""

@@ -41,3 +41,48 @@ def test_sensor_scales() -> None:
 def test_a_factor_is_positive(bad: float) -> None:
     with pytest.raises(ValueError, match="speed_cap"):
         PhysicsOptions(speed_cap=bad)
+
+
+def test_masses_scale_and_the_floor_tilts_by_turning_gravity() -> None:
+    import math
+
+    plain = PhysicsWorld(KXR)
+    heavy = PhysicsWorld(KXR, options=PhysicsOptions(mass=1.1))
+    assert sum(heavy.m.body_mass) == pytest.approx(1.1 * sum(plain.m.body_mass))
+    assert heavy.m.body_inertia[1][0] == pytest.approx(1.1 * plain.m.body_inertia[1][0])
+    g = -float(plain.m.opt.gravity[2])
+    tilted = PhysicsWorld(KXR, options=PhysicsOptions(floor_tilt_deg=2.0, floor_tilt_dir_deg=90))
+    gx, gy, gz = tilted.m.opt.gravity
+    assert (gx, gy) == pytest.approx((0.0, g * math.sin(math.radians(2.0))), abs=1e-9)
+    assert math.hypot(gx, gy, gz) == pytest.approx(g)
+    with pytest.raises(ValueError, match="floor_tilt_deg"):
+        PhysicsOptions(floor_tilt_deg=-1.0)
+
+
+def test_a_dead_band_keeps_the_target_until_the_command_leaves_it() -> None:
+    """A knee moved by 0.2° keeps its target under a 0.5° dead band; moved by 1° in small
+    steps, it follows in jumps and stops within the band of the end."""
+    import math
+
+    from rcb4hv.hth4.keyframes import Keyframe
+    from rcb4hv.project.physics_sim import PhysicsSimulator
+    from tests.physics.conftest import image_with, pose
+
+    knee = "r_knee_pitch"
+    servo = KXR.servo_for_joint(knee)
+    assert servo is not None
+    moves = [[Keyframe(0.1, pose(KXR, {knee: 30.0})), Keyframe(0.1, pose(KXR, {knee: end}))]
+             for end in (30.2, 31.0)]  # fmt: skip
+    image, layout, _ = image_with(moves)
+
+    def final(band: float, slot: int) -> float:
+        options = PhysicsOptions(deadband_deg=band)
+        sim = PhysicsSimulator(image, KXR, motion_layout=layout, options=options)
+        sim.boot()
+        sim.play(layout.address(slot), slot=slot, limit=1.0)
+        assert sim.backend is not None
+        return math.degrees(sim.backend.commanded[servo.index] or 0.0)
+
+    assert final(0.0, 18) == pytest.approx(30.2, abs=0.05)
+    assert final(0.5, 18) == pytest.approx(30.0, abs=0.05)
+    assert 31.0 - 0.5 <= final(0.5, 19) < 31.0  # it follows, and stops within its band

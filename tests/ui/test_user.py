@@ -228,3 +228,20 @@ def test_the_dashboard_builds_without_a_board() -> None:
         asyncio.run(main())
     finally:
         session.close()
+
+
+def test_the_walk_page_generates_a_walk_into_a_new_project_and_simulates_it() -> None:
+    from rcb4hv.robot.builtin import load_builtin
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        assert ctx.project is None
+        one(user, "gait-steps").set_value(1)
+        user.find(marker="gait-go").click()
+        await until(lambda: "commanded" in one(user, "gait-status").text, 60)
+        text = one(user, "gait-status").text
+        assert "stayed up" in text
+        assert ctx.project is not None
+        (walk,) = [m for m in ctx.project.used_motions if m.name == "gait forward"]
+        assert f"motion {walk.slot}:" in text
+
+    run(scenario, robot=load_builtin("kxr-l2"))

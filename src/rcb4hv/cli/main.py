@@ -32,6 +32,8 @@ COMMAND_MODULES = (
     "rcb4hv.cli.robot_cmd",
     "rcb4hv.cli.robot_pose_cmd",  # adds fk and ik to the robot group: after robot_cmd
     "rcb4hv.cli.ics_cmd",
+    "rcb4hv.cli.gait_cmd",
+    "rcb4hv.cli.project_robust_cmd",
 )
 
 

@@ -87,7 +87,9 @@ def _speed(time_s: float, period_ms: int, index: int) -> int:
     return frames
 
 
-def _pose_commands(keyframes: Sequence[Keyframe], period_ms: int) -> list[RunConstFrameServo]:
+def _pose_commands(
+    keyframes: Sequence[Keyframe], period_ms: int, changed_only: bool = False
+) -> list[RunConstFrameServo]:
     if not keyframes:
         raise ValueError("no keyframes")
     if period_ms not in FRAME_PERIODS_MS:
@@ -101,17 +103,22 @@ def _pose_commands(keyframes: Sequence[Keyframe], period_ms: int) -> list[RunCon
     out = []
     for i, kf in enumerate(keyframes):
         pose.update(kf.positions)
-        out.append(RunConstFrameServo(_speed(kf.time, period_ms, i), dict(pose)))
+        moved = kf.positions if changed_only and i else pose
+        out.append(RunConstFrameServo(_speed(kf.time, period_ms, i), dict(moved)))
     return out
 
 
-def keyframe_frames(keyframes: Sequence[Keyframe], period_ms: int = 15) -> tuple[bytes, ...]:
+def keyframe_frames(
+    keyframes: Sequence[Keyframe], period_ms: int = 15, *, changed_only: bool = False
+) -> tuple[bytes, ...]:
     """The motion's frames as HeartToHeart4 stores them (the last one ends with ``FF``).
 
     Servos a keyframe leaves out keep the previous keyframe's position; the first keyframe
-    must name every servo the motion moves.
+    must name every servo the motion moves. ``changed_only``: a frame after the first carries
+    only its own keyframe's servos (the others hold, as on the board), so a long motion of
+    few moving servos fits a slot.
     """
-    frames = [c.encode() for c in _pose_commands(keyframes, period_ms)]
+    frames = [c.encode() for c in _pose_commands(keyframes, period_ms, changed_only)]
     frames += [Return().encode(), END_MARKER]
     if sum(map(len, frames)) > MOTION_SIZE:
         raise ValueError(
@@ -139,10 +146,11 @@ def motion_from_keyframes(
     compare_type: str = "Equals",
     date: str | None = None,
     layout: MotionLayout = HTH4_22,
+    changed_only: bool = False,
 ) -> Motion:
     """A project motion for ``slot`` that plays ``keyframes``, stored for ``layout`` (the
     project's HeartToHeart4 version; 2.2 by default); ``button`` binds it to a remote button
-    word (0: none)."""
+    word (0: none); ``changed_only``: see :func:`keyframe_frames`."""
     if not 1 <= slot <= layout.motion_count:
         raise ValueError(f"motion slot must be 1..{layout.motion_count}, not {slot}")
     if not 0 <= button <= 0xFFFF:
@@ -156,7 +164,7 @@ def motion_from_keyframes(
         date=date or now_text(),
         button_data=button,
         compare_type=compare_type,
-        frames=keyframe_frames(keyframes, period_ms),
+        frames=keyframe_frames(keyframes, period_ms, changed_only=changed_only),
         address=layout.address(slot),
     )
 

@@ -26,6 +26,7 @@ fell to, and a limb pushed by hand (or by the floor) can be read.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Final
 
@@ -77,6 +78,8 @@ class PhysicsBackend:
         wheel servos are not listed: their value is a speed, see :meth:`_spin`)."""
         self._effective: dict[int, float] = {}
         self._hold: dict[int, float] = {}
+        self._band: dict[int, float] = {}
+        """Per servo, the target its dead band keeps (PhysicsOptions.deadband_deg)."""
         self._angles: dict[tuple[int, int, int], float] = {}
         self._gains: dict[tuple[int, int | None], float] = {}
         self._caps: dict[tuple[int, int | None], float] = {}
@@ -175,6 +178,7 @@ class PhysicsBackend:
         effective = self._effective
         hold = self._hold
         servos = world.servos
+        band = math.radians(world.options.deadband_deg)
         for index, blk, base in blocks:
             out = _u16(ram, blk + SERVO.OUTPUT)[0]
             if servos[index].wheel:
@@ -195,6 +199,12 @@ class PhysicsBackend:
                 if hold:
                     hold.pop(index, None)
                 goal = self._angle(index, outs.get(index, out + base), base)
+                if band:
+                    kept = self._band.get(index)
+                    if kept is not None and abs(goal - kept) <= band:
+                        goal = kept
+                    else:
+                        self._band[index] = goal
             commanded[index] = goal
             prev = effective.get(index)
             if prev is None:

@@ -10,11 +10,15 @@ nothing.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields, replace
 
 from rcb4hv.physics.sensors import SensorLayout
 
-__all__ = ["PhysicsOptions"]
+__all__ = ["NOT_FACTORS", "PhysicsOptions"]
+
+NOT_FACTORS = ("floor_tilt_deg", "floor_tilt_dir_deg", "deadband_deg")
+"""The :class:`PhysicsOptions` fields that are figures of their own (0 = none), not factors."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -35,12 +39,35 @@ class PhysicsOptions:
     """x the gyro's counts per °/s (``SensorLayout.gyro_counts_per_dps``)."""
     accel_scale: float = 1.0
     """x the accelerometer's counts per g (``SensorLayout.accel_counts_per_g``)."""
+    mass: float = 1.0
+    """x every link's mass and inertia (the models' masses are estimates)."""
+    floor_tilt_deg: float = 0.0
+    """The floor's slope (degrees, 0..45), by turning gravity: not a factor."""
+    floor_tilt_dir_deg: float = 0.0
+    """Which way the floor falls (degrees from +x toward +y, the robot's start frame)."""
+    deadband_deg: float = 0.0
+    """A servo's dead band (degrees, 0..5; not a factor): it keeps its target until the
+    commanded angle moves further than this from it (ICS servos have a dead-band setting)."""
 
     def __post_init__(self) -> None:
+        if not 0.0 <= self.floor_tilt_deg <= 45.0:
+            raise ValueError(
+                f"PhysicsOptions.floor_tilt_deg must be 0..45, not {self.floor_tilt_deg!r}"
+            )
+        if not 0.0 <= self.deadband_deg <= 5.0:
+            raise ValueError(f"PhysicsOptions.deadband_deg must be 0..5, not {self.deadband_deg!r}")
         for f in fields(self):
+            if f.name in NOT_FACTORS:
+                continue
             v = getattr(self, f.name)
             if not isinstance(v, (int, float)) or not v > 0:
                 raise ValueError(f"PhysicsOptions.{f.name} must be a factor > 0, not {v!r}")
+
+    def gravity(self, g: float) -> tuple[float, float, float]:
+        """Gravity (m/s^2, world frame) on the tilted floor: a floor sloping ``floor_tilt_deg``
+        downhill toward ``floor_tilt_dir_deg`` is the level floor with gravity turned that way."""
+        t, a = math.radians(self.floor_tilt_deg), math.radians(self.floor_tilt_dir_deg)
+        return (g * math.sin(t) * math.cos(a), g * math.sin(t) * math.sin(a), -g * math.cos(t))
 
     def sensors(self, layout: SensorLayout) -> SensorLayout:
         """``layout`` with the gyro and accelerometer scales applied."""

@@ -99,8 +99,13 @@ class PhysicsWorld:
             self.m = mj.MjModel.from_xml_string(mjcf)
         except ValueError as exc:
             raise PhysicsError(f"{model.name}: MuJoCo refuses the model: {exc}") from exc
-        self.d = mj.MjData(self.m)
         m = self.m
+        if opts.mass != 1.0:
+            m.body_mass[:] *= opts.mass
+            m.body_inertia[:] *= opts.mass
+        if opts.floor_tilt_deg:
+            m.opt.gravity[:] = opts.gravity(-float(m.opt.gravity[2]))
+        self.d = mj.MjData(self.m)
         self.servos: dict[int, _Servo] = {}
         for s in model.servos:
             j = m.joint(s.joint)

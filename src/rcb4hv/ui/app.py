@@ -14,6 +14,7 @@ from rcb4hv.session import BoardSession
 from rcb4hv.ui import (
     board_page,
     editor_page,
+    gait_page,
     ics_page,
     motions_page,
     project_page,
@@ -35,6 +36,7 @@ PAGES: tuple[tuple[str, Callable[[UiContext], None]], ...] = (
     ("Motions", motions_page.build),
     ("Project", project_page.build),
     ("Teach", teach_page.build),
+    ("Walk", gait_page.build),
     ("Editor", editor_page.build),
     ("Servo tools", ics_page.build),
 )

@@ -1,0 +1,120 @@
+"""Search the gait parameters that make a walk least likely to fall (``rcb4hv gait tune``).
+
+CMA-ES (Hansen's ``cma`` package, the ``[scale]`` extra) over the foot lift, the step time,
+the double-support share and the feet's width, each in a documented range (:data:`BOUNDS`)
+around the robot's defaults; the stride (or turn) and the steps are the user's command and
+stay fixed. Each candidate walk is played in :func:`rcb4hv.project.robust.robust` trials
+(the same seeds for every candidate, on the same local or Ray back end) and scored
+
+    fall probability + SHORTFALL_WEIGHT * max(0, 1 - median progress / commanded)
+
+so a walk that stands still by taking no step does not win.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from rcb4hv.errors import ScaleError
+from rcb4hv.gait.generate import walk
+from rcb4hv.gait.motion import new_project, store, walk_motion
+from rcb4hv.gait.pattern import GaitParams
+from rcb4hv.robot.model import RobotModel
+
+__all__ = ["BOUNDS", "SHORTFALL_WEIGHT", "Candidate", "progress_of", "score", "tune"]
+
+log = logging.getLogger(__name__)
+
+BOUNDS: dict[str, tuple[float, float]] = {
+    "lift": (0.5, 1.8),
+    "step_time": (0.6, 1.6),
+    "double_support": (0.1, 0.5),
+    "width": (1.0, 1.6),
+}
+"""Searched ranges: lift, step time and width as factors of the robot's defaults, the
+double-support share as itself. Documented choices (wide enough to matter, narrow enough
+that every candidate is a walk the IK reaches)."""
+SHORTFALL_WEIGHT = 0.5
+
+
+@dataclass(frozen=True)
+class Candidate:
+    params: GaitParams
+    fall_probability: float
+    progress: float
+    score: float
+
+
+def _params(base: GaitParams, x: Sequence[float]) -> GaitParams:
+    lift, step_time, ds, width = x
+    return replace(
+        base, lift=base.lift * lift, step_time=base.step_time * step_time,
+        double_support=ds, width=base.width * width,
+    )  # fmt: skip
+
+
+def progress_of(direction: str, row: dict[str, Any]) -> float:
+    """The median travel (m) or turn (degrees) along the commanded direction."""
+    sign = -1.0 if direction in ("back", "right", "turn-right") else 1.0
+    key = (
+        "dyaw_deg"
+        if direction.startswith("turn")
+        else "dy_m"
+        if direction in ("left", "right")
+        else "dx_m"
+    )
+    return sign * float(row[key]["median"])
+
+
+def score(fall: float, progress: float, commanded: float) -> float:
+    return fall + SHORTFALL_WEIGHT * max(0.0, 1.0 - progress / commanded if commanded else 0.0)
+
+
+def tune(
+    model: RobotModel,
+    base: GaitParams,
+    *,
+    trials: int,
+    evaluations: int,
+    seed: int = 0,
+    run: Callable[..., list[dict[str, Any]]] | None = None,
+    **backend: Any,
+) -> tuple[Candidate, list[Candidate]]:
+    """The best candidate and every candidate tried (``evaluations`` walks, each in
+    ``trials`` trials; ``backend``: ``workers``, ``use_ray``, ``ray_address``)."""
+    try:
+        import cma
+    except ImportError as exc:
+        raise ScaleError("gait tune needs cma: pip install 'rcb4hv[scale]'") from exc
+    from rcb4hv.project.relocate import project_image
+    from rcb4hv.project.robust import robust
+
+    go = run or robust
+    lo = [BOUNDS[k][0] for k in BOUNDS]
+    hi = [BOUNDS[k][1] for k in BOUNDS]
+    x0 = [1.0, 1.0, base.double_support, 1.0]
+    es = cma.CMAEvolutionStrategy(
+        x0, 0.2, {"bounds": [lo, hi], "seed": seed + 1, "popsize": 4, "verbose": -9}
+    )
+    tried: list[Candidate] = []
+    while len(tried) < evaluations and not es.stop():
+        xs = es.ask()
+        scores = []
+        for x in xs:
+            p = _params(base, x)
+            motion, _ = walk_motion(model, walk(model, p), slot=2, name="tune")
+            image, layout = project_image(store(new_project(model), motion))
+            (row,) = go(image, [2], layout=layout, robot=model, trials=trials, seed=seed, **backend)
+            prog = progress_of(p.direction, row)
+            c = Candidate(
+                p, row["fall_probability"], prog, score(row["fall_probability"], prog, p.commanded)
+            )
+            log.info("candidate %s: %.3f", x, c.score)
+            tried.append(c)
+            scores.append(c.score)
+        es.tell(xs, scores)
+    best = min(tried, key=lambda c: c.score)
+    return best, tried

@@ -1,0 +1,138 @@
+"""Generated walks on the built-in KXR-L2 in physics: they go the commanded way, at least
+60 % of the commanded distance, without falling; the CLI stores them in a project."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.errors import RobotModelError
+from rcb4hv.gait.generate import default_params, walk
+from rcb4hv.gait.motion import new_project, store, walk_motion
+from rcb4hv.hth4 import load_project
+from rcb4hv.project.relocate import project_image
+from rcb4hv.project.run import run_motions
+from rcb4hv.robot.builtin import load_builtin
+from rcb4hv.robot.kinematics import forward
+
+KXR = load_builtin("kxr-l2")
+
+
+def test_every_pose_puts_the_feet_where_the_pattern_says() -> None:
+    w = walk(KXR, default_params(KXR, "forward", steps=2))
+    assert w.missed == 0
+    i = len(w.poses) // 2
+    frames = forward(KXR, w.poses[i])
+    lift = w.pattern.left[i, 2] - w.pattern.right[i, 2]
+    zl, zr = frames["l_foot"][2][3], frames["r_foot"][2][3]
+    assert zl - zr == pytest.approx(lift, abs=1e-3)
+
+
+@pytest.mark.parametrize(("direction", "axis", "sign"), [("forward", 0, 1), ("left", 1, 1)])
+def test_a_generated_walk_goes_the_commanded_way_without_falling(
+    direction: str, axis: int, sign: int
+) -> None:
+    params = default_params(KXR, direction, steps=2)  # type: ignore[arg-type]
+    motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
+    image, layout = project_image(store(new_project(KXR), motion))
+    (run,) = run_motions(image, [2], motion_layout=layout, robot=KXR).motions
+    out = run.outcome
+    assert out is not None and not out.fell and out.end_pose == "upright"
+    travel = (out.dx_m, out.dy_m)
+    assert sign * travel[axis] >= 0.6 * params.commanded
+    assert abs(travel[1 - axis]) < 0.5 * abs(travel[axis])
+
+
+@pytest.mark.parametrize(("direction", "sign"), [("turn-right", -1)])
+def test_a_generated_turn_turns_the_commanded_way_without_falling(
+    direction: str, sign: int
+) -> None:
+    """On the KHR-3HV's 22-servo build (hip yaw joints): 2 steps of 10°."""
+    khr = load_builtin("khr3hv-22")
+    params = default_params(khr, direction, steps=2)  # type: ignore[arg-type]
+    motion, _ = walk_motion(khr, walk(khr, params), slot=2, name="turn")
+    image, layout = project_image(store(new_project(khr), motion))
+    (run,) = run_motions(image, [2], motion_layout=layout, robot=khr).motions
+    out = run.outcome
+    assert out is not None and not out.fell and out.end_pose == "upright"
+    assert sign * out.dyaw_deg >= 0.6 * params.commanded
+    assert math.hypot(out.dx_m, out.dy_m) < 0.03
+
+
+def test_a_leg_without_hip_yaw_does_not_pretend_to_turn() -> None:
+    with pytest.raises(RobotModelError, match="no hip yaw"):
+        walk(KXR, default_params(KXR, "turn-left", steps=2))
+
+
+def test_the_defaults_scale_with_the_leg() -> None:
+    small = default_params(KXR, "forward")
+    big = default_params(load_builtin("khr3hv"), "forward")
+    assert big.stride / small.stride == pytest.approx(0.2057 / 0.116, rel=0.05)
+    assert big.lift > small.lift
+    assert math.isclose(default_params(KXR, "turn-left").turn, 10.0)
+
+
+def test_the_cli_writes_a_new_project_and_adds_to_it(tmp_path: Path) -> None:
+    out = tmp_path / "walks.h4p"
+    args = ["gait", "--robot", "kxr-l2", "--steps", "2", "--into", str(out)]
+    r = CliRunner().invoke(cli, [*args, "--slot", "3", "--button", "UP"])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(cli, [*args, "--direction", "back", "--slot", "4"])
+    assert r.exit_code == 0, r.output
+    project = load_project(out)
+    assert project.motion(3).name == "gait forward" and project.motion(3).button_data != 0
+    assert project.motion(4).name == "gait back"
+    r = CliRunner().invoke(cli, [*args, "--slot", "3"])
+    assert r.exit_code != 0 and "slot 3" in r.output
+
+
+def test_tune_keeps_the_best_candidate_and_writes_it(tmp_path: Path) -> None:
+    """gait tune with a stand-in for the trials (scored by the lift alone): CMA-ES keeps the
+    best candidate it tried and the CLI's path stores a walk."""
+    pytest.importorskip("cma", reason="cma (the [scale] extra) is not installed")
+    from typing import Any
+
+    from rcb4hv.gait.tune import BOUNDS, tune
+
+    def fake(*_a: Any, **_k: Any) -> list[dict[str, Any]]:
+        return [{"fall_probability": 0.0, "dx_m": {"median": 0.05}}]
+
+    base = default_params(KXR, "forward", steps=1)
+    best, tried = tune(KXR, base, trials=1, evaluations=4, run=fake)
+    assert len(tried) >= 4
+    assert best.score == min(c.score for c in tried)
+    assert best.fall_probability == 0.0 and best.progress == pytest.approx(0.05)
+    for c in tried:  # every candidate inside the documented ranges
+        p = c.params
+        assert BOUNDS["lift"][0] - 1e-9 <= p.lift / base.lift <= BOUNDS["lift"][1] + 1e-9
+        assert BOUNDS["step_time"][0] - 1e-9 <= p.step_time / base.step_time
+        assert p.step_time / base.step_time <= BOUNDS["step_time"][1] + 1e-9
+        assert BOUNDS["double_support"][0] - 1e-9 <= p.double_support
+        assert p.double_support <= BOUNDS["double_support"][1] + 1e-9
+        assert p.stride == base.stride and p.steps == base.steps
+    assert len({c.params for c in tried}) == len(tried)  # the search moves
+
+
+def test_play_sends_every_pose_and_waits_out_each_move() -> None:
+    from collections.abc import Mapping
+
+    from rcb4hv.gait.motion import play_motion
+
+    sent: list[tuple[int, dict[int, int]]] = []
+    waited: list[float] = []
+
+    class Client:
+        def run_const_frame_servo(self, speed: int, positions: Mapping[int, int]) -> None:
+            sent.append((speed, dict(positions)))
+
+    w = walk(KXR, default_params(KXR, "forward", steps=1))
+    motion, every = walk_motion(KXR, w, slot=2, name="walk")
+    n = play_motion(Client(), motion, 15, waited.append)
+    assert n == len(sent) > 10
+    assert len(sent[0][1]) == len(KXR.servos)  # the first pose names every servo
+    assert all(speed == every for speed, _ in sent[1:-1])
+    assert sum(waited) == pytest.approx(0.5 + (len(w.poses) - 1) * 0.015, abs=0.02)
