@@ -19,9 +19,13 @@ judged against what the name promises:
   ``--start on_back`` / ``on_front``), ends upright;
 - anything else (kicks, punches, clapping, ...): ends upright.
 
-Routines called by other motions (ルーチン) are listed but not judged; remote-driven loops
-(無線対応) are played once, with no button held. A walk or turn names a side with 左 (left) /
-右 (right); a walk forward / back wins over a step.
+Routines called by other motions (ルーチン) are listed but not judged. A walk, step or turn
+bound to a remote button (the project's motion table) is played as a user drives it: with
+that button held for ``HOLD_S`` seconds (``--hold-button B --for 3``). Kondo's remote-driven
+walks read the button word (RAM 0350h) and stop at once when it is not held: played with no
+button, the KXR-L2 sample's walk back (XL2_110) only lifts its arms and puts them down again.
+``--no-hold`` plays every motion once with no button, as before. A walk or turn names a side
+with 左 (left) / 右 (right); a walk forward / back wins over a step.
 
     python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
     python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
@@ -46,6 +50,10 @@ WALK_MIN_M = 0.02
 STAY_MAX_M = 0.05
 TURN_MIN_DEG = 5.0
 WALK_MAX_TURN_DEG = 45.0
+HOLD_S = 3.0
+"""Seconds a remote-bound walk, step or turn is played with its button held: a chosen figure,
+as the fixture's table in docs/physics.md (a few steps of each loop)."""
+MOVING = ("walk forward", "walk back", "step left", "step right", "turn left", "turn right")
 
 SKIP_MARKS = ("ルーチン", "routine")
 
@@ -164,11 +172,28 @@ def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
     )
 
 
-def project_outcomes(file: Path, robot: str | None, slots: list[int]) -> list[Outcome]:
+def buttons(file: Path) -> dict[int, str]:
+    """``{slot: "UP+S1"}``: the remote button each motion of ``file`` is bound to."""
+    cmd = [sys.executable, "-m", "rcb4hv", "project", "info", str(file), "--json"]
+    done = subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
+    if done.returncode != 0 or not done.stdout.strip():
+        return {}
+    motions = json.loads(done.stdout).get("motions", [])
+    return {
+        int(m["slot"]): str(m["button_names"]).replace("|", "+")
+        for m in motions
+        if m.get("button") and m.get("button_names")
+    }
+
+
+def project_outcomes(
+    file: Path, robot: str | None, slots: list[int], hold: bool = True
+) -> list[Outcome]:
     """Every motion of ``file`` (or ``slots``) labelled, played and judged."""
     base = ["--robot", robot] if robot else []
     motions = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])["motions"]
     labels = {m["slot"]: label_of(m["name"]) for m in motions}
+    bound = buttons(file) if hold else {}
     lie = {
         "front": next((s for s, lab in labels.items() if lab == "lie on front"), None),
         "back": next((s for s, lab in labels.items() if lab == "lie on back"), None),
@@ -176,6 +201,12 @@ def project_outcomes(file: Path, robot: str | None, slots: list[int]) -> list[Ou
     out: list[Outcome] = []
     for m in motions:
         label = labels[m["slot"]]
+        button = bound.get(m["slot"])
+        if label in MOVING and button:
+            held = [*base, "--motion", str(m["slot"]), "--hold-button", button]
+            seq = _simulate(file, [*held, "--for", f"{HOLD_S:g}"])["motions"]
+            out.append(_outcome(file, seq[-1], label, f"{button} held {HOLD_S:g} s"))
+            continue
         if not label.startswith("get up"):
             out.append(_outcome(file, m, label, "standing"))
             continue
@@ -214,11 +245,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", action="store_true", help="print JSON instead of tables")
     ap.add_argument("--robot", help="robot model (default: detected per project)")
     ap.add_argument("--motion", type=int, action="append", default=[], help="only these slots")
+    ap.add_argument(
+        "--no-hold", action="store_true", help="play remote-bound walks once, with no button"
+    )
     args = ap.parse_args(argv)
     files: list[Path] = []
     for p in args.paths:
         files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
-    results = {str(f): project_outcomes(f, args.robot, args.motion) for f in files}
+    results = {
+        str(f): project_outcomes(f, args.robot, args.motion, hold=not args.no_hold) for f in files
+    }
     if args.json:
         data = {f: [asdict(r) for r in rows] for f, rows in results.items()}
         sys.stdout.write(json.dumps(data, indent=1, ensure_ascii=False) + "\n")

@@ -16,7 +16,7 @@ from rcb4hv.hth4.diff import diff_projects
 from rcb4hv.hth4.newproject import HOME_NAME, new_project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.project.check import check_project
-from rcb4hv.project.physics_sim import play_physics
+from rcb4hv.project.run import run_motions
 from rcb4hv.protocol.memory import Button
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 
@@ -52,8 +52,8 @@ def test_new_project_holds_the_model(made: Path) -> None:
 def test_new_project_checks_clean_and_stands(made: Path) -> None:
     assert [f for f in check_project(load_project(made)) if f.severity == "error"] == []
     image, layout, names = load_image(made)
-    run = play_physics(
-        image, load_builtin(made.stem), [1], names, motion_layout=layout, sequence=False
+    run = run_motions(
+        image, [1], names=names, motion_layout=layout, robot=load_builtin(made.stem)
     )
     (motion,) = run.motions
     assert motion.result.status == "completed"

@@ -8,6 +8,7 @@ import pytest
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.builtin import BUILTIN, load_builtin, load_robot
+from rcb4hv.robot.ik import effector_point
 from rcb4hv.robot.kinematics import apply, center_of_mass, forward
 from rcb4hv.robot.model import RobotModel
 
@@ -179,3 +180,17 @@ def test_unknown_robot_lists_choices() -> None:
     with pytest.raises(RobotModelError, match="no such robot file"):
         load_robot("missing/robot.urdf")
     assert load_robot("kxr-l2") is load_builtin("kxr-l2")
+
+
+def test_the_basic_kxr_l2_arm_ends_at_the_elbow_servo_s_joint_base() -> None:
+    """kxreus's basic KXR-L2 (kxrl2l5a3) ends each arm with the elbow servo and the joint base
+    at its end, 32.6 mm below the elbow axis; the gripper build reaches on to its finger."""
+    basic, gripper = load_builtin("kxr-l2"), load_builtin("kxr-l2-gripper")
+    for side in ("l", "r"):
+        tip = effector_point(basic, f"{side}_forearm")
+        assert tip[2] == pytest.approx(-0.0326)
+        (box,) = basic.link(f"{side}_forearm").geoms
+        assert box.pos[2] + box.size[2] / 2 == pytest.approx(0.0093)  # the servo case's top
+    reach = min(g.pos[2] - g.size[2] / 2 for g in gripper.link("r_forearm").geoms)
+    assert reach == pytest.approx(-0.093)
+    assert basic.mass == pytest.approx(1.5291)  # the shape changed, not the masses

@@ -106,6 +106,12 @@ SHOULDER_PITCH_TO_ROLL = 29.0
 UPPER_ARM = 53.0
 ELBOW_TO_GRIPPER = 65.5
 HAND = 100.5  # elbow to the hand's end coordinates
+# the basic kit's forearm (no gripper): the elbow servo's case and the joint base screwed to
+# its end, nothing more. kxreus eusview/robots/kxr/kxrl2l5a3.json (the basic kit, config
+# kxrl2l5a3), the shapes of the forearm link: the case 33.0 x 26.4 x 26.4 mm from 9.3 mm
+# above to 23.8 mm below the elbow axis, the joint base plate and its side plates down to
+# 32.6 mm below it, 31 mm wide across the side plates (mm: top, bottom, x, y)
+BASIC_FOREARM = (9.3, 32.6, 27.4, 31.0)
 HEAD_TOP = 146.0  # head link (120) + its end coordinates (26)
 # sole (left foot, mm): kxreus kxrl2g.l's foot link geometry (RLEG_LINK4, mirrored): a 10 mm
 # plate from 21 to 31 below the ankle-roll axis, 105 mm long centred fore-aft, reaching 21 mm
@@ -195,12 +201,14 @@ def _build(gripper: bool) -> RobotModel:
             advisory=advisory,
         )
 
-    forearm = [_box((30.0, 26.0, 60.0), (0.0, 0.0, -30.0), _LIGHT)]
     forearm_mass = M_FOREARM
     if gripper:  # the fixed finger rides on the forearm; the driven one is its own link
+        forearm = [_box((30.0, 26.0, 60.0), (0.0, 0.0, -30.0), _LIGHT)]
         forearm.append(_box((14.0, 6.0, 35.0), (0.0, 10.0, -ELBOW_TO_GRIPPER - 10.0)))
         forearm_mass += M_FINGER
     else:  # the basic kit has no gripper servo (KRS-3304R2) and no fingers
+        top, bottom, wide_x, wide_y = BASIC_FOREARM
+        forearm = [_box((wide_x, wide_y, top + bottom), (0.0, 0.0, (top - bottom) / 2), _LIGHT)]
         forearm_mass -= KRS_3304R2.mass / G
     specs = [
         joint(

@@ -1,0 +1,74 @@
+"""tools/sample_outcomes.py plays a remote-bound walk as a user drives it: its button held.
+
+Kondo's remote-driven walks read the button word and stop at once when it is not held, so a
+walk bound to a button is judged with that button held (``HOLD_S`` seconds); an unbound one
+is played once from standing. Built from our own keyframe motions on the fixture project.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+from rcb4hv.hth4 import load_project, save_project
+from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes
+from rcb4hv.protocol import Button
+from tests.conftest import KXR_PROJECT_DIR
+
+TOOL = Path(__file__).resolve().parents[2] / "tools" / "sample_outcomes.py"
+
+
+def _tool() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("sample_outcomes", TOOL)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture
+def project_file(tmp_path: Path) -> Path:
+    """The fixture project with two short walks of ours: 18 bound to UP+S1, 19 unbound."""
+    project = load_project(KXR_PROJECT_DIR / "HAC_KXR_HTH4_project.h4p")
+    bend = {12: 7700, 13: 7700}  # both knees a little (ICS 12/13), then back
+    frames = [Keyframe(0.2, bend), Keyframe(0.2, {12: 7500, 13: 7500})]
+    project = add_motion(
+        project,
+        motion_from_keyframes(
+            frames,
+            slot=18,
+            name="test walk forward",
+            button=int(Button.UP | Button.S1),
+            date="2026/01/01",
+        ),
+    )
+    project = add_motion(
+        project, motion_from_keyframes(frames, slot=19, name="test walk back", date="2026/01/01")
+    )
+    path = tmp_path / "walks.h4p"
+    save_project(project, path)
+    return path
+
+
+def test_the_bound_buttons_are_read_from_the_project(project_file: Path) -> None:
+    tool = _tool()
+    bound = tool.buttons(project_file)
+    assert bound[18] == "UP+S1"
+    assert 19 not in bound
+    assert tool.label_of("test walk forward") == "walk forward"
+
+
+def test_a_bound_walk_is_played_with_its_button_held(project_file: Path) -> None:
+    pytest.importorskip("mujoco")
+    tool = _tool()
+    held, once = tool.project_outcomes(project_file, None, [18, 19])
+    assert (held.slot, held.how) == (18, f"UP+S1 held {tool.HOLD_S:g} s")
+    assert (once.slot, once.how) == (19, "standing")
+    assert held.end_pose == once.end_pose == "upright"
+    plain = tool.project_outcomes(project_file, None, [18], hold=False)
+    assert plain[0].how == "standing"
