@@ -3,7 +3,7 @@ test: the public sample projects are never part of the repository).
 
     python tools/detect_table.py DIR [--facts FILE.json] [--json]
 
-For each ``*.h4p`` under DIR (and each entry of a facts file: a JSON list of objects with
+For each ``*.h4p`` under DIR (and each entry of a facts file, see :func:`_facts`: a JSON list with
 ``file``, ``title`` and ``servos`` = [{``ics``, ``name``}] of the slots in use) it prints the
 project, its title, the detected model (or the error and candidates) and whether the family
 (and, for a biped, the arm axes) matches the kit code in the project's folder or file
@@ -35,6 +35,25 @@ def _expected(path: str) -> Any:
         if code is not None:
             return code
     return None
+
+
+def _facts(data: Any) -> list[tuple[str, str, dict[int, str]]]:
+    """(project, title, ICS number -> name of the slots in use) of each facts entry: a list of
+    ``{file, title, servos: [{ics, name}]}``, or ``{projects: [{path, project_title, servos:
+    [{device, name, mode}]}]}`` (a ServoConfigParams transcription; ``mode`` None = unused)."""
+    if isinstance(data, dict):
+        return [
+            (
+                p["path"],
+                p.get("project_title") or "",
+                {int(s["device"]): s["name"] or "" for s in p["servos"] if s["mode"] != "None"},
+            )
+            for p in data["projects"]
+        ]
+    return [
+        (e["file"], e.get("title", ""), {int(s["ics"]): s["name"] or "" for s in e["servos"]})
+        for e in data
+    ]
 
 
 def _row(where: str, title: str, source: Any) -> dict[str, Any]:
@@ -80,9 +99,8 @@ def main(argv: list[str] | None = None) -> int:
             project = load_project(path)
             rows.append(_row(str(path.relative_to(args.dir)), project.project_title or "", project))
     if args.facts is not None:
-        for entry in json.loads(args.facts.read_text(encoding="utf-8")):
-            names = {int(s["ics"]): s["name"] or "" for s in entry["servos"]}
-            rows.append(_row(entry["file"], entry.get("title", ""), names))
+        for where, title, names in _facts(json.loads(args.facts.read_text(encoding="utf-8"))):
+            rows.append(_row(where, title, names))
     if args.json:
         json.dump(rows, sys.stdout, ensure_ascii=False, indent=1)
         return 0
