@@ -20,7 +20,9 @@ judged against what the name promises:
 - anything else (kicks, punches, clapping, ...): ends upright.
 
 Routines called by other motions (ルーチン) are listed but not judged; remote-driven loops
-(無線対応) are played once, with no button held. A walk or turn names a side with 左 (left) /
+(無線対応) are played once, with no button held (``--press S``: a motion the project starts
+from a remote button is played with that button held for S seconds, as a user drives it;
+``project info`` gives the buttons). A walk or turn names a side with 左 (left) /
 右 (right); a walk forward / back wins over a step.
 
     python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
@@ -164,10 +166,33 @@ def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
     )
 
 
-def project_outcomes(file: Path, robot: str | None, slots: list[int]) -> list[Outcome]:
-    """Every motion of ``file`` (or ``slots``) labelled, played and judged."""
+def _buttons(file: Path) -> dict[int, str]:
+    """Slot -> the remote buttons that start it (``project info``), for slots that have any."""
+    cmd = [sys.executable, "-m", "rcb4hv", "project", "info", str(file), "--json"]
+    done = subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
+    info: dict[str, Any] = json.loads(done.stdout)
+    return {
+        int(m["slot"]): str(m["button_names"]).replace(" ", "")
+        for m in info["motions"]
+        if m.get("button") and m.get("button_names")
+    }
+
+
+def project_outcomes(
+    file: Path, robot: str | None, slots: list[int], press: float = 0.0
+) -> list[Outcome]:
+    """Every motion of ``file`` (or ``slots``) labelled, played and judged; ``press`` > 0: a
+    motion the project starts from a remote button is played with that button held for
+    ``press`` seconds, as a user drives it."""
     base = ["--robot", robot] if robot else []
     motions = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])["motions"]
+    if press > 0:
+        for slot, names in _buttons(file).items():
+            i = next((k for k, m in enumerate(motions) if m["slot"] == slot), None)
+            if i is not None:
+                extra = ["--motion", str(slot), "--hold-button", names, "--for", str(press)]
+                motions[i] = _simulate(file, base + extra)["motions"][0]
+                motions[i]["how"] = f"{names} held {press:g} s"
     labels = {m["slot"]: label_of(m["name"]) for m in motions}
     lie = {
         "front": next((s for s, lab in labels.items() if lab == "lie on front"), None),
@@ -177,7 +202,7 @@ def project_outcomes(file: Path, robot: str | None, slots: list[int]) -> list[Ou
     for m in motions:
         label = labels[m["slot"]]
         if not label.startswith("get up"):
-            out.append(_outcome(file, m, label, "standing"))
+            out.append(_outcome(file, m, label, m.get("how", "standing")))
             continue
         side = label.split()[-1]
         first = lie[side]
@@ -214,11 +239,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", action="store_true", help="print JSON instead of tables")
     ap.add_argument("--robot", help="robot model (default: detected per project)")
     ap.add_argument("--motion", type=int, action="append", default=[], help="only these slots")
+    ap.add_argument(
+        "--press",
+        type=float,
+        default=0.0,
+        help="hold each remote-started motion's own button this many seconds (default: none)",
+    )
     args = ap.parse_args(argv)
     files: list[Path] = []
     for p in args.paths:
         files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
-    results = {str(f): project_outcomes(f, args.robot, args.motion) for f in files}
+    results = {str(f): project_outcomes(f, args.robot, args.motion, args.press) for f in files}
     if args.json:
         data = {f: [asdict(r) for r in rows] for f, rows in results.items()}
         sys.stdout.write(json.dumps(data, indent=1, ensure_ascii=False) + "\n")
