@@ -3,11 +3,11 @@ test: the public sample projects are never part of the repository).
 
     python tools/detect_table.py DIR [--facts FILE.json] [--json]
 
-For each ``*.h4p`` under DIR (and each entry of a facts file, see :func:`_facts`: a JSON list with
-``file``, ``title`` and ``servos`` = [{``ics``, ``name``}] of the slots in use) it prints the
-project, its title, the detected model (or the error and candidates) and whether the family
-(and, for a biped, the arm axes) matches the kit code in the project's folder or file
-name (``Hello_kxrl4t/...`` -> L4T), which is the expectation.
+For each ``*.h4p`` under DIR (and each entry of a facts file: the servo tables and titles of
+projects, see :func:`_facts` for the two forms it reads) it prints the project, its title,
+the detected model (or the error and candidates) and whether the family (and, for a biped,
+the arm axes) matches the kit code in the project's folder or file name
+(``Hello_kxrl4t/...`` -> L4T), which is the expectation.
 """
 
 from __future__ import annotations
