@@ -3,13 +3,11 @@ test: the public sample projects are never part of the repository).
 
     python tools/detect_table.py DIR [--facts FILE.json] [--json]
 
-For each ``*.h4p`` under DIR (and each entry of a facts file: a JSON list of objects with
-``file``, ``title`` and ``servos`` = [{``ics``, ``name``}] of the slots in use, or an object
-whose ``projects`` list has ``path``, ``project_title`` and ``servos`` = [{``device``,
-``name``, ``mode``}] of every slot, ``mode`` "None" for an unused one) it prints the
-project, its title, the detected model (or the error and candidates) and whether the family
-(and, for a biped, the arm axes) matches the kit code in the project's folder or file
-name (``Hello_kxrl4t/...`` -> L4T), which is the expectation.
+For each ``*.h4p`` under DIR (and each entry of a facts file: the servo tables and titles of
+projects, see :func:`_facts` for the two forms it reads) it prints the project, its title,
+the detected model (or the error and candidates) and whether the family (and, for a biped,
+the arm axes) matches the kit code in the project's folder or file name
+(``Hello_kxrl4t/...`` -> L4T), which is the expectation.
 """
 
 from __future__ import annotations
@@ -37,6 +35,25 @@ def _expected(path: str) -> Any:
         if code is not None:
             return code
     return None
+
+
+def _facts(data: Any) -> list[tuple[str, str, dict[int, str]]]:
+    """(project, title, ICS number -> name of the slots in use) of each facts entry: a list of
+    ``{file, title, servos: [{ics, name}]}``, or ``{projects: [{path, project_title, servos:
+    [{device, name, mode}]}]}`` (a ServoConfigParams transcription; ``mode`` None = unused)."""
+    if isinstance(data, dict):
+        return [
+            (
+                p["path"],
+                p.get("project_title") or "",
+                {int(s["device"]): s["name"] or "" for s in p["servos"] if s["mode"] != "None"},
+            )
+            for p in data["projects"]
+        ]
+    return [
+        (e["file"], e.get("title", ""), {int(s["ics"]): s["name"] or "" for s in e["servos"]})
+        for e in data
+    ]
 
 
 def _row(where: str, title: str, source: Any) -> dict[str, Any]:
@@ -82,15 +99,7 @@ def main(argv: list[str] | None = None) -> int:
             project = load_project(path)
             rows.append(_row(str(path.relative_to(args.dir)), project.project_title or "", project))
     if args.facts is not None:
-        facts = json.loads(args.facts.read_text(encoding="utf-8"))
-        for entry in facts["projects"] if isinstance(facts, dict) else facts:
-            names = {
-                int(s["ics"] if "ics" in s else s["device"]): s["name"] or ""
-                for s in entry["servos"]
-                if s.get("mode", "Normal") != "None"
-            }
-            where = entry["file"] if "file" in entry else entry["path"]
-            title = entry.get("title", entry.get("project_title")) or ""
+        for where, title, names in _facts(json.loads(args.facts.read_text(encoding="utf-8"))):
             rows.append(_row(where, title, names))
     if args.json:
         json.dump(rows, sys.stdout, ensure_ascii=False, indent=1)

@@ -13,12 +13,19 @@ from collections.abc import Mapping
 from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.code import KitCode
-from rcb4hv.robot.kit.convention import SIGNS, STOCK, arm_signs
+from rcb4hv.robot.kit.convention import SIGNS, STOCK, STOCK_VARIANTS, arm_signs
 from rcb4hv.robot.kit.figures import FIGURES, SOURCES, fig
 from rcb4hv.robot.kit.templates import template
 from rcb4hv.robot.model import RobotModel
 
-__all__ = ["canonical_code", "code_joints", "kit_model", "kit_signs", "stock_joint_map"]
+__all__ = [
+    "canonical_code",
+    "code_joints",
+    "kit_model",
+    "kit_signs",
+    "stock_joint_map",
+    "stock_joint_maps",
+]
 
 _ARM = ("shoulder_pitch", "shoulder_roll", "elbow_pitch", "shoulder_yaw", "wrist_roll",
         "wrist_pitch", "wrist_yaw")  # fmt: skip
@@ -78,9 +85,20 @@ def kit_signs(code: KitCode) -> dict[str, tuple[int, int]]:
     return signs
 
 
-def stock_joint_map(code: KitCode) -> dict[str, tuple[int, int]]:
-    """Full joint name -> (ICS number, sign) of the code's stock build."""
-    stock = dict(STOCK[code.family])
+def stock_joint_maps(code: KitCode) -> list[dict[str, tuple[int, int]]]:
+    """The joint maps of the code's stock build and of the family's other stock builds
+    (:data:`~rcb4hv.robot.kit.convention.STOCK_VARIANTS`), in that order."""
+    return [stock_joint_map(code)] + [
+        stock_joint_map(code, variant) for variant in STOCK_VARIANTS.get(code.family, ())
+    ]
+
+
+def stock_joint_map(
+    code: KitCode, numbers: Mapping[str, int] | None = None
+) -> dict[str, tuple[int, int]]:
+    """Full joint name -> (ICS number, sign) of the code's stock build (``numbers``: another
+    stock build's ICS numbers, right side)."""
+    stock = dict(STOCK[code.family] if numbers is None else numbers)
     if code.family == "humanoid" and (code.arms or 3) >= 7:
         stock["neck_yaw"], stock["neck_pitch"] = 32, 33  # wrist yaw takes 30/31
     if code.family == "humanoid" and code.legs == 2:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from rcb4hv.robot.kit.code import Family
 
-__all__ = ["LIMBS", "SIGNS", "STOCK", "arm_signs"]
+__all__ = ["LIMBS", "SIGNS", "STOCK", "STOCK_VARIANTS", "arm_signs"]
 
 #: the slots of each limb, root to tip (for names that give only a position and a segment)
 LIMBS: dict[str, dict[str, tuple[str, ...]]] = {
@@ -196,4 +196,14 @@ STOCK: dict[Family, dict[str, int]] = {
         "rear_pitch": 10,
         "rear_wheel": 12,
     },
+}
+
+
+#: other stock builds of a family with the same joints on other ICS numbers (right; left =
+#: right + 1), tried in turn when a project's servo names carry no joint:
+#: the magnet-modular KXR-L4T, kxreus ``kxrl4tm`` (KXR-KITS.md §1.4: 24/25 arm-shoulder-y,
+#: 8/9 arm-shoulder-r, 20/21 leg-crotch-y, 16/17 leg-crotch-r, 32 neck-y; its signs are the
+#: L4T's)
+STOCK_VARIANTS: dict[Family, tuple[dict[str, int], ...]] = {
+    "L4T": ({"front_yaw": 24, "front_roll": 8, "rear_yaw": 20, "rear_roll": 16, "neck_yaw": 32},),
 }

@@ -27,7 +27,7 @@ from rcb4hv.robot.kit.build import (
     is_centre,
     kit_model,
     kit_signs,
-    stock_joint_map,
+    stock_joint_maps,
 )
 from rcb4hv.robot.kit.code import FAMILIES, Family, KitCode, parse_kit_code
 from rcb4hv.robot.kit.convention import LIMBS
@@ -106,10 +106,12 @@ def _conflicts(code: KitCode, names: KitCode) -> list[str]:
     return out
 
 
-def _candidates(roles: Mapping[int, tuple[str, Role]]) -> dict[Family, Placement]:
+def _candidates(
+    roles: Mapping[int, tuple[str, Role]], code: KitCode | None
+) -> dict[Family, Placement]:
     out: dict[Family, Placement] = {}
     for family in FAMILIES:
-        p = map_roles(family, roles)
+        p = map_roles(family, roles, wheel_tips=code is not None and code.family == family)
         if p.fits:
             out[family] = p
     return out
@@ -211,14 +213,15 @@ def _choose(
     """The build (its code), its joint map and where the map came from (steps 1-3)."""
     by_names = "the project's servo names (右/左, part, axis, limb)"
     if code is not None and code.family not in cands:
-        stock = stock_joint_map(code)
-        limbs = {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
-        if limbs <= used <= {i for i, _ in stock.values()}:  # every limb; head optional
+        for stock in stock_joint_maps(code):
+            limbs = {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
+            if not limbs <= used <= {i for i, _ in stock.values()}:  # every limb; head optional
+                continue
             stock = {j: (i, s) for j, (i, s) in stock.items() if i in used}
-            why = "; ".join(w for _, w in map_roles(code.family, roles).unplaced) or "core joints"
+            why = "; ".join(w for _, w in map_roles(code.family, roles).unplaced)
             notes.append(
-                f"the servo names do not fit a KXR-{code.code} ({why}), but the ICS numbers "
-                "are its stock build's: joints from the kit's stock map"
+                f"the servo names do not fit a KXR-{code.code} ({why or 'no joint named'}), "
+                "but the ICS numbers are a stock build's: joints from its stock map"
             )
             return code, stock, "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
     family: Family
@@ -271,7 +274,7 @@ def detect_kit(
     notes: list[str] = []
     if spare:
         notes.append(f"no joint in the name of servo(s) {sorted(spare)}: left out")
-    cands = _candidates(roles)
+    cands = _candidates(roles, code)
     effective, jm, source = _choose(code, force, roles, cands, set(names), notes)
     checks: list[tuple[str, bool, str]] = []
     if home:

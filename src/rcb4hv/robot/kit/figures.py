@@ -50,7 +50,12 @@ FIGURES: dict[str, Figure] = {
     "wheel.radius": _f(30.5, "mm", "KX", "kxrbody.l kxr-wheel r 20 + 10.5 (§2.6)"),
     "wheel.width": _f(13.0, "mm", "KX", "kxrbody.l kxr-wheel tyre half-width 6.5 (§2.6)"),
     "wheel.axle_offset": _f(14.0, "mm", "KX", "kxrlinks.l kxr-wheel-link offset 3.5 + 10.5"),
-    "wheel.mass": _f(25.0, "g", "CHOSEN", "tyre and hub; no source weighs the KXR wheel"),
+    "wheel.mass": _f(
+        40.332,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json wheel link: tyre cylinder r 30.56 × 13.21 mm 39.87 g + horn 0.46 g",
+    ),
     # ---------------------------------------------------------------- biped body (L2)
     "l2.shoulder": _f((-7.25, 46.5, 69.0), "mm", "KX", "models/kxrl2g.l (§2.2)"),
     "l2.neck_yaw": _f((-7.25, 0.0, 82.5), "mm", "KX", "kxrl2l6a6h2.json head-neck-y (§2.3)"),

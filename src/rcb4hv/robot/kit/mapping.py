@@ -11,7 +11,7 @@ says which servos found no slot, so a family that does not fit is visible.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from rcb4hv.robot.kit.code import Family
 from rcb4hv.robot.kit.convention import LIMBS
@@ -45,8 +45,13 @@ _CENTRE_LEGGED: dict[Family, tuple[tuple[str, str | None, str], ...]] = {
 # sided servos named without a limb position: (part, axis, slot)
 _SIDED_LEGGED: dict[Family, tuple[tuple[str, str | None, str], ...]] = {
     "L4R": (("shoulder", "roll", "arm_roll"), ("elbow", None, "arm_elbow"),
-            ("gripper", None, "gripper"), ("hip", None, "rear_yaw")),
+            ("wrist", None, "arm_elbow"), ("gripper", None, "gripper"),
+            ("hip", None, "rear_yaw")),
 }  # fmt: skip
+# the body part that names the limb whatever position word the name carries: the L4R's front
+# limbs hang from its shoulders (前肩), its rear ones from its crotch (股間); Kondo's KXR-L4R
+# projects name the right rear yaw 右前股間 ("right front crotch") next to 左足股間
+_LIMB_OF_PART: dict[Family, dict[str, str]] = {"L4R": {"hip": "rear", "shoulder": "front"}}
 
 
 @dataclass
@@ -124,15 +129,24 @@ def _humanoid(roles: Mapping[int, tuple[str, Role]]) -> Placement:
             continue
         joint = slot if slot in _CENTRE_HUMANOID else _side_prefix(p, role, index) + slot
         _place(p, joint, index, name)
+    if not p.bases & {"hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch"}:
+        # the short (2-axis) legs: a yaw and one roll, which Kondo's projects name the ankle's
+        # (右足首（ロール） on 16/17); kxreus calls it the crotch roll (KXR-KITS.md §1.4)
+        for side in ("l_", "r_"):
+            if side + "ankle_roll" in p.joints:
+                p.joints[side + "hip_roll"] = p.joints.pop(side + "ankle_roll")
     return p
 
 
-def _legged(family: Family, roles: Mapping[int, tuple[str, Role]]) -> Placement:
+def _legged(family: Family, roles: Mapping[int, tuple[str, Role]], wheel_tips: bool) -> Placement:
     p = Placement(family)
     limbs = LIMBS[family]
     groups: dict[tuple[str, str], list[tuple[int, str, Role]]] = {}
     centre = list(_CENTRE_LEGGED.get(family, ()))
     for index, (name, role) in sorted(roles.items()):
+        limb_of = _LIMB_OF_PART.get(family, {}).get(role.part)
+        if limb_of is not None and role.position is not None:
+            role = replace(role, position=limb_of)  # type: ignore[arg-type]
         if role.position is None and role.side != "centre":
             extra = next(
                 (c for c in _SIDED_LEGGED.get(family, ()) if c[0] == role.part
@@ -170,8 +184,9 @@ def _legged(family: Family, roles: Mapping[int, tuple[str, Role]]) -> Placement:
                 want = next((s for s in slots if s.endswith("_wheel")), None)
             elif role.segment == "root":
                 want = moving[0]
-            elif role.segment == "tip":
-                want = moving[-1]
+            elif role.segment == "tip":  # a wheel after one joint is the tip (L4R: 後足先端)
+                wheeled = wheel_tips and len(moving) == 1 and slots[-1].endswith("_wheel")
+                want = slots[-1] if wheeled else moving[-1]
             elif role.segment == "mid" and len(moving) >= 3:
                 want = moving[1]
             elif role.part in ("knee", "ankle"):
@@ -193,6 +208,10 @@ def _legged(family: Family, roles: Mapping[int, tuple[str, Role]]) -> Placement:
     return p
 
 
-def map_roles(family: Family, roles: Mapping[int, tuple[str, Role]]) -> Placement:
-    """Place the servos ``roles`` (index -> (name, role)) on the frame of ``family``."""
-    return _humanoid(roles) if family == "humanoid" else _legged(family, roles)
+def map_roles(
+    family: Family, roles: Mapping[int, tuple[str, Role]], *, wheel_tips: bool = False
+) -> Placement:
+    """Place the servos ``roles`` (index -> (name, role)) on the frame of ``family``.
+    ``wheel_tips``: the title names the family, so the tip (先) of a limb of one joint and a
+    wheel (the L4R's) is its wheel; without it, a leg's tip is never taken for a wheel."""
+    return _humanoid(roles) if family == "humanoid" else _legged(family, roles, wheel_tips)

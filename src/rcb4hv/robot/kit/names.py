@@ -73,7 +73,7 @@ _AXES: tuple[tuple[str, Axis], ...] = (
     (r"ロール|roll", "roll"),
     (r"ヨー|yaw", "yaw"),
 )
-_SEGMENT_JA = re.compile(r"[(\s]\s*(元|根元|中|先)\s*\)?\s*$|(元|先)$")
+_SEGMENT_JA = re.compile(r"[(\s]\s*(元|根元|中|先端|先)\s*\)?\s*$|(元|先端|先)$")
 _SEGMENT_EN = re.compile(r"\b(?:leg|arm)\b\W*(root|base|mid|middle|tip|end)\b", re.I)
 _POSITION_JA = re.compile(r"(前|中|後)(?=脚|足|\(|車輪|輪|腕)|^[右左]?(前|後)")
 _POSITION_EN = re.compile(r"\b(front|fore|middle|mid|rear|back|hind)\b\W*(?:leg|wheel|arm)?", re.I)
@@ -116,7 +116,7 @@ def parse_servo_name(name: str | None) -> Role | None:
         j = _SEGMENT_JA.search(n)
         if j is not None:
             word = j.group(1) or j.group(2)
-            segment = "root" if word in ("元", "根元") else "tip" if word == "先" else "mid"
+            segment = "root" if word in ("元", "根元") else "tip" if word[0] == "先" else "mid"
             n_pos = n[: j.start()]
     pm = _POSITION_JA.search(n_pos)
     if pm is not None:
