@@ -95,7 +95,7 @@ def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_p
         one(user, "settings-startup").set_value(0)
         user.find(marker="settings-startup-apply").click()
         await until(lambda: "1 edits" in one(user, "editor-status").text)
-        board.ram[0x0024:0x0026] = (300).to_bytes(2, "little")  # AD1 now reads 300
+        board.set_ad_input(1, 300)  # AD1 now reads 300 (measured + reference = the input)
         user.find(marker="settings-ad-read").click()
         await until(lambda: one(user, "settings-ad-1").value == 300)
         one(user, "settings-ad-1").set_value(273)
