@@ -65,7 +65,8 @@ def test_one_process_and_a_pool_give_the_same_numbers(upright: tuple[bytes, Moti
 
 
 def test_ray_gives_the_same_numbers_as_the_pool(upright: tuple[bytes, MotionLayout]) -> None:
-    ray = pytest.importorskip("ray", reason="Ray (the [scale] extra) is not installed")
+    import ray  # the [scale] extra, which `make test` installs
+
     image, layout = upright
     local = robust(image, [2], layout=layout, robot=KXR, trials=2, seed=5, workers=1)
     ray.init(num_cpus=1, include_dashboard=False, log_to_driver=False)

@@ -16,8 +16,6 @@ from rcb4hv.robot.mjcf import to_mjcf
 from rcb4hv.robot.servos import DEFAULT_SERVO, WHEEL_FULL_SCALE_DEG, wheel_duty
 from tests.physics.conftest import PROJECT
 
-pytest.importorskip("mujoco")
-
 WHEELS = {20: "右足首車輪", 21: "左足首車輪"}
 
 

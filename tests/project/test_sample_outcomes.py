@@ -64,7 +64,6 @@ def test_the_bound_buttons_are_read_from_the_project(project_file: Path) -> None
 
 
 def test_a_bound_walk_is_played_with_its_button_held(project_file: Path) -> None:
-    pytest.importorskip("mujoco")
     tool = _tool()
     held, once = tool.project_outcomes(project_file, None, [18, 19])
     assert (held.slot, held.how) == (18, f"UP+S1 held {tool.HOLD_S:g} s")

@@ -95,7 +95,6 @@ CODES = ["kxr:L2GH", "kxr:L2W2L6A4H2", "kxr:A6G", "kxr:L2GL6A7H2W", "kxr:L6", "k
 
 @pytest.mark.parametrize("text", CODES)
 def test_each_family_is_detected_from_its_names_and_stands_at_home(text: str) -> None:
-    pytest.importorskip("mujoco")
     from rcb4hv.physics.world import PhysicsWorld
 
     code, model = stock(text)
