@@ -142,7 +142,10 @@ def build_humanoid(
                     advisory=spec.advisory,
                 )
             )
-            links.append(Link(spec.link, solid_many(spec.mass, spec.geoms), spec.geoms))
+            inertial = solid_many(spec.mass, spec.geoms)
+            if spec.com is not None:
+                inertial = replace(inertial, com=spec.com)
+            links.append(Link(spec.link, inertial, spec.geoms))
             centre_links.add(spec.link)
             continue
         for prefix in (LEFT, RIGHT):

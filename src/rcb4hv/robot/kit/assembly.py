@@ -7,10 +7,11 @@ subset of the slots (its servo names say which); a slot without a servo is rigid
 shapes join its parent's link. All joints have identity rotation at the zero pose (KXR
 frames are built square), so a joint's origin is its position minus its parent's.
 
-Masses: the build's own whole-robot mass where kxreus gives one, else the family's
-(``figures.MASS_SERVOS`` build) plus or minus one servo per servo more or fewer, spread as
-:func:`rcb4hv.robot.humanoid.distribute_mass` does: each link carries its servo case, the
-rest is shared by shape volume.
+Masses: where kxreus weighs each link of the build (``figures.link_figures``), each link
+takes its mass and centre of mass from there. Otherwise the build's own whole-robot mass
+where kxreus gives one, else the family's (``figures.MASS_SERVOS`` build) plus or minus one
+servo per servo more or fewer, spread as :func:`rcb4hv.robot.humanoid.distribute_mass`
+does: each link carries its servo case, the rest is shared by shape volume.
 """
 
 from __future__ import annotations
@@ -105,11 +106,14 @@ def assemble(
     home: Mapping[str, float] | None = None,
     servo: ServoSpec = KRS_3304R2,
     total_mass: float | None = None,
+    link_masses: Mapping[str, tuple[float, Vec3 | None]] | None = None,
 ) -> RobotModel:
     """The model of ``template`` with the slots ``present`` (base names); ``joint_map``: full
     joint name (``l_knee_pitch``, ``neck_yaw``) -> (servo index, sign); ``total_mass`` (kg):
     the build's own whole-robot mass when a source gives it (else the family's, see the
-    module docstring)."""
+    module docstring); ``link_masses``: slot (``torso`` for the body) -> (mass g, centre of
+    mass mm in the link frame, left side, or None) where a source weighs a link: those links
+    take them, the others share what is left of the total."""
     by_name = {s.name: s for s in template.slots}
     unknown = [p for p in present if p not in by_name]
     if unknown:
@@ -149,7 +153,12 @@ def assemble(
         for k, g in links.items()
         if g
     }
-    masses = distribute_mass(total, per_servo, parts)
+    masses = _masses(total, per_servo, parts, link_masses or {})
+    com = {
+        k: (c[0] * MM, c[1] * MM, c[2] * MM)
+        for k, (_, c) in (link_masses or {}).items()
+        if c is not None and k in parts
+    }
     joints: list[LimbJoint] = []
     for s in template.slots:
         if s.name not in keep:
@@ -170,9 +179,13 @@ def assemble(
                 geoms=geoms,
                 mass=masses[s.name],
                 centre=s.centre,
+                com=com.get(s.name),
             )
         )
-    root = Link("torso", solid_many(masses["torso"], links[None]), links[None])
+    body = solid_many(masses["torso"], links[None])
+    if "torso" in com:
+        body = replace(body, com=com["torso"])
+    root = Link("torso", body, links[None])
     return build_humanoid(
         name=name,
         title=title,
@@ -183,3 +196,19 @@ def assemble(
         sources=sources,
         home=home,
     )
+
+
+def _masses(
+    total: float,
+    per_servo: float,
+    parts: Mapping[str, tuple[int, int, Sequence[Geom]]],
+    given: Mapping[str, tuple[float, Vec3 | None]],
+) -> dict[str, float]:
+    """One copy's mass (kg) of each part: the source's figure where ``given`` has one, the
+    rest of ``total`` shared by servo and volume over the others (all given: their sum)."""
+    fixed = {k: given[k][0] * MM for k in parts if k in given}
+    free = {k: v for k, v in parts.items() if k not in fixed}
+    if not free:
+        return fixed
+    rest = total - sum(parts[k][0] * m for k, m in fixed.items())
+    return distribute_mass(rest, per_servo, free) | fixed

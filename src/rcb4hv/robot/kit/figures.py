@@ -12,7 +12,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["FIGURES", "MASS_SERVOS", "SOURCES", "Figure", "fig", "provenance_markdown", "vec"]
+__all__ = [
+    "FIGURES",
+    "MASS_SERVOS",
+    "SOURCES",
+    "Figure",
+    "fig",
+    "link_figures",
+    "provenance_markdown",
+    "vec",
+]
 
 #: source key -> (what it is, licence)
 SOURCES: dict[str, tuple[str, str]] = {
@@ -85,11 +94,18 @@ FIGURES: dict[str, Figure] = {
         "tyre 3 mm below the sole",
     ),
     "l2.ankle_wheel": _f(
-        (-48.0, 14.0, 4.5),
+        (-78.03, 0.0, 0.0),
         "mm",
-        "CHOSEN",
-        "W2 axle behind the ankle (kxr-document.txt: 足首の後ろに車輪), tyre "
-        "5 mm above the sole plane at zero pose; KX §2.5 did not give it",
+        "KX",
+        "kxrl2w2l6a4h2.json lleg-ankle-w pos from the ankle pitch axis (kxr-document.txt: "
+        "足首の後ろに車輪); with the 31 mm sole the tyre clears the floor by 0.5 mm at zero pose",
+    ),
+    "l2.ankle_tyre": _f(
+        (0.0, 23.5, 0.0),
+        "mm",
+        "KX",
+        "kxrl2w2l6a4h2.json physics: the ankle wheel's tyre cylinder 23.5 mm outboard of its "
+        "axle's origin",
     ),
     # arm chains: offsets from the previous joint (A3: kxrl2g.l; A4-A6: kxrl2l6a6h2.json;
     # A7: kxrl2l6a7h2w.json)
@@ -184,6 +200,123 @@ FIGURES: dict[str, Figure] = {
     "mass.L2W2L5A4H2G": _f(1676.41, "g", "KX", "kxrl2w2l5a4h2.json total (§3.3)"),
     "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
     "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
+    # per-link masses (g) and centres of mass (mm, link frame = robot axes at zero pose, left
+    # side) of one build, where kxreus weighs each link (eus2json physics.links[i], i below;
+    # kxreus estimates: 27.73 g servos, 1.2 g/cm³ plastic). The kit builder takes them for the
+    # build of that canonical code; a link without a row shares the rest (§3.3 rule).
+    "lmass.L2W2L6A4H2G.torso": _f(
+        437.985,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[0] torso: 5 servos, board, battery box 30 g, "
+        "back-pack 66 g",
+    ),
+    "lcom.L2W2L6A4H2G.torso": _f(
+        (-6.626, 0.0, 30.964), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[0] com"
+    ),
+    "lmass.L2W2L6A4H2G.shoulder_pitch": _f(
+        11.283, "g", "KX", "kxrl2w2l6a4h2.json physics.links[8] left arm's 1st link (shoulder-p)"
+    ),
+    "lcom.L2W2L6A4H2G.shoulder_pitch": _f(
+        (0.0, 12.333, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[8] com"
+    ),
+    "lmass.L2W2L6A4H2G.shoulder_roll": _f(
+        80.649, "g", "KX", "kxrl2w2l6a4h2.json physics.links[9] 2nd (shoulder-r, 2 servos)"
+    ),
+    "lcom.L2W2L6A4H2G.shoulder_roll": _f(
+        (-3.649, 0.0, -34.002), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[9] com"
+    ),
+    "lmass.L2W2L6A4H2G.shoulder_yaw": _f(
+        11.283, "g", "KX", "kxrl2w2l6a4h2.json physics.links[10] 3rd (shoulder-y)"
+    ),
+    "lcom.L2W2L6A4H2G.shoulder_yaw": _f(
+        (0.0, 0.0, -12.333), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[10] com"
+    ),
+    "lmass.L2W2L6A4H2G.elbow_pitch": _f(
+        74.384, "g", "KX", "kxrl2w2l6a4h2.json physics.links[11] 4th (elbow-p, 2 servos)"
+    ),
+    "lcom.L2W2L6A4H2G.elbow_pitch": _f(
+        (0.0, 5.27, -31.679), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[11] com"
+    ),
+    "lmass.L2W2L6A4H2G.gripper": _f(
+        37.034,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[12] + [13]: the two gripper fingers 23.767 + "
+        "13.267 g (one servo drives both; their CoMs are in rotated frames, not taken)",
+    ),
+    "lmass.L2W2L6A4H2G.hip_yaw": _f(
+        11.547, "g", "KX", "kxrl2w2l6a4h2.json physics.links[22] lleg-crotch-y"
+    ),
+    "lcom.L2W2L6A4H2G.hip_yaw": _f(
+        (0.0, 0.0, -12.994), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[22] com"
+    ),
+    "lmass.L2W2L6A4H2G.hip_roll": _f(
+        78.374, "g", "KX", "kxrl2w2l6a4h2.json physics.links[23] lleg-crotch-r (2 servos)"
+    ),
+    "lcom.L2W2L6A4H2G.hip_roll": _f(
+        (-13.148, 0.0, -8.556), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[23] com"
+    ),
+    "lmass.L2W2L6A4H2G.hip_pitch": _f(
+        22.434, "g", "KX", "kxrl2w2l6a4h2.json physics.links[24] lleg-crotch-p"
+    ),
+    "lcom.L2W2L6A4H2G.hip_pitch": _f(
+        (0.0, 0.0, -33.737), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[24] com"
+    ),
+    "lmass.L2W2L6A4H2G.knee_pitch": _f(
+        54.3, "g", "KX", "kxrl2w2l6a4h2.json physics.links[25] lleg-knee-p (1 servo)"
+    ),
+    "lcom.L2W2L6A4H2G.knee_pitch": _f(
+        (10.966, 0.0, -12.284), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[25] com"
+    ),
+    "lmass.L2W2L6A4H2G.ankle_pitch": _f(
+        122.858,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[26] lleg-ankle-p: 3 servos (ankle pitch, ankle "
+        "roll, the wheel's) and their frames",
+    ),
+    "lcom.L2W2L6A4H2G.ankle_pitch": _f(
+        (-33.808, 0.0, 9.676), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[26] com"
+    ),
+    "lmass.L2W2L6A4H2G.ankle_wheel": _f(
+        40.332,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[27] lleg-ankle-w (tyre 39.87 + horn 0.46)",
+    ),
+    "lcom.L2W2L6A4H2G.ankle_wheel": _f(
+        (0.0, 23.412, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[27] com"
+    ),
+    "lmass.L2W2L6A4H2G.ankle_roll": _f(
+        38.432, "g", "KX", "kxrl2w2l6a4h2.json physics.links[28] lleg-ankle-r (sole plate)"
+    ),
+    "lcom.L2W2L6A4H2G.ankle_roll": _f(
+        (0.0, 7.514, -25.416), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[28] com"
+    ),
+    "lmass.L2W2L6A4H2G.neck_yaw": _f(
+        37.982, "g", "KX", "kxrl2w2l6a4h2.json physics.links[29] head-neck-y (1 servo)"
+    ),
+    "lcom.L2W2L6A4H2G.neck_yaw": _f(
+        (8.177, 0.0, 22.956), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[29] com"
+    ),
+    "lmass.L2W2L6A4H2G.neck_pitch": _f(
+        156.521,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[30] head-neck-p (kxreus's head part 145.7 g)",
+    ),
+    "lcom.L2W2L6A4H2G.neck_pitch": _f(
+        (5.585, 0.0, 40.683), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[30] com"
+    ),
+    "unused.L2W2L6A4H2G.arm_tyre": _f(
+        39.87,
+        "g",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[14] (and [7]): a tyre on each A4 arm's end; Kondo's "
+        "project has no servo for it, so the kit builder leaves it out (the model weighs "
+        "mass.L2W2L6A4H2G less two of these)",
+    ),
     "mass.per_servo": _f(
         35.03,
         "g",
@@ -211,6 +344,20 @@ def vec(key: str) -> tuple[float, float, float]:
     if not isinstance(v, tuple):
         raise TypeError(f"{key} is a scalar")
     return v
+
+
+def link_figures(code: str) -> dict[str, tuple[float, tuple[float, float, float] | None]]:
+    """Slot (``torso``, ``ankle_pitch``, ...) -> (mass g, centre of mass mm in the link frame,
+    left side, or None) of the build whose canonical code is ``code``, where the source
+    weighs each link (the ``lmass.CODE.*`` / ``lcom.CODE.*`` rows); empty for other builds."""
+    head = f"lmass.{code}."
+    out: dict[str, tuple[float, tuple[float, float, float] | None]] = {}
+    for key in FIGURES:
+        if key.startswith(head):
+            slot = key[len(head) :]
+            com = f"lcom.{code}.{slot}"
+            out[slot] = (fig(key), vec(com) if com in FIGURES else None)
+    return out
 
 
 def provenance_markdown() -> str:

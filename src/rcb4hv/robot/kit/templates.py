@@ -54,8 +54,9 @@ def _slot(
     return Slot(name, parent, pos, axis or _AXIS[kind], kind, limits, geoms, centre)
 
 
-def _wheel_slot(name: str, parent: str, axle: Vec3) -> Slot:
-    tyre = cylinder_y(fig("wheel.radius"), fig("wheel.width"), axle)
+def _wheel_slot(name: str, parent: str, axle: Vec3, tyre_at: Vec3 = (0.0, 0.0, 0.0)) -> Slot:
+    """A wheel turning about ``axle`` (its joint), its tyre ``tyre_at`` along from it."""
+    tyre = cylinder_y(fig("wheel.radius"), fig("wheel.width"), _add(axle, tyre_at))
     return replace(_slot(name, parent, axle, "wheel", WHEEL_LIMITS, (tyre,)), optional=True)
 
 
@@ -196,7 +197,9 @@ def _leg(code: KitCode) -> list[Slot]:
             (box((40, 27, 40), _add(ankle, (-5, 0, 8))),),
         ),
         _slot("ankle_roll", "ankle_pitch", ankle, "roll", (-170, 170), _sole(ankle)),
-        _wheel_slot("ankle_wheel", "ankle_pitch", _add(ankle, vec("l2.ankle_wheel"))),
+        _wheel_slot(
+            "ankle_wheel", "ankle_pitch", _add(ankle, vec("l2.ankle_wheel")), vec("l2.ankle_tyre")
+        ),
         _wheel_slot("front_wheel", "ankle_roll", _add(ankle, vec("l2.foot_wheel"))),
         _wheel_slot("rear_wheel", "ankle_roll", _add(ankle, _flip_x(vec("l2.foot_wheel")))),
     ]
