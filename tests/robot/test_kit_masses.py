@@ -1,6 +1,7 @@
-"""Per-link masses and centres of mass from the source (kxreus's per-link figures), where it
-weighs each link of a build; the figures are kxreus's, repeated here as the numbers a reader
-checks against ``kxrl2w2l6a4h2.json`` physics.links."""
+"""The KXR-L2W2L6A4H2 as kxreus weighs and assembles it: per-link masses and centres of mass
+where the source weighs each link of a build, the ankle wheel and the A4 arm offsets; the
+figures are kxreus's, repeated here as the numbers a reader checks against
+``kxrl2w2l6a4h2.json`` (physics.links and the link headers)."""
 
 from __future__ import annotations
 
@@ -82,3 +83,15 @@ def test_links_without_a_figure_share_what_is_left() -> None:
     assert model.link("torso").inertial.mass == pytest.approx(0.5)
     assert model.link("torso").inertial.com == pytest.approx((0.0, 0.0, 0.03))
     assert model.link("r_hip_roll_link").inertial.mass == pytest.approx(0.08)
+
+
+def test_the_a4_arm_has_kxreus_a4_offsets() -> None:
+    # kxrl2w2l6a4h2.json: shoulder-r 29 mm out, shoulder-y 67 mm below it, elbow 29 mm
+    # below that, gripper 65.5 mm below the elbow (not the A6 arm's 15 + 41 mm)
+    _, model = stock("kxr:L2W2L6A4H2G")
+    assert model.joint("l_shoulder_roll").xyz == pytest.approx((0.0, 0.029, 0.0))
+    assert model.joint("l_shoulder_yaw").xyz == pytest.approx((0.0, 0.0, -0.067))
+    assert model.joint("l_elbow_pitch").xyz == pytest.approx((0.0, 0.0, -0.029))
+    assert model.joint("r_gripper").xyz == pytest.approx((0.0, 0.0, -0.0655))
+    _, a6 = stock("kxr:L2L6A6H2G")
+    assert a6.joint("l_shoulder_yaw").xyz == pytest.approx((0.0, 0.0, -0.015))

@@ -59,12 +59,6 @@ FIGURES: dict[str, Figure] = {
     "wheel.radius": _f(30.5, "mm", "KX", "kxrbody.l kxr-wheel r 20 + 10.5 (§2.6)"),
     "wheel.width": _f(13.0, "mm", "KX", "kxrbody.l kxr-wheel tyre half-width 6.5 (§2.6)"),
     "wheel.axle_offset": _f(14.0, "mm", "KX", "kxrlinks.l kxr-wheel-link offset 3.5 + 10.5"),
-    "wheel.mass": _f(
-        40.332,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json wheel link: tyre cylinder r 30.56 × 13.21 mm 39.87 g + horn 0.46 g",
-    ),
     # ---------------------------------------------------------------- biped body (L2)
     "l2.shoulder": _f((-7.25, 46.5, 69.0), "mm", "KX", "models/kxrl2g.l (§2.2)"),
     "l2.neck_yaw": _f((-7.25, 0.0, 82.5), "mm", "KX", "kxrl2l6a6h2.json head-neck-y (§2.3)"),
@@ -107,11 +101,17 @@ FIGURES: dict[str, Figure] = {
         "kxrl2w2l6a4h2.json physics: the ankle wheel's tyre cylinder 23.5 mm outboard of its "
         "axle's origin",
     ),
-    # arm chains: offsets from the previous joint (A3: kxrl2g.l; A4-A6: kxrl2l6a6h2.json;
-    # A7: kxrl2l6a7h2w.json)
+    # arm chains: offsets from the previous joint (A3: kxrl2g.l; A4: kxrl2w2l6a4h2.json;
+    # A5-A6: kxrl2l6a6h2.json; A7: kxrl2l6a7h2w.json)
     "arm3.roll": _f((0.0, 29.0, 0.0), "mm", "KX", "models/kxrl2g.l shoulder-r (§2.2)"),
     "arm3.elbow": _f((0.0, 0.0, -53.0), "mm", "KX", "models/kxrl2g.l elbow-p (§2.2)"),
     "arm3.gripper": _f((0.0, 0.0, -65.5), "mm", "KX", "models/kxrl2g.l gripper2-r (§2.2)"),
+    "arm4.roll": _f((0.0, 29.0, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-shoulder-r pos"),
+    "arm4.yaw": _f((0.0, 0.0, -67.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-shoulder-y pos"),
+    "arm4.elbow": _f((0.0, 0.0, -29.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-elbow-p pos"),
+    "arm4.gripper": _f(
+        (0.0, 0.0, -65.5), "mm", "KX", "kxrl2w2l6a4h2.json larm-gripper2-r pos (from the elbow)"
+    ),
     "arm6.roll": _f((0.0, 31.0, 0.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-r (§2.3)"),
     "arm6.yaw": _f((0.0, 0.0, -15.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-y (§2.3)"),
     "arm6.elbow": _f((0.0, 0.0, -41.0), "mm", "KX", "kxrl2l6a6h2.json elbow-p (§2.3)"),

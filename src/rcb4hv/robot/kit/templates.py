@@ -54,6 +54,10 @@ def _slot(
     return Slot(name, parent, pos, axis or _AXIS[kind], kind, limits, geoms, centre)
 
 
+def _span(a: Vec3, b: Vec3) -> float:
+    return max(abs(a[k] - b[k]) for k in range(3))
+
+
 def _wheel_slot(name: str, parent: str, axle: Vec3, tyre_at: Vec3 = (0.0, 0.0, 0.0)) -> Slot:
     """A wheel turning about ``axle`` (its joint), its tyre ``tyre_at`` along from it."""
     tyre = cylinder_y(fig("wheel.radius"), fig("wheel.width"), _add(axle, tyre_at))
@@ -75,6 +79,13 @@ def _arm(arms: int) -> list[Slot]:
         wrist = elbow
         grip = _add(elbow, vec("arm3.gripper"))
         order: tuple[JointKind, JointKind] = ("roll", "yaw")
+    elif arms == 4:
+        roll = _add(s, vec("arm4.roll"))
+        yaw = _add(roll, vec("arm4.yaw"))
+        elbow = _add(yaw, vec("arm4.elbow"))
+        wrist = elbow
+        grip = _add(elbow, vec("arm4.gripper"))
+        order = ("roll", "yaw")
     elif arms <= 6:
         roll = _add(s, vec("arm6.roll"))
         yaw = _add(roll, vec("arm6.yaw"))
@@ -95,7 +106,15 @@ def _arm(arms: int) -> list[Slot]:
     upper = segment(pos[second], elbow, light=True)
     return [
         pitch,
-        _slot(f"shoulder_{first}", "shoulder_pitch", pos[first], first, lim[first], ()),
+        _slot(
+            f"shoulder_{first}",
+            "shoulder_pitch",
+            pos[first],
+            first,
+            lim[first],
+            # the A4's roll-to-yaw link is longer than a servo case: its frame spans it
+            (segment(pos[first], pos[second]),) if _span(pos[first], pos[second]) > 26.0 else (),
+        ),
         _slot(
             f"shoulder_{second}", f"shoulder_{first}", pos[second], second, lim[second], (upper,)
         ),
