@@ -9,7 +9,7 @@ import pytest
 
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.build import stock_joint_map
-from rcb4hv.robot.kit.figures import fig, link_figures
+from rcb4hv.robot.kit.figures import LinkFigure, fig, link_figures
 from rcb4hv.robot.kit.templates import template
 from tests.robot.kit_names import names_for, stock
 
@@ -19,6 +19,8 @@ def test_the_wheel_leg_build_weighs_its_links_as_kxreus_does() -> None:
     ankle = model.link("l_ankle_pitch_link").inertial
     assert ankle.mass == pytest.approx(0.122858)  # three servos: ankle pitch, roll, wheel
     assert ankle.com == pytest.approx((-0.033808, 0.0, 0.009676))  # behind the ankle
+    # its moments about the pitch and yaw axes: a long link (the wheel servo 78 mm back)
+    assert ankle.inertia[:3] == pytest.approx((2.072716e-05, 1.4003496e-04, 1.3574437e-04))
     right = model.link("r_ankle_pitch_link").inertial
     assert right.mass == pytest.approx(0.122858) and right.com[1] == pytest.approx(0.0)
     assert model.link("l_ankle_wheel_link").inertial.mass == pytest.approx(0.040332)
@@ -77,11 +79,15 @@ def test_links_without_a_figure_share_what_is_left() -> None:
         title="x",
         sources={},
         total_mass=1.7,
-        link_masses={"torso": (500.0, (0.0, 0.0, 30.0)), "hip_roll": (80.0, None)},
+        link_masses={
+            "torso": LinkFigure(500.0, (0.0, 0.0, 30.0), (5000.0, 4000.0, 3000.0)),
+            "hip_roll": LinkFigure(80.0, None, None),
+        },
     )
     assert model.mass == pytest.approx(1.7)
     assert model.link("torso").inertial.mass == pytest.approx(0.5)
     assert model.link("torso").inertial.com == pytest.approx((0.0, 0.0, 0.03))
+    assert model.link("torso").inertial.inertia == pytest.approx((5e-4, 4e-4, 3e-4, 0, 0, 0))
     assert model.link("r_hip_roll_link").inertial.mass == pytest.approx(0.08)
 
 

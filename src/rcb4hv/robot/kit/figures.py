@@ -11,12 +11,14 @@ named in each row).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 __all__ = [
     "FIGURES",
     "MASS_SERVOS",
     "SOURCES",
     "Figure",
+    "LinkFigure",
     "fig",
     "link_figures",
     "provenance_markdown",
@@ -200,8 +202,10 @@ FIGURES: dict[str, Figure] = {
     "mass.L2W2L5A4H2G": _f(1676.41, "g", "KX", "kxrl2w2l5a4h2.json total (§3.3)"),
     "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
     "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
-    # per-link masses (g) and centres of mass (mm, link frame = robot axes at zero pose, left
-    # side) of one build, where kxreus weighs each link (eus2json physics.links[i], i below;
+    # per-link masses (g), centres of mass (mm) and moments of inertia about them (g·cm²; the
+    # products of inertia, at most a fifth of a moment, are left out) in the link frame (the
+    # robot's axes at zero pose, left side) of one build, where kxreus weighs each link
+    # (eus2json physics.links[i], i below;
     # kxreus estimates: 27.73 g servos, 1.2 g/cm³ plastic). The kit builder takes them for the
     # build of that canonical code; a link without a row shares the rest (§3.3 rule).
     "lmass.L2W2L6A4H2G.torso": _f(
@@ -214,11 +218,23 @@ FIGURES: dict[str, Figure] = {
     "lcom.L2W2L6A4H2G.torso": _f(
         (-6.626, 0.0, 30.964), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[0] com"
     ),
+    "linert.L2W2L6A4H2G.torso": _f(
+        (8345.2624, 7306.4656, 4648.4596),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[0] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.shoulder_pitch": _f(
         11.283, "g", "KX", "kxrl2w2l6a4h2.json physics.links[8] left arm's 1st link (shoulder-p)"
     ),
     "lcom.L2W2L6A4H2G.shoulder_pitch": _f(
         (0.0, 12.333, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[8] com"
+    ),
+    "linert.L2W2L6A4H2G.shoulder_pitch": _f(
+        (16.2679, 22.9413, 30.0663),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[8] inertia ixx, iyy, izz",
     ),
     "lmass.L2W2L6A4H2G.shoulder_roll": _f(
         80.649, "g", "KX", "kxrl2w2l6a4h2.json physics.links[9] 2nd (shoulder-r, 2 servos)"
@@ -226,17 +242,35 @@ FIGURES: dict[str, Figure] = {
     "lcom.L2W2L6A4H2G.shoulder_roll": _f(
         (-3.649, 0.0, -34.002), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[9] com"
     ),
+    "linert.L2W2L6A4H2G.shoulder_roll": _f(
+        (470.5507, 502.6735, 127.0268),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[9] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.shoulder_yaw": _f(
         11.283, "g", "KX", "kxrl2w2l6a4h2.json physics.links[10] 3rd (shoulder-y)"
     ),
     "lcom.L2W2L6A4H2G.shoulder_yaw": _f(
         (0.0, 0.0, -12.333), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[10] com"
     ),
+    "linert.L2W2L6A4H2G.shoulder_yaw": _f(
+        (30.0663, 16.2679, 22.9413),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[10] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.elbow_pitch": _f(
         74.384, "g", "KX", "kxrl2w2l6a4h2.json physics.links[11] 4th (elbow-p, 2 servos)"
     ),
     "lcom.L2W2L6A4H2G.elbow_pitch": _f(
         (0.0, 5.27, -31.679), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[11] com"
+    ),
+    "linert.L2W2L6A4H2G.elbow_pitch": _f(
+        (458.4022, 415.938, 141.462),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[11] inertia ixx, iyy, izz",
     ),
     "lmass.L2W2L6A4H2G.gripper": _f(
         37.034,
@@ -251,11 +285,23 @@ FIGURES: dict[str, Figure] = {
     "lcom.L2W2L6A4H2G.hip_yaw": _f(
         (0.0, 0.0, -12.994), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[22] com"
     ),
+    "linert.L2W2L6A4H2G.hip_yaw": _f(
+        (18.2922, 32.7364, 23.7035),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[22] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.hip_roll": _f(
         78.374, "g", "KX", "kxrl2w2l6a4h2.json physics.links[23] lleg-crotch-r (2 servos)"
     ),
     "lcom.L2W2L6A4H2G.hip_roll": _f(
         (-13.148, 0.0, -8.556), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[23] com"
+    ),
+    "linert.L2W2L6A4H2G.hip_roll": _f(
+        (118.7695, 357.5857, 338.7957),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[23] inertia ixx, iyy, izz",
     ),
     "lmass.L2W2L6A4H2G.hip_pitch": _f(
         22.434, "g", "KX", "kxrl2w2l6a4h2.json physics.links[24] lleg-crotch-p"
@@ -263,11 +309,23 @@ FIGURES: dict[str, Figure] = {
     "lcom.L2W2L6A4H2G.hip_pitch": _f(
         (0.0, 0.0, -33.737), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[24] com"
     ),
+    "linert.L2W2L6A4H2G.hip_pitch": _f(
+        (99.6459, 70.1625, 47.8128),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[24] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.knee_pitch": _f(
         54.3, "g", "KX", "kxrl2w2l6a4h2.json physics.links[25] lleg-knee-p (1 servo)"
     ),
     "lcom.L2W2L6A4H2G.knee_pitch": _f(
         (10.966, 0.0, -12.284), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[25] com"
+    ),
+    "linert.L2W2L6A4H2G.knee_pitch": _f(
+        (193.2207, 201.9425, 106.4056),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[25] inertia ixx, iyy, izz",
     ),
     "lmass.L2W2L6A4H2G.ankle_pitch": _f(
         122.858,
@@ -279,6 +337,12 @@ FIGURES: dict[str, Figure] = {
     "lcom.L2W2L6A4H2G.ankle_pitch": _f(
         (-33.808, 0.0, 9.676), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[26] com"
     ),
+    "linert.L2W2L6A4H2G.ankle_pitch": _f(
+        (207.2716, 1400.3496, 1357.4437),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[26] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.ankle_wheel": _f(
         40.332,
         "g",
@@ -288,17 +352,35 @@ FIGURES: dict[str, Figure] = {
     "lcom.L2W2L6A4H2G.ankle_wheel": _f(
         (0.0, 23.412, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[27] com"
     ),
+    "linert.L2W2L6A4H2G.ankle_wheel": _f(
+        (99.2558, 186.3529, 99.2813),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[27] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.ankle_roll": _f(
         38.432, "g", "KX", "kxrl2w2l6a4h2.json physics.links[28] lleg-ankle-r (sole plate)"
     ),
     "lcom.L2W2L6A4H2G.ankle_roll": _f(
         (0.0, 7.514, -25.416), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[28] com"
     ),
+    "linert.L2W2L6A4H2G.ankle_roll": _f(
+        (147.3124, 301.5243, 402.4514),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[28] inertia ixx, iyy, izz",
+    ),
     "lmass.L2W2L6A4H2G.neck_yaw": _f(
         37.982, "g", "KX", "kxrl2w2l6a4h2.json physics.links[29] head-neck-y (1 servo)"
     ),
     "lcom.L2W2L6A4H2G.neck_yaw": _f(
         (8.177, 0.0, 22.956), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[29] com"
+    ),
+    "linert.L2W2L6A4H2G.neck_yaw": _f(
+        (87.2107, 89.7321, 58.3253),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[29] inertia ixx, iyy, izz",
     ),
     "lmass.L2W2L6A4H2G.neck_pitch": _f(
         156.521,
@@ -308,6 +390,12 @@ FIGURES: dict[str, Figure] = {
     ),
     "lcom.L2W2L6A4H2G.neck_pitch": _f(
         (5.585, 0.0, 40.683), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[30] com"
+    ),
+    "linert.L2W2L6A4H2G.neck_pitch": _f(
+        (2165.1916, 300.1152, 2025.7028),
+        "g·cm²",
+        "KX",
+        "kxrl2w2l6a4h2.json physics.links[30] inertia ixx, iyy, izz",
     ),
     "unused.L2W2L6A4H2G.arm_tyre": _f(
         39.87,
@@ -346,17 +434,30 @@ def vec(key: str) -> tuple[float, float, float]:
     return v
 
 
-def link_figures(code: str) -> dict[str, tuple[float, tuple[float, float, float] | None]]:
-    """Slot (``torso``, ``ankle_pitch``, ...) -> (mass g, centre of mass mm in the link frame,
-    left side, or None) of the build whose canonical code is ``code``, where the source
-    weighs each link (the ``lmass.CODE.*`` / ``lcom.CODE.*`` rows); empty for other builds."""
+class LinkFigure(NamedTuple):
+    """What a source gives of one link: mass (g), centre of mass (mm) and moments of inertia
+    about it (g·cm²), in the link frame, left side; None where it gives none."""
+
+    mass: float
+    com: tuple[float, float, float] | None
+    inertia: tuple[float, float, float] | None
+
+
+def link_figures(code: str) -> dict[str, LinkFigure]:
+    """Slot (``torso``, ``ankle_pitch``, ...) -> the figures of that link of the build whose
+    canonical code is ``code``, where the source weighs each link (the ``lmass.CODE.*``,
+    ``lcom.CODE.*`` and ``linert.CODE.*`` rows); empty for other builds."""
     head = f"lmass.{code}."
-    out: dict[str, tuple[float, tuple[float, float, float] | None]] = {}
+    out: dict[str, LinkFigure] = {}
     for key in FIGURES:
         if key.startswith(head):
             slot = key[len(head) :]
-            com = f"lcom.{code}.{slot}"
-            out[slot] = (fig(key), vec(com) if com in FIGURES else None)
+            com, inertia = f"lcom.{code}.{slot}", f"linert.{code}.{slot}"
+            out[slot] = LinkFigure(
+                fig(key),
+                vec(com) if com in FIGURES else None,
+                vec(inertia) if inertia in FIGURES else None,
+            )
     return out
 
 
