@@ -29,7 +29,7 @@ __all__ = [
 SOURCES: dict[str, tuple[str, str]] = {
     "KX": (
         "inabajsk/kxreus (kxrbody.l, kxrlinks.l, rcb4robotconfig.l, models/*.l, "
-        "eusview/robots/kxr/*.json; commits 4a2094e, a1238a3, 044677e)",
+        "eusview/robots/kxr/*.json; commits 4a2094e, a1238a3, 044677e, 58d0e83)",
         "no licence file: facts and figures only, no code or mesh",
     ),
     "KP": (
