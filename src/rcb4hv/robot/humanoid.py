@@ -42,7 +42,8 @@ class LimbJoint:
     the left joint's limits, radians. ``geoms``: the child link's shapes (left side);
     ``mass``: the child link's mass, kg, spread uniformly through ``geoms``; ``com``, when
     given, is the link's measured centre of mass (m, left side, link frame), which replaces
-    the boxes' centroid (their inertia about it is kept). ``advisory``: the left joint's
+    the boxes' centroid (their inertia about it is kept unless ``inertia`` gives the moments
+    about it, kg·m², link axes). ``advisory``: the left joint's
     advisory range (radians; warn outside it, see :class:`~rcb4hv.robot.model.Joint`), None
     for the hard range.
     """
@@ -60,6 +61,7 @@ class LimbJoint:
     centre: bool = False
     com: Vec3 | None = None
     advisory: tuple[float, float] | None = None
+    inertia: Vec3 | None = None
 
 
 def mirror_geom(g: Geom) -> Geom:
@@ -72,12 +74,21 @@ def _mirror_inertial(i: Inertial) -> Inertial:
     return Inertial(i.mass, (i.com[0], -i.com[1], i.com[2]), (ixx, iyy, izz, -ixy, ixz, -iyz))
 
 
+def _inertial(spec: LimbJoint) -> Inertial:
+    """The left link's inertial: its mass spread through its shapes, with the measured centre
+    of mass and moments where ``spec`` gives them."""
+    inertial = solid_many(spec.mass, spec.geoms)
+    if spec.com is not None:
+        inertial = replace(inertial, com=spec.com)
+    if spec.inertia is not None:
+        inertial = replace(inertial, inertia=(*spec.inertia, 0.0, 0.0, 0.0))
+    return inertial
+
+
 def _side_joint(spec: LimbJoint, prefix: str, centre_links: set[str]) -> tuple[Joint, Link]:
     parent = spec.parent if spec.parent in centre_links else prefix + spec.parent
     geoms = spec.geoms
-    inertial = solid_many(spec.mass, geoms)
-    if spec.com is not None:
-        inertial = replace(inertial, com=spec.com)
+    inertial = _inertial(spec)
     x, y, z = spec.xyz
     axis, lower, upper, advisory = spec.axis, spec.lower, spec.upper, spec.advisory
     side: str = "left"
@@ -142,7 +153,7 @@ def build_humanoid(
                     advisory=spec.advisory,
                 )
             )
-            links.append(Link(spec.link, solid_many(spec.mass, spec.geoms), spec.geoms))
+            links.append(Link(spec.link, _inertial(spec), spec.geoms))
             centre_links.add(spec.link)
             continue
         for prefix in (LEFT, RIGHT):

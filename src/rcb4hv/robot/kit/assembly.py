@@ -7,10 +7,11 @@ subset of the slots (its servo names say which); a slot without a servo is rigid
 shapes join its parent's link. All joints have identity rotation at the zero pose (KXR
 frames are built square), so a joint's origin is its position minus its parent's.
 
-Masses: the build's own whole-robot mass where kxreus gives one, else the family's
-(``figures.MASS_SERVOS`` build) plus or minus one servo per servo more or fewer, spread as
-:func:`rcb4hv.robot.humanoid.distribute_mass` does: each link carries its servo case, the
-rest is shared by shape volume.
+Masses: where kxreus weighs each link of the build (``figures.link_figures``), each link
+takes its mass and centre of mass from there. Otherwise the build's own whole-robot mass
+where kxreus gives one, else the family's (``figures.MASS_SERVOS`` build) plus or minus one
+servo per servo more or fewer, spread as :func:`rcb4hv.robot.humanoid.distribute_mass`
+does: each link carries its servo case, the rest is shared by shape volume.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from dataclasses import dataclass, replace
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
-from rcb4hv.robot.kit.figures import MASS_SERVOS, fig
+from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, fig
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import KRS_3304R2
 from rcb4hv.robot.shapes import solid_many
@@ -105,11 +106,14 @@ def assemble(
     home: Mapping[str, float] | None = None,
     servo: ServoSpec = KRS_3304R2,
     total_mass: float | None = None,
+    link_masses: Mapping[str, LinkFigure] | None = None,
 ) -> RobotModel:
     """The model of ``template`` with the slots ``present`` (base names); ``joint_map``: full
     joint name (``l_knee_pitch``, ``neck_yaw``) -> (servo index, sign); ``total_mass`` (kg):
     the build's own whole-robot mass when a source gives it (else the family's, see the
-    module docstring)."""
+    module docstring); ``link_masses``: slot (``torso`` for the body) -> what a source gives
+    of that link (mass, centre of mass, moments of inertia): those links take them, the
+    others share what is left of the total."""
     by_name = {s.name: s for s in template.slots}
     unknown = [p for p in present if p not in by_name]
     if unknown:
@@ -149,7 +153,10 @@ def assemble(
         for k, g in links.items()
         if g
     }
-    masses = distribute_mass(total, per_servo, parts)
+    masses = _masses(total, per_servo, parts, link_masses or {})
+    given = {k: f for k, f in (link_masses or {}).items() if k in parts}
+    com = {k: _scaled(f.com, MM) for k, f in given.items() if f.com is not None}
+    inertia = {k: _scaled(f.inertia, 1e-7) for k, f in given.items() if f.inertia is not None}
     joints: list[LimbJoint] = []
     for s in template.slots:
         if s.name not in keep:
@@ -170,9 +177,16 @@ def assemble(
                 geoms=geoms,
                 mass=masses[s.name],
                 centre=s.centre,
+                com=com.get(s.name),
+                inertia=inertia.get(s.name),
             )
         )
-    root = Link("torso", solid_many(masses["torso"], links[None]), links[None])
+    body = solid_many(masses["torso"], links[None])
+    if "torso" in com:
+        body = replace(body, com=com["torso"])
+    if "torso" in inertia:
+        body = replace(body, inertia=(*inertia["torso"], 0.0, 0.0, 0.0))
+    root = Link("torso", body, links[None])
     return build_humanoid(
         name=name,
         title=title,
@@ -183,3 +197,23 @@ def assemble(
         sources=sources,
         home=home,
     )
+
+
+def _masses(
+    total: float,
+    per_servo: float,
+    parts: Mapping[str, tuple[int, int, Sequence[Geom]]],
+    given: Mapping[str, LinkFigure],
+) -> dict[str, float]:
+    """One copy's mass (kg) of each part: the source's figure where ``given`` has one, the
+    rest of ``total`` shared by servo and volume over the others (all given: their sum)."""
+    fixed = {k: given[k].mass * MM for k in parts if k in given}
+    free = {k: v for k, v in parts.items() if k not in fixed}
+    if not free:
+        return fixed
+    rest = total - sum(parts[k][0] * m for k, m in fixed.items())
+    return distribute_mass(rest, per_servo, free) | fixed
+
+
+def _scaled(v: Vec3, k: float) -> Vec3:
+    return (v[0] * k, v[1] * k, v[2] * k)

@@ -14,7 +14,7 @@ from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.code import KitCode
 from rcb4hv.robot.kit.convention import SIGNS, STOCK, STOCK_VARIANTS, arm_signs
-from rcb4hv.robot.kit.figures import FIGURES, SOURCES, fig
+from rcb4hv.robot.kit.figures import FIGURES, SOURCES, fig, link_figures
 from rcb4hv.robot.kit.templates import template
 from rcb4hv.robot.model import RobotModel
 
@@ -154,18 +154,22 @@ def kit_model(
         if j in jm and not j.endswith("wheel")
     }
     used = sorted({FIGURES[k].source for k in FIGURES})
+    per_link = link_figures(text)
     src = {
         "dimensions": "rcb4hv.robot.kit.figures (one row per figure, with its source); "
         + "; ".join(f"{k}: {SOURCES[k][0]} ({SOURCES[k][1]})" for k in used),
         "joint map": "Kondo's stock ICS numbers for this kit code (KXR-KITS.md §1.4)",
         "signs": "the kit's assembly convention (kxreus joint maps of the stock builds)",
         "mass": (
-            f"the build's whole-robot mass (figures mass.{text})"
+            f"kxreus's per-link masses and centres of mass of this build (figures "
+            f"lmass.{text}.*, lcom.{text}.*)"
+            if per_link
+            else f"the build's whole-robot mass (figures mass.{text})"
             if f"mass.{text}" in FIGURES
             else f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
             "KRS-3304R2 per servo more or fewer"
         )
-        + ", shared over the links by servo and shape volume",
+        + ("" if per_link else ", shared over the links by servo and shape volume"),
     }
     src.update(sources or {})
     return assemble(
@@ -177,6 +181,7 @@ def kit_model(
         sources=src,
         home=home,
         total_mass=fig(f"mass.{text}") / 1000 if f"mass.{text}" in FIGURES else None,
+        link_masses=per_link,
     )
 
 

@@ -54,8 +54,13 @@ def _slot(
     return Slot(name, parent, pos, axis or _AXIS[kind], kind, limits, geoms, centre)
 
 
-def _wheel_slot(name: str, parent: str, axle: Vec3) -> Slot:
-    tyre = cylinder_y(fig("wheel.radius"), fig("wheel.width"), axle)
+def _span(a: Vec3, b: Vec3) -> float:
+    return max(abs(a[k] - b[k]) for k in range(3))
+
+
+def _wheel_slot(name: str, parent: str, axle: Vec3, tyre_at: Vec3 = (0.0, 0.0, 0.0)) -> Slot:
+    """A wheel turning about ``axle`` (its joint), its tyre ``tyre_at`` along from it."""
+    tyre = cylinder_y(fig("wheel.radius"), fig("wheel.width"), _add(axle, tyre_at))
     return replace(_slot(name, parent, axle, "wheel", WHEEL_LIMITS, (tyre,)), optional=True)
 
 
@@ -74,6 +79,13 @@ def _arm(arms: int) -> list[Slot]:
         wrist = elbow
         grip = _add(elbow, vec("arm3.gripper"))
         order: tuple[JointKind, JointKind] = ("roll", "yaw")
+    elif arms == 4:
+        roll = _add(s, vec("arm4.roll"))
+        yaw = _add(roll, vec("arm4.yaw"))
+        elbow = _add(yaw, vec("arm4.elbow"))
+        wrist = elbow
+        grip = _add(elbow, vec("arm4.gripper"))
+        order = ("roll", "yaw")
     elif arms <= 6:
         roll = _add(s, vec("arm6.roll"))
         yaw = _add(roll, vec("arm6.yaw"))
@@ -94,7 +106,15 @@ def _arm(arms: int) -> list[Slot]:
     upper = segment(pos[second], elbow, light=True)
     return [
         pitch,
-        _slot(f"shoulder_{first}", "shoulder_pitch", pos[first], first, lim[first], ()),
+        _slot(
+            f"shoulder_{first}",
+            "shoulder_pitch",
+            pos[first],
+            first,
+            lim[first],
+            # the A4's roll-to-yaw link is longer than a servo case: its frame spans it
+            (segment(pos[first], pos[second]),) if _span(pos[first], pos[second]) > 26.0 else (),
+        ),
         _slot(
             f"shoulder_{second}", f"shoulder_{first}", pos[second], second, lim[second], (upper,)
         ),
@@ -196,7 +216,9 @@ def _leg(code: KitCode) -> list[Slot]:
             (box((40, 27, 40), _add(ankle, (-5, 0, 8))),),
         ),
         _slot("ankle_roll", "ankle_pitch", ankle, "roll", (-170, 170), _sole(ankle)),
-        _wheel_slot("ankle_wheel", "ankle_pitch", _add(ankle, vec("l2.ankle_wheel"))),
+        _wheel_slot(
+            "ankle_wheel", "ankle_pitch", _add(ankle, vec("l2.ankle_wheel")), vec("l2.ankle_tyre")
+        ),
         _wheel_slot("front_wheel", "ankle_roll", _add(ankle, vec("l2.foot_wheel"))),
         _wheel_slot("rear_wheel", "ankle_roll", _add(ankle, _flip_x(vec("l2.foot_wheel")))),
     ]

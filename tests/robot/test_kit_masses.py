@@ -1,0 +1,103 @@
+"""The KXR-L2W2L6A4H2 as kxreus weighs and assembles it: per-link masses and centres of mass
+where the source weighs each link of a build, the ankle wheel and the A4 arm offsets; the
+figures are kxreus's, repeated here as the numbers a reader checks against
+``kxrl2w2l6a4h2.json`` (physics.links and the link headers)."""
+
+from __future__ import annotations
+
+import pytest
+
+from rcb4hv.robot.kit.assembly import assemble
+from rcb4hv.robot.kit.build import stock_joint_map
+from rcb4hv.robot.kit.figures import LinkFigure, fig, link_figures
+from rcb4hv.robot.kit.templates import template
+from tests.robot.kit_names import names_for, stock
+
+
+def test_the_wheel_leg_build_weighs_its_links_as_kxreus_does() -> None:
+    _, model = stock("kxr:L2W2L6A4H2G")
+    ankle = model.link("l_ankle_pitch_link").inertial
+    assert ankle.mass == pytest.approx(0.122858)  # three servos: ankle pitch, roll, wheel
+    assert ankle.com == pytest.approx((-0.033808, 0.0, 0.009676))  # behind the ankle
+    # its moments about the pitch and yaw axes: a long link (the wheel servo 78 mm back)
+    assert ankle.inertia[:3] == pytest.approx((2.072716e-05, 1.4003496e-04, 1.3574437e-04))
+    right = model.link("r_ankle_pitch_link").inertial
+    assert right.mass == pytest.approx(0.122858) and right.com[1] == pytest.approx(0.0)
+    assert model.link("l_ankle_wheel_link").inertial.mass == pytest.approx(0.040332)
+    assert model.link("r_ankle_wheel_link").inertial.com[1] == pytest.approx(-0.023412)
+    torso = model.link("torso").inertial
+    assert torso.mass == pytest.approx(0.437985)
+    assert torso.com == pytest.approx((-0.006626, 0.0, 0.030964))
+    assert model.link("neck_pitch_link").inertial.com == pytest.approx((0.005585, 0.0, 0.040683))
+    # kxreus's total less the tyre it puts on each A4 arm (no servo for it in Kondo's project)
+    total = fig("mass.L2W2L6A4H2G") - 2 * fig("unused.L2W2L6A4H2G.arm_tyre")
+    assert total == pytest.approx(1798.31, abs=0.01)
+    assert model.mass == pytest.approx(total / 1000, abs=1e-5)  # links rounded to 1 mg
+    # the legs carry about 41 % of it (the volume sharing put about half there)
+    legs = sum(
+        link.inertial.mass
+        for link in model.links
+        if any(k in link.name for k in ("hip", "knee", "ankle"))
+    )
+    assert legs / model.mass == pytest.approx(0.41, abs=0.01)
+
+
+def test_the_ankle_wheel_turns_behind_the_ankle_where_kxreus_puts_it() -> None:
+    _, model = stock("kxr:L2W2L6A4H2G")
+    wheel = model.joint("l_ankle_wheel")
+    assert wheel.parent == "l_ankle_pitch_link"
+    assert wheel.xyz == pytest.approx((-0.07803, 0.0, 0.0))  # lleg-ankle-w pos
+    (tyre,) = model.link("r_ankle_wheel_link").geoms
+    assert tyre.pos == pytest.approx((0.0, -0.0235, 0.0))  # outboard of the right leg
+
+
+def test_a_detected_project_gets_the_same_masses() -> None:
+    from rcb4hv.robot.kit import detect_kit
+
+    _, model = stock("kxr:L2W2L6A4H2G")
+    det = detect_kit("Hello_KXR-L2W2L6A4H2", names_for(model))
+    assert det.model.name == "kxr:L2W2L6A4H2G"
+    assert det.model.mass == pytest.approx(model.mass)
+    assert det.model.link("l_hip_roll_link").inertial.mass == pytest.approx(0.078374)
+
+
+def test_builds_without_per_link_figures_share_their_total() -> None:
+    assert link_figures("L2L6A6H2G") == {}
+    _, model = stock("kxr:L2L6A6H2G")
+    assert model.mass == pytest.approx(fig("mass.L2L6A6H2G") / 1000)
+
+
+def test_links_without_a_figure_share_what_is_left() -> None:
+    code, _ = stock("kxr:L2L6A6H2G")
+    jm = stock_joint_map(code)
+    bases = sorted({j[2:] if j[:2] in ("l_", "r_") else j for j in jm})
+    model = assemble(
+        template(code),
+        bases,
+        jm,
+        name="x",
+        title="x",
+        sources={},
+        total_mass=1.7,
+        link_masses={
+            "torso": LinkFigure(500.0, (0.0, 0.0, 30.0), (5000.0, 4000.0, 3000.0)),
+            "hip_roll": LinkFigure(80.0, None, None),
+        },
+    )
+    assert model.mass == pytest.approx(1.7)
+    assert model.link("torso").inertial.mass == pytest.approx(0.5)
+    assert model.link("torso").inertial.com == pytest.approx((0.0, 0.0, 0.03))
+    assert model.link("torso").inertial.inertia == pytest.approx((5e-4, 4e-4, 3e-4, 0, 0, 0))
+    assert model.link("r_hip_roll_link").inertial.mass == pytest.approx(0.08)
+
+
+def test_the_a4_arm_has_kxreus_a4_offsets() -> None:
+    # kxrl2w2l6a4h2.json: shoulder-r 29 mm out, shoulder-y 67 mm below it, elbow 29 mm
+    # below that, gripper 65.5 mm below the elbow (not the A6 arm's 15 + 41 mm)
+    _, model = stock("kxr:L2W2L6A4H2G")
+    assert model.joint("l_shoulder_roll").xyz == pytest.approx((0.0, 0.029, 0.0))
+    assert model.joint("l_shoulder_yaw").xyz == pytest.approx((0.0, 0.0, -0.067))
+    assert model.joint("l_elbow_pitch").xyz == pytest.approx((0.0, 0.0, -0.029))
+    assert model.joint("r_gripper").xyz == pytest.approx((0.0, 0.0, -0.0655))
+    _, a6 = stock("kxr:L2L6A6H2G")
+    assert a6.joint("l_shoulder_yaw").xyz == pytest.approx((0.0, 0.0, -0.015))
