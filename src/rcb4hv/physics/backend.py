@@ -34,7 +34,7 @@ from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, POSITION_MAX, POSITION_MIN
-from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE, NO_BLOCK, S16, SERVO, U16
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE, S16, SERVO, U16, unpack_alloc
 from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.robot.servos import speed_cap, wheel_duty
 from rcb4hv.rom.calibration import calibrated_ad_inputs
@@ -88,6 +88,7 @@ class PhysicsBackend:
         self._caps: dict[tuple[int, int | None], float] = {}
         self._hold_is_free = board.config.position_7fff == "free"
         self._wheel_sent: dict[int, int] = {}
+        self._indices = tuple(world.servos)
         self._wheels = frozenset(i for i, s in world.servos.items() if s.wheel)
         self._band_rad = math.radians(world.options.deadband_deg)
         self._last: dict[int, tuple[int, int, int, int | None, int | None]] = {}
@@ -142,12 +143,13 @@ class PhysicsBackend:
 
     def _blocks(self) -> list[tuple[int, int, int]]:
         """(index, block address, base) of each mapped servo with a type-0 block."""
-        b = self.board
-        ram = b.ram
+        ram = self.board.ram
+        table = unpack_alloc(ram)  # the board's allocation table, in one read
+        last = len(ram) - SERVO.SIZE
         out = []
-        for index in self.world.servos:
-            blk = b.alloc(index)
-            if blk != NO_BLOCK and blk + SERVO.SIZE <= len(ram) and ram[blk + SERVO.TYPE] == 0:
+        for index in self._indices:
+            blk = table[index]
+            if blk is not None and blk <= last and ram[blk + SERVO.TYPE] == 0:
                 out.append((index, blk, _s16(ram, blk + SERVO.BASE)[0]))
         return out
 
