@@ -33,8 +33,8 @@ from typing import Final
 from rcb4hv.emulator import Board
 from rcb4hv.physics.sensors import DEFAULT_SENSORS, SensorLayout
 from rcb4hv.physics.world import PhysicsWorld
-from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
-from rcb4hv.protocol.memory import CENTER, NO_BLOCK, S16, SERVO, U16
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, POSITION_MAX, POSITION_MIN
+from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE, S16, SERVO, U16, unpack_alloc
 from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.robot.servos import speed_cap, wheel_duty
 from rcb4hv.rom.calibration import calibrated_ad_inputs
@@ -46,6 +46,9 @@ _US: Final = 1_000_000
 _ANGLES_KEPT: Final = 4096
 _u16 = U16.unpack_from
 _s16 = S16.unpack_from
+_OUTPUT: Final = SERVO.OUTPUT
+_SPECIAL: Final = frozenset((POSITION_FREE, POSITION_HOLD))
+"""The output words that are not an angle (:func:`~rcb4hv.protocol.servomode.output_mode`)."""
 
 
 class PhysicsBackend:
@@ -85,6 +88,15 @@ class PhysicsBackend:
         self._caps: dict[tuple[int, int | None], float] = {}
         self._hold_is_free = board.config.position_7fff == "free"
         self._wheel_sent: dict[int, int] = {}
+        self._indices = tuple(world.servos)
+        self._wheels = frozenset(i for i, s in world.servos.items() if s.wheel)
+        self._band_rad = math.radians(world.options.deadband_deg)
+        self._last: dict[int, tuple[int, int, int, int | None, int | None]] = {}
+        """Per servo driven to an angle, what it was driven from at the last period (output,
+        value sent, trim, stretch, speed)."""
+        self._value_terms = {  # RobotModel.motion_value's terms, per servo
+            s.index: (CENTER + s.offset, s.sign) for s in world.model.servos
+        }
         board.external_servos = True
         blocks = self._blocks()
         self._command(0.0, board.servo_outputs(), blocks)
@@ -131,12 +143,13 @@ class PhysicsBackend:
 
     def _blocks(self) -> list[tuple[int, int, int]]:
         """(index, block address, base) of each mapped servo with a type-0 block."""
-        b = self.board
-        ram = b.ram
+        ram = self.board.ram
+        table = unpack_alloc(ram)  # the board's allocation table, in one read
+        last = len(ram) - SERVO.SIZE
         out = []
-        for index in self.world.servos:
-            blk = b.alloc(index)
-            if blk != NO_BLOCK and blk + SERVO.SIZE <= len(ram) and ram[blk + SERVO.TYPE] == 0:
+        for index in self._indices:
+            blk = table[index]
+            if blk is not None and blk <= last and ram[blk + SERVO.TYPE] == 0:
                 out.append((index, blk, _s16(ram, blk + SERVO.BASE)[0]))
         return out
 
@@ -168,7 +181,11 @@ class PhysicsBackend:
 
     def _command(self, dt: float, outs: dict[int, int], blocks: list[tuple[int, int, int]]) -> None:
         """New servo targets from the ``blocks``; ``outs`` the values sent (output + base +
-        mixing), ``dt`` the seconds since the last period."""
+        mixing), ``dt`` the seconds since the last period.
+
+        A servo whose inputs (value sent, trim, stretch, speed) are those of the last period
+        and whose target has reached its goal is left as it is: driving it again would set
+        the same target and gain (the common case while a pose is held)."""
         b = self.board
         ram = b.ram
         world = self.world
@@ -177,28 +194,41 @@ class PhysicsBackend:
         commanded = self.commanded
         effective = self._effective
         hold = self._hold
-        servos = world.servos
-        band = math.radians(world.options.deadband_deg)
+        last = self._last
+        wheels = self._wheels
+        angles = self._angles
+        band = self._band_rad
+        hold_is_free = self._hold_is_free
         for index, blk, base in blocks:
-            out = _u16(ram, blk + SERVO.OUTPUT)[0]
-            if servos[index].wheel:
-                self._spin(index, out, outs.get(index, out + base), base)
+            out = _u16(ram, blk + _OUTPUT)[0]
+            sent = outs.get(index, out + base)
+            if index in wheels:
+                self._spin(index, out, sent, base)
                 continue
-            mode = output_mode(out, self._hold_is_free)
+            mode = output_mode(out, hold_is_free) if out in _SPECIAL else "angle"
             if mode == "free":
                 world.release(index)
                 commanded[index] = None
                 effective.pop(index, None)
                 hold.pop(index, None)
+                last.pop(index, None)
                 continue
+            gain_key = (index, stretch.get(index))
+            speed_key = (index, speed.get(index))
             if mode == "hold":
                 goal = hold.get(index)
                 if goal is None:
                     goal = hold[index] = world.servo_angle(index)
+                key = None
             else:
                 if hold:
                     hold.pop(index, None)
-                goal = self._angle(index, outs.get(index, out + base), base)
+                key = (out, sent, base, gain_key[1], speed_key[1])
+                if last.get(index) == key and effective.get(index) == commanded.get(index):
+                    continue  # the same inputs, the goal reached: as it is
+                goal = angles.get((index, sent, base))
+                if goal is None:
+                    goal = self._angle(index, sent, base)
                 if band:
                     kept = self._band.get(index)
                     if kept is not None and abs(goal - kept) <= band:
@@ -210,12 +240,22 @@ class PhysicsBackend:
             if prev is None:
                 prev = world.servo_angle(index)
             if dt > 0:
-                step = self._cap(index, speed.get(index)) * dt
+                cap = self._caps.get(speed_key)
+                if cap is None:
+                    cap = self._cap(index, speed_key[1])
+                step = cap * dt
                 eff = prev + max(-step, min(step, goal - prev))
             else:
                 eff = goal
             effective[index] = eff
-            world.drive(index, eff, self._gain(index, stretch.get(index)))
+            if key is None:
+                last.pop(index, None)
+            else:
+                last[index] = key
+            kp = self._gains.get(gain_key)
+            if kp is None:
+                kp = self._gain(index, gain_key[1])
+            world.drive(index, eff, kp)
 
     def _spin(self, index: int, out: int, sent: int, base: int) -> None:
         """A wheel servo: the value sent sets its speed (free: limp; hold: keeps turning)."""
@@ -228,15 +268,22 @@ class PhysicsBackend:
             self._wheel_sent[index] = sent
 
     def _measure(self, blocks: list[tuple[int, int, int]]) -> None:
-        b = self.board
-        model = self.world.model
-        angles = self.world.servo_angles()
-        wheels = self._wheel_sent
-        positions = {  # a wheel reports the speed it was sent (its angle grows without end)
-            index: wheels.get(index, base + CENTER)
-            if self.world.servos[index].wheel
-            else model.value(index, angles[index], base)
-            for index, _, base in blocks
-        }
-        gyro, accel = self.world.imu()
-        b.measure(positions, self.sensors.channels(gyro, accel, self.rest))
+        """Each servo's position (``RobotModel.value`` of its joint angle, written out here:
+        it runs for every servo at every period) and the sensors, into the board."""
+        world = self.world
+        q = world.d.qpos.tolist()
+        servos = world.servos
+        terms = self._value_terms
+        wheels = self._wheels
+        wheel_sent = self._wheel_sent
+        degrees = math.degrees
+        positions: dict[int, int] = {}
+        for index, _, base in blocks:
+            if index in wheels:  # a wheel reports the speed it was sent (its angle grows)
+                positions[index] = wheel_sent.get(index, base + CENTER)
+            else:
+                zero, sign = terms[index]
+                angle = q[servos[index].qpos]
+                positions[index] = round(zero + sign * degrees(angle) * COUNTS_PER_DEGREE) + base
+        gyro, accel = world.imu()
+        self.board.measure(positions, self.sensors.channels(gyro, accel, self.rest))

@@ -281,6 +281,18 @@ class PhysicsWorld:
         s = self.servos[index]
         return abs(self.torque(index)) >= SATURATION * s.spec.stall_torque
 
+    def saturated_servos(self, commanded: Mapping[int, float | None]) -> list[int]:
+        """The servos of ``commanded`` driven to an angle (not None) that are
+        :meth:`saturated`, in its order: one pass for every servo."""
+        force = self.d.actuator_force.tolist()
+        servos = self.servos
+        return [
+            index
+            for index, goal in commanded.items()
+            if goal is not None
+            and abs(force[(s := servos[index]).actuator]) >= SATURATION * s.spec.stall_torque
+        ]
+
     def push(self, force: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
         """Push the root link with ``force`` (N, world frame, at its centre of mass) at every
         step from now until the next call (the default: no push)."""

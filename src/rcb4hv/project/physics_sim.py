@@ -208,12 +208,16 @@ class PhysicsSimulator(Simulator):
         dt = t - w.last_t
         w.last_t = t
         world = self.world
+        q = world.d.qpos.tolist()
+        servos = world.servos
+        error = w.max_error
         for index, goal in backend.commanded.items():
-            servo = world.servos[index]
             if goal is not None:
-                w.max_error = max(w.max_error, abs(world.servo_angle(index) - goal))
-                if world.saturated(index):
-                    w.saturated[servo.joint] = w.saturated.get(servo.joint, 0.0) + dt
+                error = max(error, abs(q[servos[index].qpos] - goal))
+        w.max_error = error
+        for index in world.saturated_servos(backend.commanded):
+            joint = servos[index].joint
+            w.saturated[joint] = w.saturated.get(joint, 0.0) + dt
 
     def _track(self, t: float, base: BasePose) -> None:
         assert self.track is not None
