@@ -121,7 +121,7 @@ VALUE_KINDS: Final = {
     "counter_set": ("COUNTER", "counter", 1, False),
     "variable_set": ("VAR", "variable", 2, True),
     "timer_set": ("TIMER", "timer", 2, False),
-    "ad_reference": ("ADREF", "channel", 2, True),
+    "ad_reference": ("AD_REF", "channel", 2, True),
 }
 BRANCH_KINDS: Final = {
     "ad_branch": ("AD", "channel", 2, True),

@@ -7,6 +7,8 @@
 * :mod:`.blocks` - the servo block (:class:`ServoBlock`, offsets and fields in
   :class:`SERVO`), the ICS allocation table, the vector package (:class:`VectorPackage`, COND
   bits in :class:`VEC`) and the KRI-3 block.
+* :mod:`.names` - the names of RAM addresses (:data:`RAM_SCALARS`, :data:`RAM_TABLES`), which
+  the assembler and motion programs read and write.
 * :mod:`.regions` - the program state (system word, PC, call depth, update flags), timers,
   counters, user variables, buttons, PA1-PA4, AD channels and PIO.
 
@@ -71,6 +73,7 @@ from rcb4hv.protocol.memory.map import (
     ics_to_id_port,
     position_to_degrees,
 )
+from rcb4hv.protocol.memory.names import RAM_SCALARS, RAM_TABLES, RamTable
 from rcb4hv.protocol.memory.regions import (
     AD_CHANNELS,
     AD_MASK,
@@ -117,6 +120,8 @@ __all__ = [
     "PIO_MASK",
     "PIO_WORDS",
     "PROGRAM_STATE",
+    "RAM_SCALARS",
+    "RAM_TABLES",
     "RUN_STATE",
     "RUN_STATE_SIZE",
     "S16",
@@ -138,6 +143,7 @@ __all__ = [
     "Field",
     "Kri3Block",
     "ProgramState",
+    "RamTable",
     "ReadBuffer",
     "ServoBlock",
     "SystemRegister",
