@@ -30,7 +30,6 @@ Operands are named by :mod:`rcb4hv.hth4.blocks.operands`.
 
 from __future__ import annotations
 
-import struct
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Final
@@ -131,7 +130,7 @@ BRANCH_KINDS: Final = {
     "timer_branch": ("TIMER", "timer", 2, False),
 }
 SERVO_FIELDS: Final = {
-    f.name: (f.offset, struct.calcsize(f.fmt))
+    f.name: (f.offset, f.size)
     for f in (
         SERVO.F_TYPE, SERVO.F_ID, SERVO.F_BASE, SERVO.F_OUTPUT, SERVO.F_SPEED, SERVO.F_END,
         SERVO.F_WIDTH, SERVO.F_MIX1_SOURCE, SERVO.F_MIX1_METHOD, SERVO.F_MIX2_SOURCE,
