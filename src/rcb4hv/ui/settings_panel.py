@@ -9,7 +9,6 @@ from collections.abc import Callable
 
 from nicegui import ui
 
-from rcb4hv.client import Robot
 from rcb4hv.errors import EditError, Rcb4Error
 from rcb4hv.hth4.newproject import (
     mixing_source,
@@ -18,23 +17,11 @@ from rcb4hv.hth4.newproject import (
     set_mixing,
     set_startup,
 )
-from rcb4hv.protocol.memory import ADDR, read_u16
+from rcb4hv.protocol.memory import ADDR
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.editor_state import Editor
 
-__all__ = ["build", "rest_values"]
-
-
-def rest_values(robot: Robot) -> list[int]:
-    """AD0-AD10 as the board reads its inputs now: measured + reference (the measured register
-    holds the input minus the reference, spec 10.4), for an analog calibration at rest."""
-    size = 2 * ADDR.AD_COUNT
-    measured = robot.read_ram(ADDR.AD_VALUES, size)
-    reference = robot.read_ram(ADDR.AD_REFERENCE, size)
-    return [
-        (read_u16(measured, 2 * i) + read_u16(reference, 2 * i)) & 0xFFFF
-        for i in range(ADDR.AD_COUNT)
-    ]
+__all__ = ["build"]
 
 
 def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
@@ -103,7 +90,9 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
     async def read_board() -> None:
         """Fill AD1-AD10 with the board's inputs now (the robot still); AD0, the supply, keeps
         its reference."""
-        values = await guarded(ctx.session.submit(rest_values, label="read AD"), "Read AD")
+        values = await guarded(
+            ctx.session.submit(lambda robot: robot.ad_readings().inputs, label="read AD"), "Read AD"
+        )
         if values is not None:
             for r, v in list(zip(refs, values, strict=True))[1:]:
                 r.value = v
