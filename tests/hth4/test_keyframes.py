@@ -100,16 +100,15 @@ def test_saved_motion_reloads_builds_and_plays(kxr_project_path: Path) -> None:
 
 
 def test_a_stored_chain_of_poses_draws_back_as_its_flowchart(kxr_project_path: Path) -> None:
-    from rcb4hv.hth4.keyframes import chain_flowchart_xml
+    from rcb4hv.hth4.blocks.flowxml import motion_from_xml, motion_xml
 
     project = load_project(kxr_project_path)
     slot = free_slots(project)[0]
     motion = motion_from_keyframes(KF, slot=slot, name="taught", period_ms=15)
     project = add_motion(project, motion)
-    xml = chain_flowchart_xml(project, slot)
-    assert xml is not None
+    xml = motion_xml(project, slot)
     boxes = [a for a in parse_motion_xml(xml).activities if (a.name or "").startswith("Pos")]
     assert len(boxes) == len(KF)
-    # a motion with branches keeps no boxes in the project: no flowchart of it
+    # a motion with branches draws too, and its flowchart compiles back to the same motion
     walk = next(m for m in project.used_motions if m.button_data == 0x0001)
-    assert chain_flowchart_xml(project, walk.slot) is None
+    assert motion_from_xml(project, walk.slot, motion_xml(project, walk.slot)) == walk.frames

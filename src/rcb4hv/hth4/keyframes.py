@@ -8,8 +8,9 @@ for each pose to finish on its own (the update flags, spec 9), so no wait frames
 :func:`flowchart_from_keyframes` draws the same chain as a ``CanvasData`` flowchart: one
 ``Pos`` box per keyframe, left to right, the first marked ``Start``, joined by ``Normal``
 lines, as HeartToHeart4's own files lay them out. :func:`add_motion` stores a motion in a
-free slot of a project, with an optional remote-button binding. :func:`chain_flowchart_xml`
-draws a stored motion that is a plain chain of poses back as such a flowchart file.
+free slot of a project, with an optional remote-button binding.
+(A stored motion of any kind draws back as a flowchart with
+:func:`rcb4hv.hth4.blocks.flowxml.motion_xml`.)
 """
 
 from __future__ import annotations
@@ -19,17 +20,14 @@ import uuid
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
-from rcb4hv.hth4.flowchart import dump_motion_xml
 from rcb4hv.hth4.flowchart_model import Flowchart, FlowchartActivity, FlowchartLine, Size
 from rcb4hv.hth4.model import Motion, Point, Project, motion_key
-from rcb4hv.hth4.poses import motion_blocks
 from rcb4hv.protocol import (
     FRAME_PERIODS_MS,
     POSITION_MAX,
     POSITION_MIN,
     Return,
     RunConstFrameServo,
-    SystemRegister,
 )
 from rcb4hv.rom.layout import HTH4_22, MOTION_SIZE, MotionLayout
 
@@ -37,7 +35,6 @@ __all__ = [
     "END_MARKER",
     "Keyframe",
     "add_motion",
-    "chain_flowchart_xml",
     "flowchart_from_keyframes",
     "free_slots",
     "keyframe_frames",
@@ -230,23 +227,3 @@ def add_motion(project: Project, motion: Motion, *, replace_used: bool = False) 
         entries.append(motion)
         entries.sort(key=lambda m: m.slot)
     return replace(project, motions=tuple(entries))
-
-
-def chain_flowchart_xml(project: Project, slot: int) -> bytes | None:
-    """A HeartToHeart4 flowchart (``.xml``) of motion ``slot`` when it is a plain chain of
-    poses (then its boxes are ``Pos`` boxes, as :func:`flowchart_from_keyframes` draws them);
-    None for a motion with other blocks (branches, settings), whose boxes a project does not
-    keep."""
-    blocks = list(motion_blocks(project.motion(slot)))
-    while blocks and blocks[-1].kind == "Return":
-        blocks.pop()
-    if not blocks or any(b.pose is None for b in blocks):
-        return None
-    period = SystemRegister.from_word(project.system_register).frame_period_ms
-    frames = [
-        Keyframe(b.pose.speed * period / 1000, b.pose.values) for b in blocks if b.pose is not None
-    ]
-    try:
-        return dump_motion_xml(flowchart_from_keyframes(frames, period))
-    except ValueError:
-        return None

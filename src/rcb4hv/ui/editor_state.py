@@ -17,7 +17,7 @@ from typing import Concatenate, ParamSpec
 
 from rcb4hv.errors import AmbiguousRobotError, EditError, Rcb4Error
 from rcb4hv.hth4 import Project, parse_project
-from rcb4hv.hth4.keyframes import chain_flowchart_xml
+from rcb4hv.hth4.blocks.flowxml import motion_xml
 from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.hth4.session import EditSession
@@ -203,16 +203,14 @@ class Editor:
         return f"{where} - {edits}" + (" - unsaved changes" if s.dirty else " - saved")
 
     def save(self, path: Path | None) -> tuple[Path, dict[str, bytes]]:
-        """Save atomically; returns the path and the flowchart files of the changed motions
-        that are plain pose chains (name -> bytes)."""
+        """Save atomically; returns the path and the HeartToHeart4 flowchart files of the
+        changed motions (name -> bytes, :func:`~rcb4hv.hth4.blocks.flowxml.motion_xml`)."""
         if self.session is None:
             raise EditError("no project open")
         changed = [m.slot for m in self.session.changed_motions]
         target = self.session.save(path)
         charts = {}
         for slot in changed:
-            xml = chain_flowchart_xml(self.project, slot)
-            if xml is not None:
-                name = self.project.motion(slot).name or f"M{slot:03d}"
-                charts[f"{name}.xml"] = xml
+            name = self.project.motion(slot).name or f"M{slot:03d}"
+            charts[f"{name}.xml"] = motion_xml(self.project, slot)
         return target, charts
