@@ -21,6 +21,7 @@ from typing import Final
 from rcb4hv.errors import EditError
 from rcb4hv.hth4.blocks.kinds import Block
 from rcb4hv.hth4.blocks.program import Program, put_program
+from rcb4hv.hth4.edit import used_motion
 from rcb4hv.hth4.keyframes import now_text
 from rcb4hv.hth4.model import (
     MAX_MOTIONS,
@@ -115,12 +116,9 @@ def new_project(model: RobotModel, *, title: str | None = None, date: str | None
 
 def _used(project: Project, slot: int, what: str) -> Motion:
     try:
-        m = project.motion(slot)
-    except KeyError:
-        raise EditError(f"{what}: the project has no motion slot {slot}") from None
-    if m.is_empty:
-        raise EditError(f"{what}: motion slot {slot} is empty")
-    return m
+        return used_motion(project, slot)
+    except EditError as exc:
+        raise EditError(f"{what}: {exc}") from None
 
 
 def set_startup(project: Project, slot: int | None) -> Project:
