@@ -18,7 +18,9 @@ TARGET_EFFICIENCY = 0.8
 
 def run(quick: bool = False) -> list[dict[str, Any]]:
     from rcb4hv.gait.generate import default_params, walk
-    from rcb4hv.gait.motion import new_project, store, walk_motion
+    from rcb4hv.gait.motion import walk_motion
+    from rcb4hv.hth4.keyframes import add_motion
+    from rcb4hv.hth4.newproject import new_project
     from rcb4hv.project.relocate import project_image
     from rcb4hv.project.robust import robust
     from rcb4hv.robot.builtin import load_builtin
@@ -26,7 +28,7 @@ def run(quick: bool = False) -> list[dict[str, Any]]:
     model = load_builtin("kxr-l2")
     w = walk(model, default_params(model, "forward", steps=1))
     motion, _ = walk_motion(model, w, slot=2, name="walk")
-    image, layout = project_image(store(new_project(model), motion))
+    image, layout = project_image(add_motion(new_project(model), motion))
     robot_us = len(w.poses) * 15_000.0
     trials = 2 if quick else 8
     rate: dict[int, float] = {}

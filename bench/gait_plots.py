@@ -50,7 +50,9 @@ def fall_vs_stride(robot: str, trials: int, out: Path) -> list[dict[str, float]]
     import matplotlib.pyplot as plt
 
     from rcb4hv.gait.generate import default_params, walk
-    from rcb4hv.gait.motion import new_project, store, walk_motion
+    from rcb4hv.gait.motion import walk_motion
+    from rcb4hv.hth4.keyframes import add_motion
+    from rcb4hv.hth4.newproject import new_project
     from rcb4hv.project.relocate import project_image
     from rcb4hv.project.robust import robust
     from rcb4hv.robot.builtin import load_builtin
@@ -60,7 +62,7 @@ def fall_vs_stride(robot: str, trials: int, out: Path) -> list[dict[str, float]]
     for stride in STRIDES:
         params = replace(default_params(model, "forward", steps=4), stride=stride)
         motion, _ = walk_motion(model, walk(model, params), slot=2, name="walk")
-        image, layout = project_image(store(new_project(model), motion))
+        image, layout = project_image(add_motion(new_project(model), motion))
         (m,) = robust(image, [2], layout=layout, robot=model, trials=trials, seed=0)
         rows.append({"stride_m": stride, "p": m["fall_probability"], "lo": m["ci"][0],
                      "hi": m["ci"][1], "dx_m": m["dx_m"]["median"]})  # fmt: skip

@@ -14,8 +14,10 @@ from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
 from rcb4hv.gait.generate import default_params, walk
-from rcb4hv.gait.motion import new_project, store, walk_motion
+from rcb4hv.gait.motion import walk_motion
 from rcb4hv.hth4 import save_project
+from rcb4hv.hth4.keyframes import add_motion
+from rcb4hv.hth4.newproject import new_project
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.robust import RANGES, TILT_MAX_DEG, draw, robust, wilson
 from rcb4hv.robot.builtin import load_builtin
@@ -27,7 +29,7 @@ KXR = load_builtin("kxr-l2")
 def _walk_image(lean: float = 0.0) -> tuple[bytes, MotionLayout]:
     params = replace(default_params(KXR, "forward", steps=1), lean=lean)
     motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
-    return project_image(store(new_project(KXR), motion))
+    return project_image(add_motion(new_project(KXR), motion))
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +95,7 @@ def test_the_cli_prints_the_json_of_the_issue(tmp_path: Path) -> None:
     params = default_params(KXR, "forward", steps=1)
     motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
     path = tmp_path / "walk.h4p"
-    save_project(store(new_project(KXR), motion), path)
+    save_project(add_motion(new_project(KXR), motion), path)
     args = ["project", "robust", str(path), "--motion", "2", "--trials", "2", "--json"]
     r = CliRunner().invoke(cli, [*args, "--robot", "kxr-l2", "--workers", "1"])
     assert r.exit_code == 0, r.output

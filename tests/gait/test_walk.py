@@ -12,8 +12,10 @@ from click.testing import CliRunner
 from rcb4hv.cli.main import cli
 from rcb4hv.errors import RobotModelError
 from rcb4hv.gait.generate import default_params, walk
-from rcb4hv.gait.motion import new_project, store, walk_motion
+from rcb4hv.gait.motion import walk_motion
 from rcb4hv.hth4 import load_project
+from rcb4hv.hth4.keyframes import add_motion
+from rcb4hv.hth4.newproject import new_project
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.run import run_motions
 from rcb4hv.robot.builtin import load_builtin
@@ -38,7 +40,7 @@ def test_a_generated_walk_goes_the_commanded_way_without_falling(
 ) -> None:
     params = default_params(KXR, direction, steps=2)  # type: ignore[arg-type]
     motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
-    image, layout = project_image(store(new_project(KXR), motion))
+    image, layout = project_image(add_motion(new_project(KXR), motion))
     (run,) = run_motions(image, [2], motion_layout=layout, robot=KXR).motions
     out = run.outcome
     assert out is not None and not out.fell and out.end_pose == "upright"
@@ -55,7 +57,7 @@ def test_a_generated_turn_turns_the_commanded_way_without_falling(
     khr = load_builtin("khr3hv-22")
     params = default_params(khr, direction, steps=2)  # type: ignore[arg-type]
     motion, _ = walk_motion(khr, walk(khr, params), slot=2, name="turn")
-    image, layout = project_image(store(new_project(khr), motion))
+    image, layout = project_image(add_motion(new_project(khr), motion))
     (run,) = run_motions(image, [2], motion_layout=layout, robot=khr).motions
     out = run.outcome
     assert out is not None and not out.fell and out.end_pose == "upright"

@@ -72,9 +72,9 @@ def gait_command(
     play = play or ctx.get_parameter_source("port") == click.core.ParameterSource.COMMANDLINE
     from rcb4hv.cli.project_common import parse_buttons
     from rcb4hv.gait.generate import default_params, walk
-    from rcb4hv.gait.motion import load_or_new, period_ms, store, walk_motion
+    from rcb4hv.gait.motion import load_or_new, period_ms, walk_motion
     from rcb4hv.hth4 import dump_project, parse_project
-    from rcb4hv.hth4.keyframes import free_slots
+    from rcb4hv.hth4.keyframes import add_motion, free_slots
     from rcb4hv.project.relocate import project_layout
     from rcb4hv.robot.builtin import load_robot
 
@@ -106,7 +106,7 @@ def gait_command(
         "periods_per_pose": every, "ik_missed": w.missed, "ik_worst_mm": w.worst_error * 1000,
     }  # fmt: skip
     if project is not None and into is not None:
-        data = dump_project(store(project, motion, replace_used=replace))
+        data = dump_project(add_motion(project, motion, replace_used=replace))
         if dump_project(parse_project(data)) != data:
             raise ValueError("the new project does not round-trip; nothing written")
         write_atomic(into, data)
@@ -160,10 +160,10 @@ def tune_command(
     from dataclasses import asdict
 
     from rcb4hv.gait.generate import default_params, walk
-    from rcb4hv.gait.motion import load_or_new, store, walk_motion
+    from rcb4hv.gait.motion import load_or_new, walk_motion
     from rcb4hv.gait.tune import tune
     from rcb4hv.hth4 import dump_project
-    from rcb4hv.hth4.keyframes import free_slots
+    from rcb4hv.hth4.keyframes import add_motion, free_slots
     from rcb4hv.robot.builtin import load_robot
 
     model = load_robot(robot_name)
@@ -177,7 +177,7 @@ def tune_command(
         free = free_slots(project)
         slot = free[0] if free else 2
     motion, _ = walk_motion(model, walk(model, best.params), slot=slot, name=f"tuned {direction}")
-    write_atomic(into, dump_project(store(project, motion)))
+    write_atomic(into, dump_project(add_motion(project, motion)))
     doc = {
         "robot": model.name, "trials": trials, "seed": seed,
         "best": {**asdict(best.params), "fall_probability": best.fall_probability,

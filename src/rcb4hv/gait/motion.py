@@ -14,9 +14,9 @@ from pathlib import Path
 from typing import Protocol
 
 from rcb4hv.gait.generate import Walk
-from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes, now_text
+from rcb4hv.hth4.keyframes import Keyframe, motion_from_keyframes, now_text
 from rcb4hv.hth4.model import Motion, Project
-from rcb4hv.hth4.newproject import new_project as _new_project
+from rcb4hv.hth4.newproject import new_project
 from rcb4hv.protocol import SystemRegister
 from rcb4hv.robot.ik import limb
 from rcb4hv.robot.model import RobotModel
@@ -25,10 +25,8 @@ from rcb4hv.rom.layout import HTH4_22, MotionLayout
 __all__ = [
     "FIRST_MOVE_S",
     "load_or_new",
-    "new_project",
     "period_ms",
     "play_motion",
-    "store",
     "walk_keyframes",
     "walk_motion",
 ]
@@ -40,12 +38,6 @@ FIRST_MOVE_S = 0.5
 def period_ms(project: Project) -> int:
     """The project's output period (ms)."""
     return SystemRegister.from_word(project.system_register).frame_period_ms
-
-
-def new_project(model: RobotModel) -> Project:
-    """A new project for ``model`` (:func:`rcb4hv.hth4.newproject.new_project`): its servos
-    in use at their home pose, a home motion in slot 1 that runs at start-up."""
-    return _new_project(model)
 
 
 def walk_keyframes(model: RobotModel, w: Walk, period: int, every: int) -> list[Keyframe]:
@@ -95,11 +87,6 @@ def walk_motion(
             raise
         return replace(m, date=now_text()), every
     raise ValueError("the walk does not fit a motion slot; take fewer steps")
-
-
-def store(project: Project, motion: Motion, *, replace_used: bool = False) -> Project:
-    """``project`` with ``motion`` in its slot."""
-    return add_motion(project, motion, replace_used=replace_used)
 
 
 def load_or_new(path: Path, model: RobotModel) -> Project:

@@ -20,8 +20,10 @@ from typing import Any
 
 from rcb4hv.errors import ScaleError
 from rcb4hv.gait.generate import walk
-from rcb4hv.gait.motion import new_project, store, walk_motion
+from rcb4hv.gait.motion import walk_motion
 from rcb4hv.gait.pattern import GaitParams
+from rcb4hv.hth4.keyframes import add_motion
+from rcb4hv.hth4.newproject import new_project
 from rcb4hv.robot.model import RobotModel
 
 __all__ = ["BOUNDS", "SHORTFALL_WEIGHT", "Candidate", "progress_of", "score", "tune"]
@@ -106,7 +108,7 @@ def tune(
         for x in xs:
             p = _params(base, x)
             motion, _ = walk_motion(model, walk(model, p), slot=2, name="tune")
-            image, layout = project_image(store(new_project(model), motion))
+            image, layout = project_image(add_motion(new_project(model), motion))
             (row,) = go(image, [2], layout=layout, robot=model, trials=trials, seed=seed, **backend)
             prog = progress_of(p.direction, row)
             c = Candidate(

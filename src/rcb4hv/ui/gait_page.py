@@ -34,8 +34,9 @@ def generate_walk(
     """The walk in the first free slot of ``project`` (or of a new project for ``model``),
     played once in physics on ``model``."""
     from rcb4hv.gait.generate import default_params, walk
-    from rcb4hv.gait.motion import new_project, period_ms, store, walk_motion
-    from rcb4hv.hth4.keyframes import free_slots
+    from rcb4hv.gait.motion import period_ms, walk_motion
+    from rcb4hv.hth4.keyframes import add_motion, free_slots
+    from rcb4hv.hth4.newproject import new_project
     from rcb4hv.project.relocate import project_image, project_layout
     from rcb4hv.project.run import run_motions
 
@@ -49,7 +50,7 @@ def generate_walk(
         model, walk(model, params, period / 1000.0), slot=free[0], name=f"gait {direction}",
         period=period, layout=project_layout(base),
     )  # fmt: skip
-    out = store(base, motion)
+    out = add_motion(base, motion)
     image, layout = project_image(out)
     run = run_motions(image, [free[0]], motion_layout=layout, robot=model)
     return GeneratedWalk(out, free[0], params.commanded, run.motions[0].outcome)
