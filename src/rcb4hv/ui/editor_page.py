@@ -28,9 +28,8 @@ from typing import Any
 from nicegui import ui
 
 from rcb4hv.errors import Rcb4Error
-from rcb4hv.hth4 import BUTTON_SYMBOLS, dump_project
+from rcb4hv.hth4 import dump_project
 from rcb4hv.hth4.edit import (
-    bind_button,
     delete_pose,
     duplicate_pose,
     insert_pose,
@@ -156,12 +155,6 @@ class EditorPage:
             tid(ui.button("Mirror motion", icon="flip"), "editor-mirror-motion").on_click(
                 self.mirror_all
             )
-            self.buttons_sel = tid(
-                ui.select({bit: sym for bit, sym in BUTTON_SYMBOLS}, label="Remote buttons",
-                          multiple=True),
-                "editor-buttons",
-            ).classes("w-56")  # fmt: skip
-            tid(ui.button("Bind", icon="gamepad").props("dense"), "editor-bind").on_click(self.bind)
             tid(ui.button("Send pose", icon="send"), "editor-send").on_click(self.send)
             tid(ui.button("Play motion", icon="smart_display"), "editor-play-board").on_click(
                 self.play_board
@@ -266,13 +259,6 @@ class EditorPage:
         to = None if self.to_sel.value in (None, 0) else int(self.to_sel.value)
         name = self.name_in.value or None
         self.edit(mirror_motion, ed.slot, ed.model, to=to, name=name, checks=ed.checks)
-
-    def bind(self) -> None:
-        """Bind the motion to the chosen buttons (none: unbind)."""
-        ed = self.ed
-        if ed.slot is not None:
-            word = sum(int(b) for b in self.buttons_sel.value or [])
-            self.edit(bind_button, ed.slot, word, force=ed.force)
 
     def set_value(self, ics: int, value: object) -> None:
         ed = self.ed
@@ -431,9 +417,6 @@ class EditorPage:
                 s: f"M{s:03d} (free)" for s in ed.free_slots()
             }
             self.to_sel.update()
-            if ed.slot is not None:
-                word = ed.project.motion(ed.slot).button_data
-                self.buttons_sel.value = [bit for bit, _ in BUTTON_SYMBOLS if word & bit]
             pose = ed.pose
             self.frames_in.value = pose.speed if pose is not None else None
             blocks = ed.blocks()
