@@ -160,10 +160,10 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
                 lambda: connect()
             )
             tid(ui.button("Step", icon="skip_next").props("dense"), "flow-step").on_click(
-                lambda: step()
+                lambda: stepping(view.step)
             )
             tid(ui.button("Restart", icon="replay").props("dense"), "flow-restart").on_click(
-                lambda: restart()
+                lambda: stepping(view.restart)
             )
             step_status = tid(ui.label(""), "flow-step-status").classes("text-xs")
         with ui.row().classes("w-full no-wrap items-start"):
@@ -216,16 +216,10 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
         }
         edit(set_block, view.selected, values)
 
-    def step() -> None:
+    def stepping(move: Callable[[], str]) -> None:
+        """Step or restart the single-stepped program and show where it is."""
         try:
-            step_status.text = view.step()
-        except (Rcb4Error, ValueError) as exc:
-            fail(exc)
-        refresh()
-
-    def restart() -> None:
-        try:
-            step_status.text = view.restart()
+            step_status.text = move()
         except (Rcb4Error, ValueError) as exc:
             fail(exc)
         refresh()
