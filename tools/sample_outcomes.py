@@ -5,7 +5,7 @@ For each ``.h4p`` given (or found in a directory), every motion is labelled from
 --json`` (the public CLI, so this script depends on no internals); the outcome is then
 judged against what the name promises:
 
-- walk forward (前進, forward) / back (後退, バック, back): no fall, at least 2 cm the named
+- walk forward (前進, forward) / back (後退, 後進, バック, back): no fall, at least 2 cm the named
   way, more than sideways, turned less than 45°;
 - step left / right (左 / 右 with ステップ or a walk; side step left, right): the same,
   sideways;
@@ -19,17 +19,14 @@ judged against what the name promises:
   ``--start on_back`` / ``on_front``), ends upright;
 - anything else (kicks, punches, clapping, ...): ends upright.
 
-Routines called by other motions (ルーチン) are listed but not judged. A walk, step or turn
-bound to a remote button (the project's motion table) is played as a user drives it: with
-that button held for ``HOLD_S`` seconds (``--hold-button B --for 3``). Kondo's remote-driven
-walks read the button word (RAM 0350h) and stop at once when it is not held: played with no
-button, the KXR-L2 sample's walk back (XL2_110) only lifts its arms and puts them down again.
-``--no-hold`` plays every motion once with no button, as before. A walk or turn names a side
-with 左 (left) / 右 (right); a walk forward / back wins over a step.
-
-    python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
-    python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
-    python tools/sample_outcomes.py DIR --robot khr3hv --motion 16 --motion 17
+Routines called by other motions (ルーチン) are listed but not judged. Every motion is
+played as ``project simulate`` plays it by default: one bound to a remote button (the
+project's motion table) with that button held for 3 s (``--hold-button bound``), as a user
+drives it. Kondo's remote-driven walks read the button word (RAM 0350h) and stop at once when
+it is not held: played with no button, the KXR-L2 sample's walk back (XL2_110) only lifts its
+arms and puts them down again. ``--no-hold`` plays every motion once with no button
+(``--hold-button none``). A walk or turn names a side with 左 (left) / 右 (right); a walk
+forward / back wins over a step.
 
 The rcb4hv it runs is the one ``python -m rcb4hv`` imports (``PYTHONPATH`` picks a tree).
 Sample projects are test inputs kept outside the repository; this script never stores them.
@@ -50,10 +47,6 @@ WALK_MIN_M = 0.02
 STAY_MAX_M = 0.05
 TURN_MIN_DEG = 5.0
 WALK_MAX_TURN_DEG = 45.0
-HOLD_S = 3.0
-"""Seconds a remote-bound walk, step or turn is played with its button held: a chosen figure,
-as the fixture's table in docs/physics.md (a few steps of each loop)."""
-MOVING = ("walk forward", "walk back", "step left", "step right", "turn left", "turn right")
 
 SKIP_MARKS = ("ルーチン", "routine")
 
@@ -104,7 +97,13 @@ def label_of(name: str) -> str:
     )
     if "前進" in name or (walking and "前" in name) or "forward" in low:
         return "walk forward"
-    if "後退" in name or "バック" in name or (walking and "後" in name) or "backward" in low:
+    if (
+        "後退" in name
+        or "後進" in name
+        or "バック" in name
+        or (walking and "後" in name)
+        or "backward" in low
+    ):
         return "walk back"
     if side and (walking or "side step" in low):
         return f"step {side}"
@@ -172,28 +171,15 @@ def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
     )
 
 
-def buttons(file: Path) -> dict[int, str]:
-    """``{slot: "UP+S1"}``: the remote button each motion of ``file`` is bound to."""
-    cmd = [sys.executable, "-m", "rcb4hv", "project", "info", str(file), "--json"]
-    done = subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
-    if done.returncode != 0 or not done.stdout.strip():
-        return {}
-    motions = json.loads(done.stdout).get("motions", [])
-    return {
-        int(m["slot"]): str(m["button_names"]).replace("|", "+")
-        for m in motions
-        if m.get("button") and m.get("button_names")
-    }
-
-
 def project_outcomes(
     file: Path, robot: str | None, slots: list[int], hold: bool = True
 ) -> list[Outcome]:
     """Every motion of ``file`` (or ``slots``) labelled, played and judged."""
     base = ["--robot", robot] if robot else []
+    if not hold:
+        base += ["--hold-button", "none"]
     motions = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])["motions"]
     labels = {m["slot"]: label_of(m["name"]) for m in motions}
-    bound = buttons(file) if hold else {}
     lie = {
         "front": next((s for s, lab in labels.items() if lab == "lie on front"), None),
         "back": next((s for s, lab in labels.items() if lab == "lie on back"), None),
@@ -201,14 +187,9 @@ def project_outcomes(
     out: list[Outcome] = []
     for m in motions:
         label = labels[m["slot"]]
-        button = bound.get(m["slot"])
-        if label in MOVING and button:
-            held = [*base, "--motion", str(m["slot"]), "--hold-button", button]
-            seq = _simulate(file, [*held, "--for", f"{HOLD_S:g}"])["motions"]
-            out.append(_outcome(file, seq[-1], label, f"{button} held {HOLD_S:g} s"))
-            continue
         if not label.startswith("get up"):
-            out.append(_outcome(file, m, label, "standing"))
+            how = f"held {m['held']}" if m.get("held") else "standing"
+            out.append(_outcome(file, m, label, how))
             continue
         side = label.split()[-1]
         first = lie[side]

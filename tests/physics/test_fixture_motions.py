@@ -16,8 +16,9 @@ from click.testing import CliRunner
 from rcb4hv.cli.main import cli
 from rcb4hv.cli.project_common import load_image, parse_buttons
 from rcb4hv.hth4.keyframes import Keyframe
+from rcb4hv.project.image import button_names
 from rcb4hv.project.physics_sim import PhysicsOutcome, physics_findings
-from rcb4hv.project.run import run_motions
+from rcb4hv.project.run import HOLD_S, run_motions
 from rcb4hv.project.runresult import MotionRun
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.robot.builtin import load_builtin
@@ -34,9 +35,11 @@ GET_UP_BACK = 15  # XL2G_115: get up from lying on the back
 
 
 def play(*slots: int, sequence: bool = False) -> list[PhysicsOutcome]:
+    """The outcomes of ``slots`` played once each, with no remote button held."""
     run = run_motions(
-        IMAGE, list(slots), names=NAMES, robot=KXR, motion_layout=LAYOUT, sequence=sequence
-    )
+        IMAGE, list(slots), names=NAMES, robot=KXR, motion_layout=LAYOUT, sequence=sequence,
+        hold=0,
+    )  # fmt: skip
     return [m.outcome for m in run.motions]
 
 
@@ -219,17 +222,11 @@ def test_without_mujoco_the_cli_says_which_extra(monkeypatch: pytest.MonkeyPatch
 def test_held_on_its_button_a_walk_keeps_going_the_right_way(
     slot: int, button: str, check: Callable[[PhysicsOutcome], bool]
 ) -> None:
-    """As a user drives the robot: the remote button held 3 s repeats the step."""
-    run = run_motions(
-        IMAGE,
-        [slot],
-        names=NAMES,
-        robot=KXR,
-        motion_layout=LAYOUT,
-        sequence=False,
-        hold=parse_buttons(button),
-        hold_for=3.0,
-    )
+    """As a user drives the robot: the remote button held 3 s repeats the step. That is the
+    default: each motion's own button from the project's table, :data:`HOLD_S` seconds."""
+    run = run_motions(IMAGE, [slot], names=NAMES, robot=KXR, motion_layout=LAYOUT)
+    assert HOLD_S == 3.0
+    assert run.motions[0].result.held == f"{button_names(parse_buttons(button))} for 3 s"
     out = run.motions[0].outcome
     assert not out.fell and out.end_pose == "upright"
     assert check(out), out

@@ -52,9 +52,7 @@ def test_new_project_holds_the_model(made: Path) -> None:
 def test_new_project_checks_clean_and_stands(made: Path) -> None:
     assert [f for f in check_project(load_project(made)) if f.severity == "error"] == []
     image, layout, names = load_image(made)
-    run = run_motions(
-        image, [1], names=names, motion_layout=layout, robot=load_builtin(made.stem)
-    )
+    run = run_motions(image, [1], names=names, motion_layout=layout, robot=load_builtin(made.stem))
     (motion,) = run.motions
     assert motion.result.status == "completed"
     assert not motion.outcome.fell and motion.outcome.end_pose == "upright"

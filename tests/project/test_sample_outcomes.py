@@ -1,8 +1,9 @@
 """tools/sample_outcomes.py plays a remote-bound walk as a user drives it: its button held.
 
 Kondo's remote-driven walks read the button word and stop at once when it is not held, so a
-walk bound to a button is judged with that button held (``HOLD_S`` seconds); an unbound one
-is played once from standing. Built from our own keyframe motions on the fixture project.
+walk bound to a button is judged with that button held (``project simulate``'s default, 3 s);
+an unbound one is played once from standing. Built from our own keyframe motions on the
+fixture project.
 """
 
 from __future__ import annotations
@@ -55,18 +56,23 @@ def project_file(tmp_path: Path) -> Path:
     return path
 
 
-def test_the_bound_buttons_are_read_from_the_project(project_file: Path) -> None:
-    tool = _tool()
-    bound = tool.buttons(project_file)
-    assert bound[18] == "UP+S1"
+def test_the_bound_buttons_are_read_from_the_image(project_file: Path) -> None:
+    from rcb4hv.cli.project_common import load_image
+    from rcb4hv.project.run import bound_buttons
+
+    image, lay, _ = load_image(project_file)
+    bound = bound_buttons(image, lay)
+    assert bound[18] == int(Button.UP | Button.S1)
     assert 19 not in bound
-    assert tool.label_of("test walk forward") == "walk forward"
+    assert bound[9] == int(Button.UP)  # the fixture's own fast walk
+    assert bound_buttons(bytes(len(image)), lay) == {}  # no image: no table, no error
+    assert _tool().label_of("test walk forward") == "walk forward"
 
 
 def test_a_bound_walk_is_played_with_its_button_held(project_file: Path) -> None:
     tool = _tool()
     held, once = tool.project_outcomes(project_file, None, [18, 19])
-    assert (held.slot, held.how) == (18, f"UP+S1 held {tool.HOLD_S:g} s")
+    assert (held.slot, held.how) == (18, "held UP|S1 for 3 s")
     assert (once.slot, once.how) == (19, "standing")
     assert held.end_pose == once.end_pose == "upright"
     plain = tool.project_outcomes(project_file, None, [18], hold=False)

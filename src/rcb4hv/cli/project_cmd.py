@@ -34,9 +34,9 @@ from rcb4hv.files import write_atomic
 
 
 def _button_text(buttons: int, compare: str = "Equals") -> str:
-    from rcb4hv.project.image import ButtonBinding
+    from rcb4hv.project.image import button_names
 
-    names = ButtonBinding(buttons, compare, 0).button_names
+    names = button_names(buttons)
     return names if compare == "Equals" else f"{compare} {names}"
 
 

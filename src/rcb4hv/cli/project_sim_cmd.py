@@ -45,16 +45,21 @@ if TYPE_CHECKING:
 @click.option(
     "--hold-button",
     "hold_button",
-    metavar="NAME",
-    help="Hold remote button(s) while each motion plays (UP, CIRCLE, UP+S1...).",
+    metavar="NAME|bound|none",
+    default="bound",
+    show_default=True,
+    help="Remote button(s) held while each motion plays: 'bound' holds each motion's own "
+    "button from the project's remote table, as a user drives it (a walk bound to UP walks "
+    "while UP is held); a NAME (UP, CIRCLE, UP+S1...) holds it for every motion; 'none' "
+    "holds nothing (a remote-driven walk then stops after its first pass).",
 )
 @click.option(
     "--for",
     "hold_for",
     type=click.FloatRange(min=0),
-    default=1.0,
+    default=3.0,
     show_default=True,
-    help="Seconds to hold --hold-button, then release it.",
+    help="Seconds to hold the button, then release it.",
 )
 @click.option(
     "--limit",
@@ -97,7 +102,7 @@ def simulate(
     motion: tuple[int, ...],
     as_json: bool,
     plot: Path | None,
-    hold_button: str | None,
+    hold_button: str,
     hold_for: float,
     limit: float | None,
     physics: bool,
@@ -108,7 +113,9 @@ def simulate(
 ) -> None:
     """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
 
-    Each motion is played as a host does (suspend, PC to the main loop, CALL, resume). Status:
+    Each motion is played as a host does (suspend, PC to the main loop, CALL, resume), with
+    its own remote button held for --for seconds if the project binds it to one (--hold-button
+    bound, the default; 'held' in --json names the word), as a user drives it. Status:
     completed (returned to the main loop), waiting (loops reading an input, e.g. a button
     or AD sensor, as its program defines), holding (loops without reading an input while
     servos are mixed from an AD sensor, e.g. a gyro balancing the robot), stalled (repeats
@@ -128,10 +135,12 @@ def simulate(
     start" with the pose it lies in, and cannot "fall" in that motion.
     """
     from rcb4hv.emulator import Board
-    from rcb4hv.project.run import run_motions
+    from rcb4hv.project.run import Hold, run_motions
 
     image, lay, names = load_image(file, layout_name)
-    hold = parse_buttons(hold_button) if hold_button else 0
+    hold: Hold = "bound"
+    if hold_button.lower() != "bound":
+        hold = 0 if hold_button.lower() == "none" else parse_buttons(hold_button)
     slots = list(motion)
     if sequence is not None:
         if not physics:
@@ -179,7 +188,7 @@ def _print_plain(run: SimulationRun) -> None:
         + (f" ({boot.detail})" if boot.detail else "")
     )
     print_table(
-        ("slot", "address", "name", "status", "virtual s", "instr", "detail"),
+        ("slot", "address", "name", "status", "virtual s", "instr", "held", "detail"),
         [
             [
                 r.slot or "-",
@@ -188,6 +197,7 @@ def _print_plain(run: SimulationRun) -> None:
                 r.status,
                 f"{r.duration:.3f}",
                 r.instructions,
+                r.held or "",
                 r.detail,
             ]
             for r in run.results

@@ -351,11 +351,16 @@ class ButtonBinding:
     @property
     def button_names(self) -> str:
         """``UP|S1`` style names of the button word (``?`` for unknown bits)."""
-        b = Button(self.buttons & 0x1F7F)
-        names = [x.name for x in Button if x and x in b and x.name]
-        if self.buttons & ~0x1F7F:
-            names.append(f"?{self.buttons & ~0x1F7F:#x}")
-        return "|".join(names) or "NONE"
+        return button_names(self.buttons)
+
+
+def button_names(word: int) -> str:
+    """``UP|S1`` style names of a remote's button word (``?`` for unknown bits)."""
+    b = Button(word & 0x1F7F)
+    names = [x.name for x in Button if x and x in b and x.name]
+    if word & ~0x1F7F:
+        names.append(f"?{word & ~0x1F7F:#x}")
+    return "|".join(names) or "NONE"
 
 
 @dataclass(frozen=True)

@@ -12,6 +12,9 @@ defaults holds everywhere:
 * the board boots once (``Simulator.boot``) and the motions play one after another on it; with
   physics (``robot``) each motion gets a freshly booted robot stood on the floor in ``start``
   unless ``sequence`` (one robot for all, as a user plays them);
+* ``hold="bound"`` (the default): each motion bound to a remote button in the image's
+  button table plays with that button held for :data:`HOLD_S` seconds, as a user drives the
+  robot (Kondo's remote-driven walks stop at once when their button is not held);
 * ``listener(board_time_s, board)`` hears every output period of the run and each motion's
   start: ask the board what it sends (:meth:`~rcb4hv.emulator.Board.sent_angles`, the one
   free/hold/angle rule);
@@ -25,19 +28,29 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final, Literal
 
 from rcb4hv.emulator import Board
+from rcb4hv.errors import ProtocolError
 from rcb4hv.project.runresult import MotionRun, SimulationRun
 from rcb4hv.project.simulate import DEFAULT_LIMIT, Simulator
+from rcb4hv.rom.layout import HTH4_22, MotionLayout
+from rcb4hv.rom.older import detect_image_layout
 
 if TYPE_CHECKING:
     from rcb4hv.physics import PhysicsOptions
     from rcb4hv.project.physics_sim import PhysicsSimulator, StartPose
     from rcb4hv.robot.model import RobotModel
-    from rcb4hv.rom.layout import MotionLayout
 
-__all__ = ["RunListener", "run_motions"]
+__all__ = ["HOLD_S", "Hold", "RunListener", "bound_buttons", "run_motions"]
+
+Hold = int | Mapping[int, int] | Literal["bound"]
+"""What is held as each motion starts: a button word for every motion, one per slot (a slot
+not named: none), or ``"bound"``: each motion's own button (:func:`bound_buttons`)."""
+
+HOLD_S: Final = 3.0
+"""Seconds a bound button is held by default: a chosen figure, a few steps of a walk, as a
+user holds the remote's button to walk."""
 
 RunListener = Callable[[float, Board], None]
 """Called with the board time (s) and the board after every output period, and at each
@@ -51,8 +64,8 @@ def run_motions(
     names: Mapping[int, str] | None = None,
     motion_layout: MotionLayout | None = None,
     limit: float | None = None,
-    hold: int = 0,
-    hold_for: float = 0.0,
+    hold: Hold = "bound",
+    hold_for: float = HOLD_S,
     robot: RobotModel | None = None,
     sequence: bool = False,
     start: StartPose = "upright",
@@ -63,14 +76,17 @@ def run_motions(
 ) -> SimulationRun:
     """Boot ``image`` and play motion ``slots`` (see the module docstring for the defaults).
 
-    ``names``: motion names by slot; ``hold``: a button word held for ``hold_for`` seconds as
-    each motion starts; ``robot``: play on this robot in MuJoCo (``start``, ``sequence``,
-    ``track``: keep the robot's path and pictures; ``options``: factors on the physics'
-    chosen figures, :class:`~rcb4hv.physics.PhysicsOptions`). A boot that fails is reported in the
+    ``names``: motion names by slot; ``hold``: held for ``hold_for`` seconds as each motion
+    starts (:data:`Hold`; by default each motion's own remote button, as a user drives it);
+    ``robot``: play on this robot in MuJoCo (``start``, ``sequence``, ``track``: keep the
+    robot's path and pictures; ``options``: factors on the physics' chosen figures,
+    :class:`~rcb4hv.physics.PhysicsOptions`). A boot that fails is reported in the
     answer and the motions are still played from the host (spec 11.4).
     """
     names = names or {}
     t0 = time.perf_counter()
+    if hold == "bound":
+        hold = bound_buttons(image, motion_layout or detect_image_layout(image) or HTH4_22)
     if robot is None:
         if sequence or track or start != "upright" or options is not None:
             raise ValueError("sequence, track and start set up the robot of a physics run")
@@ -82,12 +98,26 @@ def run_motions(
     )  # fmt: skip
 
 
+def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
+    """``{slot: button word}``: the remote button each motion of ``image`` is bound to in its
+    main loop's button table (the first binding of a slot; unbound slots are left out). Held
+    while the motion plays, it drives the motion as a user does with the remote: Kondo's
+    walks loop while their button is held and stop at once without it."""
+    from rcb4hv.project.image import read_image
+
+    try:
+        motions = read_image(image, motion_layout).motions
+    except ProtocolError:  # not a HeartToHeart4 image: no button table to read
+        return {}
+    return {m.slot: m.bindings[0].buttons for m in motions if m.bindings and m.bindings[0].buttons}
+
+
 def _play(
     sim: Simulator,
     slots: Sequence[int],
     names: Mapping[int, str],
     limit: float | None,
-    hold: int,
+    hold: int | Mapping[int, int],
     hold_for: float,
     listener: RunListener | None,
     progress: Callable[[MotionRun], None] | None,
@@ -119,7 +149,7 @@ def _one(
     slot: int,
     names: Mapping[int, str],
     limit: float | None,
-    hold: int,
+    hold: int | Mapping[int, int],
     hold_for: float,
     listener: RunListener | None,
 ) -> MotionRun:
@@ -131,7 +161,8 @@ def _one(
         listener(start_s, sim.board)
     address = sim.layout.address(slot)
     name = names.get(slot, "")
-    r = sim.play(address, slot=slot, name=name, hold=hold, hold_for=hold_for, limit=limit)
+    word = hold.get(slot, 0) if isinstance(hold, Mapping) else hold
+    r = sim.play(address, slot=slot, name=name, hold=word, hold_for=hold_for, limit=limit)
     if isinstance(sim, PhysicsSimulator):
         return sim.runs[-1]
     return MotionRun(r, start_s=start_s)
@@ -144,7 +175,7 @@ def _run_physics(
     motion_layout: MotionLayout | None,
     robot: RobotModel,
     limit: float,
-    hold: int,
+    hold: int | Mapping[int, int],
     hold_for: float,
     sequence: bool,
     start: StartPose,

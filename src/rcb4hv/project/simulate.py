@@ -61,6 +61,7 @@ from typing import Any, Final
 from rcb4hv.asm import format_command
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ProtocolError, SimulationError
+from rcb4hv.project.image import button_names
 from rcb4hv.project.instructions import boot_cause, input_names, instruction_at, stop_reason
 from rcb4hv.project.simresult import MotionResult, Status
 from rcb4hv.project.simwatch import Watch, mixed_sensors, progress_state
@@ -314,7 +315,7 @@ class Simulator:
         held = None
         if hold:
             b.set_buttons(hold)
-            held = f"{hold:#06x} for {hold_for:g} s"
+            held = f"{button_names(hold)} for {hold_for:g} s"
 
         def result(status: Status, at_us: int | None = None, **kw: Any) -> MotionResult:
             t = (self._t_us if at_us is None else at_us) - t0
