@@ -3,7 +3,7 @@ PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test docs package bench fuzz reliability sensitivity gait-plots screenshots clean
+.PHONY: demo test docs package bench fuzz reliability sensitivity samples gait-plots screenshots clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -75,6 +75,14 @@ reliability: $(VENV)/.installed-dev
 # SENSITIVITY_EXTRA=DIR adds every .h4p below DIR (e.g. local copies of Kondo's samples)
 sensitivity: $(VENV)/.installed-dev
 	nice -n 10 $(BIN)/python -m bench.sensitivity $(if $(SENSITIVITY_EXTRA),--extra $(SENSITIVITY_EXTRA))
+
+# labelled outcomes of every .h4p below SAMPLES (local copies of Kondo's sample projects, kept
+# outside the repository): a table per project and a summary (~1-10 CPU-minutes a project)
+samples: $(VENV)/.installed-dev
+	@test -n "$(SAMPLES)" || (echo "usage: make samples SAMPLES=DIR" && false)
+	mkdir -p build
+	nice -n 10 $(BIN)/python tools/sample_outcomes.py $(SAMPLES) > build/samples.md
+	sed -n '/^## Summary/,$$p' build/samples.md
 
 clean:
 	rm -rf $(VENV) .build .mypy_cache .pytest_cache .ruff_cache build/screenshots

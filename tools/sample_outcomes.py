@@ -39,7 +39,7 @@ import json
 import os
 import subprocess
 import sys
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -65,6 +65,7 @@ class Outcome:
     dyaw_deg: float
     right: bool | None
     how: str = "standing"
+    robot: str = ""
 
 
 def label_of(name: str) -> str:
@@ -178,7 +179,9 @@ def project_outcomes(
     base = ["--robot", robot] if robot else []
     if not hold:
         base += ["--hold-button", "none"]
-    motions = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])["motions"]
+    data = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])
+    robot_name = str(data.get("physics", {}).get("robot", "?"))
+    motions = data["motions"]
     labels = {m["slot"]: label_of(m["name"]) for m in motions}
     lie = {
         "front": next((s for s, lab in labels.items() if lab == "lie on front"), None),
@@ -189,7 +192,7 @@ def project_outcomes(
         label = labels[m["slot"]]
         if not label.startswith("get up"):
             how = f"held {m['held']}" if m.get("held") else "standing"
-            out.append(_outcome(file, m, label, how))
+            out.append(replace(_outcome(file, m, label, how), robot=robot_name))
             continue
         side = label.split()[-1]
         first = lie[side]
@@ -200,7 +203,7 @@ def project_outcomes(
             start = "on_front" if side == "front" else "on_back"
             seq = _simulate(file, [*base, "--motion", str(m["slot"]), "--start", start])["motions"]
             how = f"--start {start}"
-        out.append(_outcome(file, seq[-1], label, how))
+        out.append(replace(_outcome(file, seq[-1], label, how), robot=robot_name))
     return out
 
 
@@ -217,6 +220,38 @@ def _table(rows: list[Outcome]) -> str:
     good = sum(1 for r in judged if r.right)
     lines.append("")
     lines.append(f"{good} of {len(judged)} right")
+    return "\n".join(lines)
+
+
+NAMED = ("walk forward", "walk back", "step left", "step right", "turn left", "turn right")
+"""The labels issue 26 judges, with "greeting" (walks, steps, turns, greetings, home poses)."""
+
+
+def _count(rows: list[Outcome], labels: tuple[str, ...] | None) -> str:
+    judged = [r for r in rows if r.right is not None and (labels is None or r.label in labels)]
+    return f"{sum(1 for r in judged if r.right)} of {len(judged)}"
+
+
+def summary(results: dict[str, list[Outcome]]) -> str:
+    """One row per project: its model and how many labelled outcomes came out right."""
+    lying = ("lie on back", "lie on front", "get up back", "get up front")
+    lines = [
+        "| project | model | walks, steps, turns, greetings | with lie-downs and get-ups | "
+        "every judged motion |",
+        "|---|---|---|---|---|",
+    ]
+    rows_all: list[Outcome] = []
+    for f, rows in results.items():
+        rows_all += rows
+        robot = rows[0].robot if rows else "?"
+        lines.append(
+            f"| {Path(f).name} | `{robot}` | {_count(rows, (*NAMED, 'greeting'))} | "
+            f"{_count(rows, (*NAMED, 'greeting', *lying))} | {_count(rows, None)} |"
+        )
+    lines.append(
+        f"| **all** | | {_count(rows_all, (*NAMED, 'greeting'))} | "
+        f"{_count(rows_all, (*NAMED, 'greeting', *lying))} | {_count(rows_all, None)} |"
+    )
     return "\n".join(lines)
 
 
@@ -242,6 +277,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         for f, rows in results.items():
             sys.stdout.write(f"## {f}\n\n{_table(rows)}\n\n")
+        sys.stdout.write(f"## Summary\n\n{summary(results)}\n")
     return 0
 
 

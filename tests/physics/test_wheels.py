@@ -60,3 +60,26 @@ def test_a_wheel_turns_at_the_commanded_speed() -> None:
     sim.play(layout.address(19))
     for index in WHEELS:
         assert abs(sim.world.wheel_speed(index)) < 0.05 * want
+
+
+def test_the_kxr_l4r_drives_forward_as_kondos_sample_does() -> None:
+    """Kondo's Hello_KXR-L4R drives forward (XL4R_101) with the right wheels (ICS 4, 8) at
+    11500 and the left ones (5, 9) at 3500 for a second: the robot goes forward. kxreus's
+    kxrl4r map gave the wheels the other signs, which drove all 18 of the sample's motions
+    the wrong way (KXR-KITS.md §1.4 lists both)."""
+    from rcb4hv.hth4.newproject import new_project
+    from rcb4hv.robot.builtin import load_robot
+
+    model = load_robot("kxr:L4R")
+    project = new_project(model)
+    stand = {s.index: 7500 for s in model.servos}
+    drive = stand | {4: 11500, 8: 11500, 5: 3500, 9: 3500}
+    frames = [Keyframe(0.025, drive), Keyframe(1.0, drive), Keyframe(0.025, stand)]
+    project = add_motion(project, motion_from_keyframes(frames, slot=2, name="forward"))
+    image, layout = project_image(project, None)
+    sim = PhysicsSimulator(image, model, motion_layout=layout)
+    sim.boot()
+    sim.play(layout.address(2))
+    out = sim.runs[-1].outcome
+    assert out is not None and not out.fell
+    assert out.dx_m > 0.1 and abs(out.dy_m) < 0.02 and abs(out.dyaw_deg) < 3.0

@@ -65,6 +65,10 @@ def test_the_bound_buttons_are_read_from_the_image(project_file: Path) -> None:
     assert bound[18] == int(Button.UP | Button.S1)
     assert 19 not in bound
     assert bound[9] == int(Button.UP)  # the fixture's own fast walk
+    # a carrying walk is called from the grab motion and bound to no button of its own; it
+    # loops while UP+S2 is held (its button branch), so that is what a user holds
+    assert bound[42] == int(Button.UP | Button.S2)
+    assert 5 not in bound  # the slow walk counts its steps and reads no button
     assert bound_buttons(bytes(len(image)), lay) == {}  # no image: no table, no error
     assert _tool().label_of("test walk forward") == "walk forward"
 

@@ -12,9 +12,10 @@ defaults holds everywhere:
 * the board boots once (``Simulator.boot``) and the motions play one after another on it; with
   physics (``robot``) each motion gets a freshly booted robot stood on the floor in ``start``
   unless ``sequence`` (one robot for all, as a user plays them);
-* ``hold="bound"`` (the default): each motion bound to a remote button in the image's
-  button table plays with that button held for :data:`HOLD_S` seconds, as a user drives the
-  robot (Kondo's remote-driven walks stop at once when their button is not held);
+* ``hold="bound"`` (the default): each motion plays with its own remote button held for
+  :data:`HOLD_S` seconds, as a user drives the robot (:func:`bound_buttons`: the word its
+  button branch loops on, else its binding; Kondo's remote-driven walks stop at once when
+  their button is not held);
 * ``listener(board_time_s, board)`` hears every output period of the run and each motion's
   start: ask the board what it sends (:meth:`~rcb4hv.emulator.Board.sent_angles`, the one
   free/hold/angle rule);
@@ -99,17 +100,28 @@ def run_motions(
 
 
 def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
-    """``{slot: button word}``: the remote button each motion of ``image`` is bound to in its
-    main loop's button table (the first binding of a slot; unbound slots are left out). Held
-    while the motion plays, it drives the motion as a user does with the remote: Kondo's
-    walks loop while their button is held and stop at once without it."""
+    """``{slot: button word}``: the remote button(s) a user holds to drive each motion of
+    ``image``, as a user does; slots that read no button and are bound to none are left out.
+
+    A motion that reads the remote (a button branch, HeartToHeart4's button compare box) gets
+    the word of its first branch taken while the buttons *equal* it: Kondo's remote-driven
+    walks loop while that word is held and stop at once without it (a walk called from
+    another motion, e.g. a carrying walk, is bound to no button of its own). Any other motion
+    gets its binding in the main loop's button table."""
+    from rcb4hv.hth4.blocks.kinds import button_tests
     from rcb4hv.project.image import read_image
 
     try:
         motions = read_image(image, motion_layout).motions
     except ProtocolError:  # not a HeartToHeart4 image: no button table to read
         return {}
-    return {m.slot: m.bindings[0].buttons for m in motions if m.bindings and m.bindings[0].buttons}
+    out: dict[int, int] = {}
+    for m in motions:
+        loop = [w for w, cond in button_tests(m.frames) if w and cond == "equal"]
+        word = loop[0] if loop else (m.bindings[0].buttons if m.bindings else 0)
+        if word:
+            out[m.slot] = word
+    return out
 
 
 def _play(

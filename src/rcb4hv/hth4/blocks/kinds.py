@@ -30,8 +30,9 @@ Operands are named by :mod:`rcb4hv.hth4.blocks.operands`.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from itertools import pairwise
 from typing import Final
 
 from rcb4hv.errors import EditError, ProtocolError
@@ -240,6 +241,31 @@ def _data_json(cmd: Move | Sub | Add | Mul | Div | Mod | And | Or | Xor) -> dict
     return out
 
 
+def _button_word(cmd: Sub) -> int | None:
+    """The button word a compare tests the remote's buttons (RAM BUTTONS) against, or None."""
+    if not isinstance(cmd.dst, Ram) or operand_name(cmd.dst) != "BUTTONS":
+        return None
+    if not isinstance(cmd.src, Data) or cmd.nbytes != 2:
+        return None
+    return int.from_bytes(cmd.src.data, "big")
+
+
+def button_tests(entries: Sequence[bytes]) -> list[tuple[int, Json]]:
+    """(button word, condition) of each button branch (``button_branch`` block) among a
+    motion's ``entries``, in ROM order: what the motion reads from the remote."""
+    out: list[tuple[int, Json]] = []
+    for first, second in pairwise(entries):
+        a, b = exact_command(first), exact_command(second)
+        if a is None or b is None or not pairs(first, second):
+            continue
+        cmd, jump = a[0], b[0]
+        assert isinstance(cmd, Sub) and isinstance(jump, Jump)  # pairs() said so
+        word = _button_word(cmd)
+        if word is not None:
+            out.append((word, condition_json(jump.condition.to_byte())))
+    return out
+
+
 def _branch(cmd: Sub, jump: Jump, namer: Namer) -> tuple[str, dict[str, Json]]:
     tail: dict[str, Json] = {
         "if": condition_json(jump.condition.to_byte()),
@@ -249,8 +275,8 @@ def _branch(cmd: Sub, jump: Jump, namer: Namer) -> tuple[str, dict[str, Json]]:
         assert isinstance(cmd.dst, Ram)
         return "counter_loop", {"counter": _numbered(operand_name(cmd.dst), "COUNTER"), **tail}
     dst = operand_name(cmd.dst) if isinstance(cmd.dst, Ram) else ""
-    if dst == "BUTTONS" and isinstance(cmd.src, Data) and cmd.nbytes == 2:
-        word = int.from_bytes(cmd.src.data, "big")
+    word = _button_word(cmd)
+    if word is not None:
         names: list[Json] = [b.name for b in BUTTONS if word & b]
         rest = word & ~sum(BUTTONS)
         return "button_branch", {"buttons": names + ([rest] if rest else []), **tail}

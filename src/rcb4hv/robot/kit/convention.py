@@ -76,14 +76,18 @@ SIGNS: dict[Family, dict[str, tuple[int, int]]] = {
         "neck_pitch3": (1, 1),
         "gripper": (1, 1),
     },
+    # the wheels: kxreus's kxrl4r map gives right -1 / left +1, its kxrl4r2a3 and kxrl4r2a3g
+    # maps right +1 / left -1 for the same wheels (KXR-KITS.md §1.4). Kondo's Hello_KXR-L4R
+    # decides it: with -1/+1 all 18 of its drives, side moves and turns went the other way;
+    # with +1/-1 they go the named way (docs/robots.md, "KXR-L4R wheels")
     "L4R": {
         "arm_roll": (1, 1),
         "arm_elbow": (-1, -1),
         "gripper": (-1, -1),
         "front_yaw": (-1, -1),
-        "front_wheel": (-1, 1),
+        "front_wheel": (1, -1),
         "rear_yaw": (-1, -1),
-        "rear_wheel": (-1, 1),
+        "rear_wheel": (1, -1),
         "neck_yaw": (1, 1),
         "neck_pitch": (1, 1),
     },
