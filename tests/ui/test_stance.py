@@ -146,6 +146,7 @@ def test_the_physics_playback_is_the_physics_run(kxr_project_path: Path) -> None
     from rcb4hv.hth4 import load_project
     from rcb4hv.project.physics_sim import PhysicsSimulator
     from rcb4hv.project.relocate import project_image, project_layout
+    from rcb4hv.project.run import HOLD_S, bound_buttons
     from rcb4hv.robot.builtin import load_builtin
     from rcb4hv.ui.playback import physics_playback
 
@@ -153,9 +154,12 @@ def test_the_physics_playback_is_the_physics_run(kxr_project_path: Path) -> None
     robot = load_builtin("kxr-l2-gripper")
     slot = 1  # a few small steps forward
     pb = physics_playback(project, slot, robot)
-    sim = PhysicsSimulator(project_image(project)[0], robot, motion_layout=project_layout(project))
+    image, layout = project_image(project)[0], project_layout(project)
+    sim = PhysicsSimulator(image, robot, motion_layout=layout)
     sim.boot()
-    result = sim.play(project.motion(slot).address, slot=slot)
+    # played as the dashboard plays it: the walk loops on UP, held for HOLD_S (run_motions)
+    hold = bound_buttons(image, layout)[slot]
+    result = sim.play(project.motion(slot).address, slot=slot, hold=hold, hold_for=HOLD_S)
     outcome = sim.outcomes[-1]
     assert pb.source == "physics" and pb.status == result.status
     assert pb.fell_at == outcome.fell_at_s

@@ -12,10 +12,10 @@ defaults holds everywhere:
 * the board boots once (``Simulator.boot``) and the motions play one after another on it; with
   physics (``robot``) each motion gets a freshly booted robot stood on the floor in ``start``
   unless ``sequence`` (one robot for all, as a user plays them);
-* ``hold="bound"`` (the default): each motion plays with its own remote button held for
-  :data:`HOLD_S` seconds, as a user drives the robot (:func:`bound_buttons`: the word its
-  button branch loops on, else its binding; Kondo's remote-driven walks stop at once when
-  their button is not held);
+* ``hold="bound"`` (the default): each motion that reads the remote plays with the button it
+  loops on held for :data:`HOLD_S` seconds, as a user drives the robot
+  (:func:`bound_buttons`; Kondo's remote-driven walks stop at once when their button is not
+  held);
 * ``listener(board_time_s, board)`` hears every output period of the run and each motion's
   start: ask the board what it sends (:meth:`~rcb4hv.emulator.Board.sent_angles`, the one
   free/hold/angle rule);
@@ -101,26 +101,27 @@ def run_motions(
 
 def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
     """``{slot: button word}``: the remote button(s) a user holds to drive each motion of
-    ``image``, as a user does; slots that read no button and are bound to none are left out.
+    ``image`` that reads the remote; motions that read no button are left out.
 
-    A motion that reads the remote (a button branch, HeartToHeart4's button compare box) gets
-    the word of its first branch taken while the buttons *equal* it: Kondo's remote-driven
-    walks loop while that word is held and stop at once without it (a walk called from
-    another motion, e.g. a carrying walk, is bound to no button of its own). Any other motion
-    gets its binding in the main loop's button table."""
+    A motion reads the remote with a button branch (HeartToHeart4's button compare box); it
+    gets the word of its first branch taken while the buttons *equal* it. Kondo's
+    remote-driven walks loop while that word is held and stop at once without it, whatever
+    starts them: the main loop's button table (which may name another word, e.g. S1 for a
+    walk that loops on UP+S1) or another motion (a carrying walk, bound to no button of its
+    own). A motion that reads no button is not held: its table binding would only start it
+    again from the main loop while the button is still down."""
     from rcb4hv.hth4.blocks.kinds import button_tests
     from rcb4hv.project.image import read_image
 
     try:
         motions = read_image(image, motion_layout).motions
-    except ProtocolError:  # not a HeartToHeart4 image: no button table to read
+    except ProtocolError:  # not a HeartToHeart4 image: no motions to read
         return {}
     out: dict[int, int] = {}
     for m in motions:
         loop = [w for w, cond in button_tests(m.frames) if w and cond == "equal"]
-        word = loop[0] if loop else (m.bindings[0].buttons if m.bindings else 0)
-        if word:
-            out[m.slot] = word
+        if loop:
+            out[m.slot] = loop[0]
     return out
 
 
