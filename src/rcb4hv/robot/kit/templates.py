@@ -174,13 +174,16 @@ def _leg(code: KitCode) -> list[Slot]:
         wheel = vec("l2.base_wheel")
         return [
             _slot("hip_yaw", None, yaw, "yaw", (-90, 90), (segment(yaw, roll),)),
+            # the short leg ends in the kit's sole: kxreus builds it `:leg :j2-pr :sole t`
+            # (kxra6g, kxrmw4a6h2m), its leg end 31 mm below the roll axis as the sole's
+            # underside is below the 5/6-axis leg's ankle roll (KXR-KITS.md §2.5)
             _slot(
                 "hip_roll",
                 "hip_yaw",
                 roll,
                 "roll",
                 (-135, 133),
-                (segment(roll, foot), box((60, 30, 10), _add(foot, (0, 0, 5)), True)),
+                (segment(roll, _add(roll, (0.0, 0.0, -SOLE_TOP))), *_sole(roll)),
             ),
             _wheel_slot("front_wheel", "hip_roll", _add(roll, wheel)),
             _wheel_slot("rear_wheel", "hip_roll", _add(roll, _flip_x(wheel))),
