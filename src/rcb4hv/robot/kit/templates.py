@@ -170,7 +170,6 @@ def _leg(code: KitCode) -> list[Slot]:
     if legs <= 2:
         yaw = vec("l2.hip_l2")
         roll = _add(yaw, (0.0, 0.0, -fig("l2.short_leg")))
-        foot = _add(roll, (0.0, 0.0, -fig("l2.sole")))
         wheel = vec("l2.base_wheel")
         return [
             _slot("hip_yaw", None, yaw, "yaw", (-90, 90), (segment(yaw, roll),)),
