@@ -71,6 +71,38 @@ def test_the_held_buttons_are_the_ones_each_motion_reads(project_file: Path) -> 
     # only start it again from the main loop, so it is played once
     assert 18 not in bound and 21 not in bound  # nor the fixture's greeting (TRIANGLE)
     assert bound_buttons(bytes(len(image)), lay) == {}  # no image: no table, no error
+
+
+def test_a_walk_that_goes_on_while_any_button_is_down_holds_its_binding(tmp_path: Path) -> None:
+    """Kondo's KHR-3HV remote walks loop while the buttons are not equal to none: the word a
+    user holds is the one the main loop starts them with."""
+    from rcb4hv.cli.project_common import load_image
+    from rcb4hv.hth4.blocks import Program, put_program
+    from rcb4hv.hth4.blocks.kinds import Block
+    from rcb4hv.project.run import bound_buttons
+
+    project = load_project(KXR_PROJECT_DIR / "HAC_KXR_HTH4_project.h4p")
+    stand = Keyframe(0.1, {12: 7500, 13: 7500})
+    for slot, button in ((18, int(Button.DOWN)), (19, 0)):
+        motion = motion_from_keyframes([stand], slot=slot, name=f"w{slot}", button=button)
+        project = add_motion(project, motion)
+        loop = Program(
+            (
+                Block("pose", {"frames": 4, "positions": {"12": 7600, "13": 7600}}, "L1"),
+                Block("button_branch", {"buttons": [], "if": "not_equal", "to": "L1"}),
+                Block("return"),
+                Block("end"),
+            ),
+            name=f"w{slot}",
+            button=button,
+        )
+        project = put_program(project, slot, loop)
+    path = tmp_path / "any.h4p"
+    save_project(project, path)
+    image, lay, _ = load_image(path)
+    bound = bound_buttons(image, lay)
+    assert bound[18] == int(Button.DOWN)
+    assert 19 not in bound  # reads "any button" but nothing says which
     assert _tool().label_of("test walk forward") == "walk forward"
 
 

@@ -108,8 +108,10 @@ def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
     remote-driven walks loop while that word is held and stop at once without it, whatever
     starts them: the main loop's button table (which may name another word, e.g. S1 for a
     walk that loops on UP+S1) or another motion (a carrying walk, bound to no button of its
-    own). A motion that reads no button is not held: its table binding would only start it
-    again from the main loop while the button is still down."""
+    own). A motion whose branches test for no word in particular (the KHR-3HV's remote walks
+    go on while the buttons are *not equal* to none) gets its table binding. A motion that
+    reads no button is not held: its table binding would only start it again from the main
+    loop while the button is still down."""
     from rcb4hv.hth4.blocks.kinds import button_tests
     from rcb4hv.project.image import read_image
 
@@ -119,9 +121,12 @@ def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
         return {}
     out: dict[int, int] = {}
     for m in motions:
-        loop = [w for w, cond in button_tests(m.frames) if w and cond == "equal"]
+        tests = button_tests(m.frames)
+        loop = [w for w, cond in tests if w and cond == "equal"]
         if loop:
             out[m.slot] = loop[0]
+        elif tests and m.bindings and m.bindings[0].buttons:
+            out[m.slot] = m.bindings[0].buttons  # e.g. "while any button is down"
     return out
 
 
