@@ -341,7 +341,10 @@ class Servos:
         out: int = _u16(self.ram, blk + B_OUTPUT)[0]
         if out in (FREE, HOLD) and self.config.free_hold_base == "omit":
             return out
-        base: int = _s16(self.ram, blk + B_BASE)[0]
+        r = self.ram
+        base: int = _s16(r, blk + B_BASE)[0]
+        if _u16(r, blk + B_MIX1)[0] == NO_BLOCK and _u16(r, blk + B_MIX2)[0] == NO_BLOCK:
+            return (out + base) & 0xFFFF  # what mix() gives too, without its loop
         return (out + base + self.mix(blk)) & 0xFFFF
 
     def outputs(self) -> dict[int, int]:
