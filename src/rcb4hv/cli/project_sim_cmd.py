@@ -48,10 +48,10 @@ if TYPE_CHECKING:
     metavar="NAME|bound|none",
     default="bound",
     show_default=True,
-    help="Remote button(s) held while each motion plays: 'bound' holds each motion's own "
-    "button from the project's remote table, as a user drives it (a walk bound to UP walks "
-    "while UP is held); a NAME (UP, CIRCLE, UP+S1...) holds it for every motion; 'none' "
-    "holds nothing (a remote-driven walk then stops after its first pass).",
+    help="Remote button(s) held while each motion plays: 'bound' holds the button each "
+    "motion reads (the one its loop tests, else its binding), as a user drives it (a walk "
+    "that loops on UP walks while UP is held); a NAME (UP, CIRCLE, UP+S1...) holds it for "
+    "every motion; 'none' holds nothing (a remote-driven walk then stops after one pass).",
 )
 @click.option(
     "--for",
@@ -113,9 +113,10 @@ def simulate(
 ) -> None:
     """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
 
-    Each motion is played as a host does (suspend, PC to the main loop, CALL, resume), with
-    its own remote button held for --for seconds if the project binds it to one (--hold-button
-    bound, the default; 'held' in --json names the word), as a user drives it. Status:
+    Each motion is played as a host does (suspend, PC to the main loop, CALL, resume); one
+    that reads the remote plays with the button it loops on held for --for seconds
+    (--hold-button bound, the default; 'held' in --json names the word), as a user drives
+    it. Status:
     completed (returned to the main loop), waiting (loops reading an input, e.g. a button
     or AD sensor, as its program defines), holding (loops without reading an input while
     servos are mixed from an AD sensor, e.g. a gyro balancing the robot), stalled (repeats
