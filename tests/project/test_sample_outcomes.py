@@ -103,6 +103,42 @@ def test_a_walk_that_goes_on_while_any_button_is_down_holds_its_binding(tmp_path
     bound = bound_buttons(image, lay)
     assert bound[18] == int(Button.DOWN)
     assert 19 not in bound  # reads "any button" but nothing says which
+
+
+def test_a_steered_loop_holds_the_word_that_starts_it(tmp_path: Path) -> None:
+    """Kondo's KXR-L4R slalom (スラローム2) is bound to UP+S3 and tests UP+CIRCLE+S3 (curve)
+    before UP+S3 (straight): a user holds the word that starts it, and it goes straight."""
+    from rcb4hv.cli.project_common import load_image
+    from rcb4hv.hth4.blocks import Program, put_program
+    from rcb4hv.hth4.blocks.kinds import Block
+    from rcb4hv.project.run import bound_buttons
+
+    project = load_project(KXR_PROJECT_DIR / "HAC_KXR_HTH4_project.h4p")
+    straight = int(Button.UP | Button.S3)
+    project = add_motion(
+        project, motion_from_keyframes([Keyframe(0.1, {12: 7500})], slot=18, name="slalom")
+    )
+    blocks = (
+        Block("pose", {"frames": 4, "positions": {"12": 7600}}, "L1"),
+        Block("button_branch", {"buttons": ["UP", "CIRCLE", "S3"], "if": "equal", "to": "L2"}),
+        Block("button_branch", {"buttons": ["UP", "S3"], "if": "equal", "to": "L1"}),
+        Block("return"),
+        Block("pose", {"frames": 4, "positions": {"12": 7400}}, "L2"),
+        Block("jump", {"to": "L1"}),
+        Block("end"),
+    )
+    for slot, button in ((18, straight), (19, 0)):
+        if slot == 19:
+            motion = motion_from_keyframes([Keyframe(0.1, {12: 7500})], slot=19, name="s2")
+            project = add_motion(project, motion)
+        program = Program(blocks, name=f"s{slot}", button=button)
+        project = put_program(project, slot, program)
+    path = tmp_path / "slalom.h4p"
+    save_project(project, path)
+    image, lay, _ = load_image(path)
+    bound = bound_buttons(image, lay)
+    assert bound[18] == straight  # its binding, one of the words it tests
+    assert bound[19] == int(Button.UP | Button.CIRCLE | Button.S3)  # unbound: the first
     assert _tool().label_of("test walk forward") == "walk forward"
 
 

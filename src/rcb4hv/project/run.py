@@ -104,7 +104,9 @@ def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
     ``image`` that reads the remote; motions that read no button are left out.
 
     A motion reads the remote with a button branch (HeartToHeart4's button compare box); it
-    gets the word of its first branch taken while the buttons *equal* it. Kondo's
+    gets its table binding when one of its "buttons *equal*" branches tests that word (the
+    KXR-L4R's slalom goes straight on UP+S3, its binding, and curves with CIRCLE or SQUARE
+    added, tested first), else the word of its first such branch. Kondo's
     remote-driven walks loop while that word is held and stop at once without it, whatever
     starts them: the main loop's button table (which may name another word, e.g. S1 for a
     walk that loops on UP+S1) or another motion (a carrying walk, bound to no button of its
@@ -123,10 +125,13 @@ def bound_buttons(image: bytes, motion_layout: MotionLayout) -> dict[int, int]:
     for m in motions:
         tests = button_tests(m.frames)
         loop = [w for w, cond in tests if w and cond == "equal"]
-        if loop:
+        binding = m.bindings[0].buttons if m.bindings else 0
+        if binding and binding in loop:
+            out[m.slot] = binding  # the word that starts it is one it goes on with
+        elif loop:
             out[m.slot] = loop[0]
-        elif tests and m.bindings and m.bindings[0].buttons:
-            out[m.slot] = m.bindings[0].buttons  # e.g. "while any button is down"
+        elif tests and binding:
+            out[m.slot] = binding  # e.g. "while any button is down"
     return out
 
 
