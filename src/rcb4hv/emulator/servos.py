@@ -245,8 +245,12 @@ class Servos:
     # ------------------------------------------------------------------ mixing
 
     def mixes(self, blk: int) -> bool:
+        """True if the block names a mixing source (spec 9: a source word of FFFF is none);
+        :meth:`mix` is 0 otherwise, so callers skip it."""
         r = self.ram
-        return r[blk + B_MIX1] != 0xFF or r[blk + B_MIX2] != 0xFF
+        one: int = _u16(r, blk + B_MIX1)[0]
+        two: int = _u16(r, blk + B_MIX2)[0]
+        return one != NO_BLOCK or two != NO_BLOCK
 
     def mix(self, blk: int) -> int:
         """The sum of the block's two mixing terms (source value x factor, signed)."""
@@ -326,7 +330,7 @@ class Servos:
                 p = physical[ics]
             else:
                 v = out + base
-                if r[blk + B_MIX1] != 0xFF or r[blk + B_MIX2] != 0xFF:
+                if self.mixes(blk):
                     v += self.mix(blk)
                 p = 0 if v < 0 else (v if v <= 0xFFFF else 0xFFFF)
                 physical[ics] = p
@@ -341,11 +345,9 @@ class Servos:
         out: int = _u16(self.ram, blk + B_OUTPUT)[0]
         if out in (FREE, HOLD) and self.config.free_hold_base == "omit":
             return out
-        r = self.ram
-        base: int = _s16(r, blk + B_BASE)[0]
-        if _u16(r, blk + B_MIX1)[0] == NO_BLOCK and _u16(r, blk + B_MIX2)[0] == NO_BLOCK:
-            return (out + base) & 0xFFFF  # what mix() gives too, without its loop
-        return (out + base + self.mix(blk)) & 0xFFFF
+        base: int = _s16(self.ram, blk + B_BASE)[0]
+        mixed = self.mix(blk) if self.mixes(blk) else 0
+        return (out + base + mixed) & 0xFFFF
 
     def outputs(self) -> dict[int, int]:
         """The value sent to each allocated servo: output + base + mixing (spec 9)."""
