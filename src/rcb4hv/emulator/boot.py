@@ -10,7 +10,7 @@ from rcb4hv.emulator.board import Board
 from rcb4hv.emulator.clock import ScaledClock
 from rcb4hv.protocol.memory import ProgramState
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
-from rcb4hv.rom.older import detect_image_layout
+from rcb4hv.rom.older import play_layout
 
 __all__ = ["BOOT_LIMIT_S", "BootClock", "boot_to_main_loop", "booted"]
 
@@ -58,7 +58,7 @@ def boot_to_main_loop(
 ) -> None:
     """Run ``board``'s start-up program in virtual time until it reaches the main loop of
     ``layout`` (default: the layout the ROM image holds, else HeartToHeart4 2.2)."""
-    lay = layout or detect_image_layout(board.rom) or HTH4_22
+    lay = play_layout(board.rom, layout)
     t = 0.0
     while not booted(board.ram, lay) and t < BOOT_LIMIT_S:
         clock.advance(step)

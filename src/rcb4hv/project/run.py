@@ -35,8 +35,8 @@ from rcb4hv.emulator import Board
 from rcb4hv.errors import ProtocolError
 from rcb4hv.project.runresult import MotionRun, SimulationRun
 from rcb4hv.project.simulate import DEFAULT_LIMIT, Simulator
-from rcb4hv.rom.layout import HTH4_22, MotionLayout
-from rcb4hv.rom.older import detect_image_layout
+from rcb4hv.rom.layout import MotionLayout
+from rcb4hv.rom.older import play_layout
 
 if TYPE_CHECKING:
     from rcb4hv.physics import PhysicsOptions
@@ -87,7 +87,7 @@ def run_motions(
     names = names or {}
     t0 = time.perf_counter()
     if hold == "bound":
-        hold = bound_buttons(image, motion_layout or detect_image_layout(image) or HTH4_22)
+        hold = bound_buttons(image, play_layout(image, motion_layout))
     if robot is None:
         if sequence or track or start != "upright" or options is not None:
             raise ValueError("sequence, track and start set up the robot of a physics run")

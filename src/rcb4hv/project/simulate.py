@@ -84,8 +84,8 @@ from rcb4hv.protocol.memory import (
     read_update_flags,
 )
 from rcb4hv.rom import layout
-from rcb4hv.rom.layout import HTH4_22, MotionLayout
-from rcb4hv.rom.older import detect_image_layout
+from rcb4hv.rom.layout import MotionLayout
+from rcb4hv.rom.older import play_layout
 
 __all__ = [
     "DEFAULT_LIMIT",
@@ -140,7 +140,7 @@ class Simulator:
     ) -> None:
         if len(image) != layout.ROM_SIZE:
             raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
-        self.layout = motion_layout or detect_image_layout(image) or HTH4_22
+        self.layout = play_layout(image, motion_layout)
         if ics is None:
             ics = [
                 n

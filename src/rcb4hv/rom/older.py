@@ -57,6 +57,7 @@ __all__ = [
     "detect_image_layout",
     "main_loop_layout",
     "parse_image_for",
+    "play_layout",
 ]
 
 BOOT_JUMP: Final = L.ALL_HOME
@@ -193,6 +194,12 @@ def main_loop_layout(at_03fd: bytes, at_044b: bytes) -> MotionLayout | None:
     if older == newer:
         return None
     return LAYOUTS["2.1"] if older else HTH4_22
+
+
+def play_layout(rom: bytes | bytearray, given: MotionLayout | None = None) -> MotionLayout:
+    """The layout an image is played in: ``given``, else the one its main loop shows
+    (:func:`detect_image_layout`), else HeartToHeart4 2.2."""
+    return given or detect_image_layout(rom) or HTH4_22
 
 
 def detect_image_layout(rom: bytes | bytearray) -> MotionLayout | None:
