@@ -20,13 +20,18 @@ judged against what the name promises:
 - anything else (kicks, punches, clapping, ...): ends upright.
 
 Routines called by other motions (ルーチン) are listed but not judged. Every motion is
-played as ``project simulate`` plays it by default: one bound to a remote button (the
-project's motion table) with that button held for 3 s (``--hold-button bound``), as a user
-drives it. Kondo's remote-driven walks read the button word (RAM 0350h) and stop at once when
-it is not held: played with no button, the KXR-L2 sample's walk back (XL2_110) only lifts its
-arms and puts them down again. ``--no-hold`` plays every motion once with no button
+played as ``project simulate`` plays it by default: one that reads the remote with the button
+it loops on held for 3 s (``--hold-button bound``, :func:`rcb4hv.project.run.bound_buttons`),
+as a user drives it. Kondo's remote-driven walks read the button word (RAM 0350h) and stop at
+once when it is not held: played with no button, the KXR-L2 sample's walk back (XL2_110) only
+lifts its arms and puts them down again. ``--no-hold`` plays every motion once with no button
 (``--hold-button none``). A walk or turn names a side with 左 (left) / 右 (right); a walk
 forward / back wins over a step.
+
+    python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
+    python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
+    python tools/sample_outcomes.py DIR --robot khr3hv --motion 16 --motion 17
+    make samples SAMPLES=DIR                                         # and a summary
 
 The rcb4hv it runs is the one ``python -m rcb4hv`` imports (``PYTHONPATH`` picks a tree).
 Sample projects are test inputs kept outside the repository; this script never stores them.
@@ -223,8 +228,10 @@ def _table(rows: list[Outcome]) -> str:
     return "\n".join(lines)
 
 
-NAMED = ("walk forward", "walk back", "step left", "step right", "turn left", "turn right")
-"""The labels issue 26 judges, with "greeting" (walks, steps, turns, greetings, home poses)."""
+NAMED = ("walk forward", "walk back", "step left", "step right", "turn left", "turn right",
+         "greeting")  # fmt: skip
+"""The labels issue 26 judges: walks, steps, turns, greetings and home poses."""
+LYING = ("lie on back", "lie on front", "get up back", "get up front")
 
 
 def _count(rows: list[Outcome], labels: tuple[str, ...] | None) -> str:
@@ -234,7 +241,6 @@ def _count(rows: list[Outcome], labels: tuple[str, ...] | None) -> str:
 
 def summary(results: dict[str, list[Outcome]]) -> str:
     """One row per project: its model and how many labelled outcomes came out right."""
-    lying = ("lie on back", "lie on front", "get up back", "get up front")
     lines = [
         "| project | model | walks, steps, turns, greetings | with lie-downs and get-ups | "
         "every judged motion |",
@@ -245,12 +251,12 @@ def summary(results: dict[str, list[Outcome]]) -> str:
         rows_all += rows
         robot = rows[0].robot if rows else "?"
         lines.append(
-            f"| {Path(f).name} | `{robot}` | {_count(rows, (*NAMED, 'greeting'))} | "
-            f"{_count(rows, (*NAMED, 'greeting', *lying))} | {_count(rows, None)} |"
+            f"| {Path(f).name} | `{robot}` | {_count(rows, NAMED)} | "
+            f"{_count(rows, (*NAMED, *LYING))} | {_count(rows, None)} |"
         )
     lines.append(
-        f"| **all** | | {_count(rows_all, (*NAMED, 'greeting'))} | "
-        f"{_count(rows_all, (*NAMED, 'greeting', *lying))} | {_count(rows_all, None)} |"
+        f"| **all** | | {_count(rows_all, NAMED)} | "
+        f"{_count(rows_all, (*NAMED, *LYING))} | {_count(rows_all, None)} |"
     )
     return "\n".join(lines)
 
