@@ -255,11 +255,12 @@ def button_tests(entries: Sequence[bytes]) -> list[tuple[int, Json]]:
     motion's ``entries``, in ROM order: what the motion reads from the remote."""
     out: list[tuple[int, Json]] = []
     for first, second in pairwise(entries):
-        a, b = exact_command(first), exact_command(second)
-        if a is None or b is None or not pairs(first, second):
+        if not pairs(first, second):
             continue
+        a, b = exact_command(first), exact_command(second)
+        assert a is not None and b is not None  # pairs() decoded both
         cmd, jump = a[0], b[0]
-        assert isinstance(cmd, Sub) and isinstance(jump, Jump)  # pairs() said so
+        assert isinstance(cmd, Sub) and isinstance(jump, Jump)  # and said what they are
         word = _button_word(cmd)
         if word is not None:
             out.append((word, condition_json(jump.condition.to_byte())))
