@@ -6,7 +6,10 @@ from __future__ import annotations
 import pytest
 
 from rcb4hv.errors import NoRobotModelError
+from rcb4hv.robot.geometry import apply
+from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.kit import detect_kit, parse_servo_name
+from rcb4hv.robot.model import RobotModel, Vec3
 from tests.robot.kit_names import names_for, stock
 
 
@@ -19,6 +22,28 @@ def test_the_short_legs_ankle_roll_is_their_only_roll() -> None:
     assert det.model.servo(16).joint == "r_hip_roll"
     assert det.model.servo(25).joint == "l_hip_yaw"
     assert det.code is not None and det.code.legs == 2
+    # mounted as in the ankle: the ankle roll's sign, as kxreus maps all its short legs
+    assert det.model.servo(16).sign == -1 and det.model.servo(17).sign == -1
+    full = detect_kit("Hello_KXR-L2GH(V1.0)", names_for(stock("kxr:L2GH")[1]))
+    assert {full.model.servo(16).sign, full.model.servo(17).sign} == {-1}
+    assert {full.model.servo(8).sign, full.model.servo(9).sign} == {1}
+
+
+def test_the_a6_hand_points_forward_from_a_bent_forearm() -> None:
+    # kxreus's A6 (`:elbow :angle`): the wrist 23.5 mm behind and 43 mm below the elbow, the
+    # hand 15 + 31.5 mm forward of it at zero pose; the A3's hand hangs below its elbow
+    def origin(model: RobotModel, link: str) -> Vec3:
+        return apply(forward(model, {})[link], (0.0, 0.0, 0.0))
+
+    _, a6 = stock("kxr:L2L6A6H2G")
+    elbow, wrist = origin(a6, "l_elbow_pitch_link"), origin(a6, "l_wrist_pitch_link")
+    hand = origin(a6, "l_gripper_link")
+    assert wrist[0] - elbow[0] == pytest.approx(-0.0235)
+    assert wrist[2] - elbow[2] == pytest.approx(-0.043)
+    assert hand[0] - wrist[0] == pytest.approx(0.0465) and hand[2] == pytest.approx(wrist[2])
+    _, a3 = stock("kxr:L2L5A3H2G")
+    elbow3, hand3 = origin(a3, "l_elbow_pitch_link"), origin(a3, "l_gripper_link")
+    assert hand3[0] == pytest.approx(elbow3[0]) and hand3[2] < elbow3[2] - 0.05
 
 
 def test_a_full_leg_keeps_its_ankle_roll() -> None:

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.code import KitCode
-from rcb4hv.robot.kit.convention import SIGNS, STOCK, STOCK_VARIANTS, arm_signs
+from rcb4hv.robot.kit.convention import SHORT_LEG_ROLL, SIGNS, STOCK, STOCK_VARIANTS, arm_signs
 from rcb4hv.robot.kit.figures import FIGURES, SOURCES, fig, link_figures
 from rcb4hv.robot.kit.templates import template
 from rcb4hv.robot.model import RobotModel
@@ -82,6 +82,8 @@ def kit_signs(code: KitCode) -> dict[str, tuple[int, int]]:
     signs = dict(SIGNS[code.family])
     if code.family == "humanoid":
         signs.update(arm_signs(code.arms or 3))
+        if (code.legs or 5) <= 2:
+            signs["hip_roll"] = SHORT_LEG_ROLL
     return signs
 
 

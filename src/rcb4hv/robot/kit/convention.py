@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from rcb4hv.robot.kit.code import Family
 
-__all__ = ["LIMBS", "SIGNS", "STOCK", "STOCK_VARIANTS", "arm_signs"]
+__all__ = ["LIMBS", "SHORT_LEG_ROLL", "SIGNS", "STOCK", "STOCK_VARIANTS", "arm_signs"]
 
 #: the slots of each limb, root to tip (for names that give only a position and a segment)
 LIMBS: dict[str, dict[str, tuple[str, ...]]] = {
@@ -112,6 +112,13 @@ SIGNS: dict[Family, dict[str, tuple[int, int]]] = {
         "rear_wheel": (1, -1),
     },
 }
+
+#: the short (2-axis) leg's roll: Kondo's projects drive it with the ankle-roll servo
+#: (右足首（ロール） on 16/17), mounted as in the ankle, and kxreus maps it -1/-1 in all four
+#: of its short-leg builds (kxra6g, kxrt1l2l2d7h2m, -e7h2m, -w7h2m; KXR-KITS.md §1.4), as the
+#: kit's ankle roll. With the hip roll's +1/+1, Kondo's Hello_kxrl2l2a6h2g walked every walk
+#: the other way (docs/robots.md, "The short leg's roll")
+SHORT_LEG_ROLL = _H["ankle_roll"]
 
 
 def arm_signs(arms: int) -> dict[str, tuple[int, int]]:

@@ -117,15 +117,18 @@ FIGURES: dict[str, Figure] = {
     "arm6.roll": _f((0.0, 31.0, 0.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-r (§2.3)"),
     "arm6.yaw": _f((0.0, 0.0, -15.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-y (§2.3)"),
     "arm6.elbow": _f((0.0, 0.0, -41.0), "mm", "KX", "kxrl2l6a6h2.json elbow-p (§2.3)"),
+    # the A6 forearm is bent (`:elbow :angle`): the wrist sits behind the elbow and the
+    # hand points forward at zero pose. The same numbers in kxreus's kxrl2l6a6h2.json check,
+    # models/kxra6g.l, models/kxrl2inaba.l and eusmodels/kxrl2l2a6h2.l (its link frames)
     "arm6.wrist": _f(
-        (0.0, 0.0, -43.0),
-        "mm",
-        "KX",
-        "kxrl2l6a6h2.json wrist-p (−23.5, 0, −43) from the elbow, taken straight "
-        "down (the bent forearm is approximated)",
+        (-23.5, 0.0, -43.0), "mm", "KX", "kxrl2l6a6h2.json wrist-p from the elbow (§2.3)"
     ),
-    "arm6.wrist_roll": _f((0.0, 0.0, -15.0), "mm", "KX", "kxrl2l6a6h2.json wrist-r 15 (§2.3)"),
-    "arm6.gripper": _f((0.0, 0.0, -31.5), "mm", "KX", "kxrl2l6a6h2.json gripper 31.5 (§2.3)"),
+    "arm6.wrist_roll": _f(
+        (15.0, 0.0, 0.0), "mm", "KX", "kxrl2l6a6h2.json wrist-r 15 forward (§2.3)"
+    ),
+    "arm6.gripper": _f(
+        (31.5, 0.0, 0.0), "mm", "KX", "kxrl2l6a6h2.json gripper 31.5 forward (§2.3)"
+    ),
     "arm7.yaw": _f((0.0, 31.0, 0.0), "mm", "KX", "kxrl2l6a7h2w.json shoulder-y (§2.4)"),
     "arm7.elbow": _f((0.0, 0.0, -58.0), "mm", "KX", "kxrl2l6a7h2w.json elbow-p (§2.4)"),
     "arm7.wrist_yaw": _f((0.0, 0.0, -67.0), "mm", "KX", "kxrl2l6a7h2w.json wrist-y (§2.4)"),

@@ -19,6 +19,7 @@ from rcb4hv.robot.servos import TRAVEL_DEG
 __all__ = ["template"]
 
 _X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+_Z_DOWN = (0.0, 0.0, -1.0)
 _AXIS: dict[JointKind, Vec3] = {
     "pitch": _Y,
     "roll": _X,
@@ -144,11 +145,26 @@ def _arm(arms: int) -> list[Slot]:
                 grip,
                 "grip",
                 (-100, 100),
-                (box((14, 6, 35), _add(grip, (0, -10, -17.5)), light=True),),
+                (_finger(wrist, grip),),
+                axis=_Z_DOWN if _forward(wrist, grip) else None,
             ),
             optional=True,
         ),
     ]
+
+
+def _forward(wrist: Vec3, grip: Vec3) -> bool:
+    """The hand points forward at zero pose (the A6's bent forearm), not down."""
+    return grip[0] - wrist[0] > abs(grip[2] - wrist[2])
+
+
+def _finger(wrist: Vec3, grip: Vec3) -> Geom:
+    """The gripper's finger, 35 mm long, pointing the way the hand does at zero pose: down
+    (A3, A4, A7; it opens about x) or forward (A6; it opens about z, as kxreus's gripper
+    frame turns it)."""
+    if _forward(wrist, grip):
+        return box((35, 6, 14), _add(grip, (17.5, -10, 0)), light=True)
+    return box((14, 6, 35), _add(grip, (0, -10, -17.5)), light=True)
 
 
 def _sole(ankle: Vec3) -> tuple[Geom, ...]:
