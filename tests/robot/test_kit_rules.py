@@ -31,7 +31,7 @@ def test_the_short_legs_ankle_roll_is_their_only_roll() -> None:
 
 def test_the_a6_hand_points_forward_from_a_bent_forearm() -> None:
     # kxreus's A6 (`:elbow :angle`): the wrist 23.5 mm behind and 43 mm below the elbow, the
-    # hand 15 + 31.5 mm forward of it at zero pose; the A3's hand hangs below its elbow
+    # hand 15 + 31.5 mm forward of it at zero pose; the A3's and A5's hands hang below
     def origin(model: RobotModel, link: str) -> Vec3:
         return apply(forward(model, {})[link], (0.0, 0.0, 0.0))
 
@@ -41,9 +41,10 @@ def test_the_a6_hand_points_forward_from_a_bent_forearm() -> None:
     assert wrist[0] - elbow[0] == pytest.approx(-0.0235)
     assert wrist[2] - elbow[2] == pytest.approx(-0.043)
     assert hand[0] - wrist[0] == pytest.approx(0.0465) and hand[2] == pytest.approx(wrist[2])
-    _, a3 = stock("kxr:L2L5A3H2G")
-    elbow3, hand3 = origin(a3, "l_elbow_pitch_link"), origin(a3, "l_gripper_link")
-    assert hand3[0] == pytest.approx(elbow3[0]) and hand3[2] < elbow3[2] - 0.05
+    for code in ("kxr:L2L5A3H2G", "kxr:L2L6A5H2G"):  # A3, and the A5 (no bent elbow)
+        _, arm = stock(code)
+        elbow3, hand3 = origin(arm, "l_elbow_pitch_link"), origin(arm, "l_gripper_link")
+        assert hand3[0] == pytest.approx(elbow3[0]) and hand3[2] < elbow3[2] - 0.05
 
 
 def test_a_full_leg_keeps_its_ankle_roll() -> None:

@@ -117,7 +117,7 @@ SIGNS: dict[Family, dict[str, tuple[int, int]]] = {
 #: (右足首（ロール） on 16/17), mounted as in the ankle, and kxreus maps it -1/-1 in all four
 #: of its short-leg builds (kxra6g, kxrt1l2l2d7h2m, -e7h2m, -w7h2m; KXR-KITS.md §1.4), as the
 #: kit's ankle roll. With the hip roll's +1/+1, Kondo's Hello_kxrl2l2a6h2g walked every walk
-#: the other way (docs/robots.md, "The short leg's roll")
+#: the other way (docs/robots.md, "The A6 arm and the short leg")
 SHORT_LEG_ROLL = _H["ankle_roll"]
 
 

@@ -93,6 +93,13 @@ def _arm(arms: int) -> list[Slot]:
         elbow = _add(yaw, vec("arm6.elbow"))
         wrist = _add(elbow, vec("arm6.wrist"))
         grip = _add(_add(wrist, vec("arm6.wrist_roll")), vec("arm6.gripper"))
+        if arms == 5:
+            # no A5 figures: the A6's lengths with the forearm straight and the hand hanging
+            # down, as kxreus builds the A5 without the A6's bent elbow (kxrl2l6a5h2:
+            # `:shoulder :p :wrist :r`, no `:elbow :angle`)
+            wrist = _add(elbow, (0.0, 0.0, vec("arm6.wrist")[2]))
+            hand = vec("arm6.wrist_roll")[0] + vec("arm6.gripper")[0]
+            grip = _add(wrist, (0.0, 0.0, -hand))
         order = ("roll", "yaw")
     else:
         yaw = _add(s, vec("arm7.yaw"))
