@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import pytest
 
+from rcb4hv.robot.kit import kit_model
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.build import stock_joint_map
 from rcb4hv.robot.kit.figures import LinkFigure, fig, link_figures
@@ -30,7 +31,7 @@ def test_the_wheel_leg_build_weighs_its_links_as_kxreus_does() -> None:
     assert torso.com == pytest.approx((-0.006626, 0.0, 0.030964))
     assert model.link("neck_pitch_link").inertial.com == pytest.approx((0.005585, 0.0, 0.040683))
     # kxreus's total less the tyre it puts on each A4 arm (no servo for it in Kondo's project)
-    total = fig("mass.L2W2L6A4H2G") - 2 * fig("unused.L2W2L6A4H2G.arm_tyre")
+    total = fig("mass.L2W2L6A4H2G") - 2 * fig("wheel.tyre_mass")
     assert total == pytest.approx(1798.31, abs=0.01)
     assert model.mass == pytest.approx(total / 1000, abs=1e-5)  # links rounded to 1 mg
     # the legs carry about 41 % of it (the volume sharing put about half there)
@@ -62,9 +63,33 @@ def test_a_detected_project_gets_the_same_masses() -> None:
 
 
 def test_builds_without_per_link_figures_share_their_total() -> None:
-    assert link_figures("L2L6A6H2G") == {}
+    assert link_figures("L2L6A7H2G") == {}
+    _, model = stock("kxr:L2L6A7H2G")
+    assert model.mass == pytest.approx(fig("mass.L2L6A7H2G") / 1000)
+
+
+def test_the_a6_build_weighs_its_links_as_kxreus_does() -> None:
+    # kxrl2l6a6h2.json physics.links: 31 links summing to its total, 1708.46 g
     _, model = stock("kxr:L2L6A6H2G")
-    assert model.mass == pytest.approx(fig("mass.L2L6A6H2G") / 1000)
+    assert model.mass == pytest.approx(fig("mass.L2L6A6H2G") / 1000, abs=1e-5)
+    assert model.link("torso").inertial.com == pytest.approx((-0.006705, 0.0, 0.030964))
+    assert model.link("l_wrist_pitch_link").inertial.mass == pytest.approx(0.078374)
+    # the two fingers as one link: 26.534 g, 20 mm forward of the gripper joint
+    grip = model.link("r_gripper_link").inertial
+    assert grip.mass == pytest.approx(0.026534) and grip.com[0] == pytest.approx(0.020023)
+    assert model.link("r_ankle_roll_link").inertial.com[1] == pytest.approx(-0.007514)
+
+
+def test_parts_a_weighed_build_lacks_weigh_their_servo_and_tyre() -> None:
+    # a kxra6g-style A6 biped with base wheels: kxreus weighs the A6 build without them
+    _, plain = stock("kxr:L2L6A6H2G")
+    code, _ = stock("kxr:L2L6A6H2G")
+    jm = stock_joint_map(code)
+    jm.update({"r_front_wheel": (0, 1), "l_front_wheel": (1, -1)})
+    wheeled = kit_model(code, jm)
+    tyre = fig("wheel.tyre_mass") + fig("mass.per_servo")
+    assert wheeled.link("l_front_wheel_link").inertial.mass == pytest.approx(tyre / 1000)
+    assert wheeled.mass == pytest.approx(plain.mass + 2 * tyre / 1000)
 
 
 def test_links_without_a_figure_share_what_is_left() -> None:

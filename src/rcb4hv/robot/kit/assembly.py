@@ -212,6 +212,14 @@ def _masses(
     if not free:
         return fixed
     rest = total - sum(parts[k][0] * m for k, m in fixed.items())
+    if given and rest <= per_servo * sum(n * servos for n, servos, _ in free.values()):
+        # parts the weighed build lacks (a kxra6g's base wheels): each its servo, a wheel
+        # its tyre too
+        tyre = fig("wheel.tyre_mass") * MM
+        return fixed | {
+            k: servos * per_servo + (tyre if k.endswith("wheel") else 0.0)
+            for k, (_, servos, _) in free.items()
+        }
     return distribute_mass(rest, per_servo, free) | fixed
 
 

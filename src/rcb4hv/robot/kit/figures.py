@@ -10,8 +10,11 @@ named in each row).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import NamedTuple
+
+from rcb4hv.robot.kit.linkrows import LINK_ROWS
+from rcb4hv.robot.kit.sources import SOURCES, Figure
+from rcb4hv.robot.kit.sources import row as _f
 
 __all__ = [
     "FIGURES",
@@ -24,34 +27,6 @@ __all__ = [
     "provenance_markdown",
     "vec",
 ]
-
-#: source key -> (what it is, licence)
-SOURCES: dict[str, tuple[str, str]] = {
-    "KX": (
-        "inabajsk/kxreus (kxrbody.l, kxrlinks.l, rcb4robotconfig.l, models/*.l, "
-        "eusview/robots/kxr/*.json; commits 4a2094e, a1238a3, 044677e, 58d0e83)",
-        "no licence file: facts and figures only, no code or mesh",
-    ),
-    "KP": (
-        "Kondo's HeartToHeart4 sample projects (inabajsk/kxreus projects/Hello_*)",
-        "no licence stated (Kondo Kagaku): facts only",
-    ),
-    "RC": ("iory/rcb4 ros/kxr_models URDFs (commit dc1ccf5)", "MIT (package.xml says BSD)"),
-    "FACTS": ("shared/robots/FACTS.md (Kondo KRS-3304R2 catalogue figures)", "facts"),
-    "CHOSEN": ("a named choice of this package where no source gives the figure", "-"),
-}
-
-
-@dataclass(frozen=True)
-class Figure:
-    value: float | tuple[float, float, float]
-    unit: str
-    source: str  # a SOURCES key
-    where: str  # the file / section the figure was read or derived from
-
-
-def _f(value: float | tuple[float, float, float], unit: str, source: str, where: str) -> Figure:
-    return Figure(value, unit, source, where)
 
 
 FIGURES: dict[str, Figure] = {
@@ -113,6 +88,9 @@ FIGURES: dict[str, Figure] = {
     "arm4.elbow": _f((0.0, 0.0, -29.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-elbow-p pos"),
     "arm4.gripper": _f(
         (0.0, 0.0, -65.5), "mm", "KX", "kxrl2w2l6a4h2.json larm-gripper2-r pos (from the elbow)"
+    ),
+    "arm6.shoulder": _f(
+        (7.25, 46.5, 67.5), "mm", "KX", "kxrl2l6a6h2.json larm-shoulder-p link header (§2.3)"
     ),
     "arm6.roll": _f((0.0, 31.0, 0.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-r (§2.3)"),
     "arm6.yaw": _f((0.0, 0.0, -15.0), "mm", "KX", "kxrl2l6a6h2.json shoulder-y (§2.3)"),
@@ -205,209 +183,6 @@ FIGURES: dict[str, Figure] = {
     "mass.L2W2L5A4H2G": _f(1676.41, "g", "KX", "kxrl2w2l5a4h2.json total (§3.3)"),
     "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
     "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
-    # per-link masses (g), centres of mass (mm) and moments of inertia about them (g·cm²; the
-    # products of inertia, at most a fifth of a moment, are left out) in the link frame (the
-    # robot's axes at zero pose, left side) of one build, where kxreus weighs each link
-    # (eus2json physics.links[i], i below;
-    # kxreus estimates: 27.73 g servos, 1.2 g/cm³ plastic). The kit builder takes them for the
-    # build of that canonical code; a link without a row shares the rest (§3.3 rule).
-    "lmass.L2W2L6A4H2G.torso": _f(
-        437.985,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[0] torso: 5 servos, board, battery box 30 g, "
-        "back-pack 66 g",
-    ),
-    "lcom.L2W2L6A4H2G.torso": _f(
-        (-6.626, 0.0, 30.964), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[0] com"
-    ),
-    "linert.L2W2L6A4H2G.torso": _f(
-        (8345.2624, 7306.4656, 4648.4596),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[0] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.shoulder_pitch": _f(
-        11.283, "g", "KX", "kxrl2w2l6a4h2.json physics.links[8] left arm's 1st link (shoulder-p)"
-    ),
-    "lcom.L2W2L6A4H2G.shoulder_pitch": _f(
-        (0.0, 12.333, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[8] com"
-    ),
-    "linert.L2W2L6A4H2G.shoulder_pitch": _f(
-        (16.2679, 22.9413, 30.0663),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[8] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.shoulder_roll": _f(
-        80.649, "g", "KX", "kxrl2w2l6a4h2.json physics.links[9] 2nd (shoulder-r, 2 servos)"
-    ),
-    "lcom.L2W2L6A4H2G.shoulder_roll": _f(
-        (-3.649, 0.0, -34.002), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[9] com"
-    ),
-    "linert.L2W2L6A4H2G.shoulder_roll": _f(
-        (470.5507, 502.6735, 127.0268),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[9] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.shoulder_yaw": _f(
-        11.283, "g", "KX", "kxrl2w2l6a4h2.json physics.links[10] 3rd (shoulder-y)"
-    ),
-    "lcom.L2W2L6A4H2G.shoulder_yaw": _f(
-        (0.0, 0.0, -12.333), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[10] com"
-    ),
-    "linert.L2W2L6A4H2G.shoulder_yaw": _f(
-        (30.0663, 16.2679, 22.9413),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[10] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.elbow_pitch": _f(
-        74.384, "g", "KX", "kxrl2w2l6a4h2.json physics.links[11] 4th (elbow-p, 2 servos)"
-    ),
-    "lcom.L2W2L6A4H2G.elbow_pitch": _f(
-        (0.0, 5.27, -31.679), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[11] com"
-    ),
-    "linert.L2W2L6A4H2G.elbow_pitch": _f(
-        (458.4022, 415.938, 141.462),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[11] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.gripper": _f(
-        37.034,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[12] + [13]: the two gripper fingers 23.767 + "
-        "13.267 g (one servo drives both; their CoMs are in rotated frames, not taken)",
-    ),
-    "lmass.L2W2L6A4H2G.hip_yaw": _f(
-        11.547, "g", "KX", "kxrl2w2l6a4h2.json physics.links[22] lleg-crotch-y"
-    ),
-    "lcom.L2W2L6A4H2G.hip_yaw": _f(
-        (0.0, 0.0, -12.994), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[22] com"
-    ),
-    "linert.L2W2L6A4H2G.hip_yaw": _f(
-        (18.2922, 32.7364, 23.7035),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[22] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.hip_roll": _f(
-        78.374, "g", "KX", "kxrl2w2l6a4h2.json physics.links[23] lleg-crotch-r (2 servos)"
-    ),
-    "lcom.L2W2L6A4H2G.hip_roll": _f(
-        (-13.148, 0.0, -8.556), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[23] com"
-    ),
-    "linert.L2W2L6A4H2G.hip_roll": _f(
-        (118.7695, 357.5857, 338.7957),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[23] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.hip_pitch": _f(
-        22.434, "g", "KX", "kxrl2w2l6a4h2.json physics.links[24] lleg-crotch-p"
-    ),
-    "lcom.L2W2L6A4H2G.hip_pitch": _f(
-        (0.0, 0.0, -33.737), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[24] com"
-    ),
-    "linert.L2W2L6A4H2G.hip_pitch": _f(
-        (99.6459, 70.1625, 47.8128),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[24] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.knee_pitch": _f(
-        54.3, "g", "KX", "kxrl2w2l6a4h2.json physics.links[25] lleg-knee-p (1 servo)"
-    ),
-    "lcom.L2W2L6A4H2G.knee_pitch": _f(
-        (10.966, 0.0, -12.284), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[25] com"
-    ),
-    "linert.L2W2L6A4H2G.knee_pitch": _f(
-        (193.2207, 201.9425, 106.4056),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[25] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.ankle_pitch": _f(
-        122.858,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[26] lleg-ankle-p: 3 servos (ankle pitch, ankle "
-        "roll, the wheel's) and their frames",
-    ),
-    "lcom.L2W2L6A4H2G.ankle_pitch": _f(
-        (-33.808, 0.0, 9.676), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[26] com"
-    ),
-    "linert.L2W2L6A4H2G.ankle_pitch": _f(
-        (207.2716, 1400.3496, 1357.4437),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[26] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.ankle_wheel": _f(
-        40.332,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[27] lleg-ankle-w (tyre 39.87 + horn 0.46)",
-    ),
-    "lcom.L2W2L6A4H2G.ankle_wheel": _f(
-        (0.0, 23.412, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[27] com"
-    ),
-    "linert.L2W2L6A4H2G.ankle_wheel": _f(
-        (99.2558, 186.3529, 99.2813),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[27] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.ankle_roll": _f(
-        38.432, "g", "KX", "kxrl2w2l6a4h2.json physics.links[28] lleg-ankle-r (sole plate)"
-    ),
-    "lcom.L2W2L6A4H2G.ankle_roll": _f(
-        (0.0, 7.514, -25.416), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[28] com"
-    ),
-    "linert.L2W2L6A4H2G.ankle_roll": _f(
-        (147.3124, 301.5243, 402.4514),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[28] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.neck_yaw": _f(
-        37.982, "g", "KX", "kxrl2w2l6a4h2.json physics.links[29] head-neck-y (1 servo)"
-    ),
-    "lcom.L2W2L6A4H2G.neck_yaw": _f(
-        (8.177, 0.0, 22.956), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[29] com"
-    ),
-    "linert.L2W2L6A4H2G.neck_yaw": _f(
-        (87.2107, 89.7321, 58.3253),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[29] inertia ixx, iyy, izz",
-    ),
-    "lmass.L2W2L6A4H2G.neck_pitch": _f(
-        156.521,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[30] head-neck-p (kxreus's head part 145.7 g)",
-    ),
-    "lcom.L2W2L6A4H2G.neck_pitch": _f(
-        (5.585, 0.0, 40.683), "mm", "KX", "kxrl2w2l6a4h2.json physics.links[30] com"
-    ),
-    "linert.L2W2L6A4H2G.neck_pitch": _f(
-        (2165.1916, 300.1152, 2025.7028),
-        "g·cm²",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[30] inertia ixx, iyy, izz",
-    ),
-    "unused.L2W2L6A4H2G.arm_tyre": _f(
-        39.87,
-        "g",
-        "KX",
-        "kxrl2w2l6a4h2.json physics.links[14] (and [7]): a tyre on each A4 arm's end; Kondo's "
-        "project has no servo for it, so the kit builder leaves it out (the model weighs "
-        "mass.L2W2L6A4H2G less two of these)",
-    ),
     "mass.per_servo": _f(
         35.03,
         "g",
@@ -415,6 +190,7 @@ FIGURES: dict[str, Figure] = {
         "a servo more or less than the reference build: "
         "one KRS-3304R2 with horn (§3.1); its bracket is not counted",
     ),
+    **LINK_ROWS,
 }
 
 #: servo count of the build each family's ``mass.*`` total was computed for

@@ -69,7 +69,8 @@ def _wheel_slot(name: str, parent: str, axle: Vec3, tyre_at: Vec3 = (0.0, 0.0, 0
 
 
 def _arm(arms: int) -> list[Slot]:
-    s = vec("l2.shoulder")
+    # the A6's shoulder sits in front (kxreus's `:shoulder :pry-cross :shoulder-front t`)
+    s = vec("arm6.shoulder" if arms == 6 else "l2.shoulder")
     pitch = _slot(
         "shoulder_pitch", None, s, "pitch", (-180, 180), (box((26, 20, 32), _add(s, (0, 14.5, 0))),)
     )
