@@ -18,29 +18,32 @@ from tests.robot.kit_names import names_for, stock
 def test_the_wheel_leg_build_weighs_its_links_as_kxreus_does() -> None:
     _, model = stock("kxr:L2W2L6A4H2G")
     ankle = model.link("l_ankle_pitch_link").inertial
-    assert ankle.mass == pytest.approx(0.122858)  # three servos: ankle pitch, roll, wheel
+    # three servos (ankle pitch, roll, wheel), each brought from kxreus's 27.73 g to 35.03 g
+    servo = (fig("servo.mass") - fig("servo.mass_kxreus")) / 1000
+    assert ankle.mass == pytest.approx(0.122858 + 3 * servo)
     assert ankle.com == pytest.approx((-0.033808, 0.0, 0.009676))  # behind the ankle
     # its moments about the pitch and yaw axes: a long link (the wheel servo 78 mm back)
     assert ankle.inertia[:3] == pytest.approx((2.072716e-05, 1.4003496e-04, 1.3574437e-04))
     right = model.link("r_ankle_pitch_link").inertial
-    assert right.mass == pytest.approx(0.122858) and right.com[1] == pytest.approx(0.0)
+    assert right.mass == pytest.approx(ankle.mass) and right.com[1] == pytest.approx(0.0)
     assert model.link("l_ankle_wheel_link").inertial.mass == pytest.approx(0.040332)
     assert model.link("r_ankle_wheel_link").inertial.com[1] == pytest.approx(-0.023412)
     torso = model.link("torso").inertial
-    assert torso.mass == pytest.approx(0.437985)
+    assert torso.mass == pytest.approx(0.437985 + 5 * servo)
     assert torso.com == pytest.approx((-0.006626, 0.0, 0.030964))
     assert model.link("neck_pitch_link").inertial.com == pytest.approx((0.005585, 0.0, 0.040683))
-    # kxreus's total less the tyre it puts on each A4 arm (no servo for it in Kondo's project)
+    # kxreus's total less the tyre it puts on each A4 arm (no servo for it in Kondo's project),
+    # its 26 servo cases at 35.03 g
     total = fig("mass.L2W2L6A4H2G") - 2 * fig("wheel.tyre_mass")
     assert total == pytest.approx(1798.31, abs=0.01)
-    assert model.mass == pytest.approx(total / 1000, abs=1e-5)  # links rounded to 1 mg
-    # the legs carry about 41 % of it (the volume sharing put about half there)
+    assert model.mass == pytest.approx(total / 1000 + 26 * servo, abs=1e-5)
+    # the legs carry about 42 % of it (the volume sharing put about half there)
     legs = sum(
         link.inertial.mass
         for link in model.links
         if any(k in link.name for k in ("hip", "knee", "ankle"))
     )
-    assert legs / model.mass == pytest.approx(0.41, abs=0.01)
+    assert legs / model.mass == pytest.approx(0.42, abs=0.01)
 
 
 def test_the_ankle_wheel_turns_behind_the_ankle_where_kxreus_puts_it() -> None:
@@ -59,7 +62,8 @@ def test_a_detected_project_gets_the_same_masses() -> None:
     det = detect_kit("Hello_KXR-L2W2L6A4H2", names_for(model))
     assert det.model.name == "kxr:L2W2L6A4H2G"
     assert det.model.mass == pytest.approx(model.mass)
-    assert det.model.link("l_hip_roll_link").inertial.mass == pytest.approx(0.078374)
+    hip = 0.078374 + 2 * (fig("servo.mass") - fig("servo.mass_kxreus")) / 1000  # 2 cases
+    assert det.model.link("l_hip_roll_link").inertial.mass == pytest.approx(hip)
 
 
 def test_builds_without_per_link_figures_share_their_total() -> None:
@@ -69,11 +73,13 @@ def test_builds_without_per_link_figures_share_their_total() -> None:
 
 
 def test_the_a6_build_weighs_its_links_as_kxreus_does() -> None:
-    # kxrl2l6a6h2.json physics.links: 31 links summing to its total, 1708.46 g
+    # kxrl2l6a6h2.json physics.links: 31 links summing to its total, 1708.46 g, with its 28
+    # servo cases at 35.03 g (kxreus's 27.73 g)
     _, model = stock("kxr:L2L6A6H2G")
-    assert model.mass == pytest.approx(fig("mass.L2L6A6H2G") / 1000, abs=1e-5)
+    servo = (fig("servo.mass") - fig("servo.mass_kxreus")) / 1000
+    assert model.mass == pytest.approx(fig("mass.L2L6A6H2G") / 1000 + 28 * servo, abs=1e-5)
     assert model.link("torso").inertial.com == pytest.approx((-0.006705, 0.0, 0.030964))
-    assert model.link("l_wrist_pitch_link").inertial.mass == pytest.approx(0.078374)
+    assert model.link("l_wrist_pitch_link").inertial.mass == pytest.approx(0.078374 + 2 * servo)
     # the two fingers as one link: 26.534 g, 20 mm forward of the gripper joint
     grip = model.link("r_gripper_link").inertial
     assert grip.mass == pytest.approx(0.026534) and grip.com[0] == pytest.approx(0.020023)
@@ -126,3 +132,22 @@ def test_the_a4_arm_has_kxreus_a4_offsets() -> None:
     assert model.joint("r_gripper").xyz == pytest.approx((0.0, 0.0, -0.0655))
     _, a6 = stock("kxr:L2L6A6H2G")
     assert a6.joint("l_shoulder_yaw").xyz == pytest.approx((0.0, 0.0, -0.015))
+
+
+@pytest.mark.parametrize(
+    ("code", "left_out", "cases"),
+    [
+        ("kxr:L2W2L6A4H2G", 2 * 39.87, 26),  # the tyres kxreus puts on the A4 arms' ends
+        ("kxr:L2L6A6H2G", 0.0, 28),
+        ("kxr:L2W2L5A3H2G", 2 * 39.87, 22),  # the tyres on the grippers
+    ],
+)
+def test_weighed_builds_weigh_kxreus_totals_less_what_kondo_lacks(
+    code: str, left_out: float, cases: int
+) -> None:
+    # every link of these builds has a row; the model's mass is their sum: kxreus's total
+    # less the parts without a servo in Kondo's projects, its servo cases at 35.03 g
+    _, model = stock(code)
+    total = fig("mass." + code.split(":")[1])
+    servo = fig("servo.mass") - fig("servo.mass_kxreus")
+    assert model.mass * 1000 == pytest.approx(total - left_out + cases * servo, abs=0.01)

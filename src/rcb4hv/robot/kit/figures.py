@@ -33,6 +33,9 @@ FIGURES: dict[str, Figure] = {
     # ---------------------------------------------------------------- servo and parts
     "servo.case": _f((32.5, 26.0, 26.0), "mm", "KX", "kxrbody.l kxr-servo-s3300 (§2.1)"),
     "servo.mass": _f(35.03, "g", "KX", "kxrbody.l s3304R2 33.7 + horn 1.33 (§3.1)"),
+    "servo.mass_kxreus": _f(
+        27.73, "g", "KX", "kxrbody.l s3301 26.4 + horn 1.33: every servo case of kxreus's models"
+    ),
     "wheel.radius": _f(30.5, "mm", "KX", "kxrbody.l kxr-wheel r 20 + 10.5 (§2.6)"),
     "wheel.width": _f(13.0, "mm", "KX", "kxrbody.l kxr-wheel tyre half-width 6.5 (§2.6)"),
     "wheel.axle_offset": _f(14.0, "mm", "KX", "kxrlinks.l kxr-wheel-link offset 3.5 + 10.5"),
@@ -180,6 +183,7 @@ FIGURES: dict[str, Figure] = {
     "mass.L2L6A6H2G": _f(1708.46, "g", "KX", "kxrl2l6a6h2.json total (§3.3)"),
     "mass.L2L6A7H2G": _f(1824.9, "g", "KX", "kxrl2l6a7h2.json total (§3.3)"),
     "mass.L2L6A7H2GW": _f(1909.38, "g", "KX", "kxrl2l6a7h2w.json total (§3.3)"),
+    "mass.L2W2L5A3H2G": _f(1690.68, "g", "KX", "kxrl2w2l5a3h2.json physics.total_mass"),
     "mass.L2W2L5A4H2G": _f(1676.41, "g", "KX", "kxrl2w2l5a4h2.json total (§3.3)"),
     "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
     "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
@@ -225,15 +229,21 @@ class LinkFigure(NamedTuple):
 def link_figures(code: str) -> dict[str, LinkFigure]:
     """Slot (``torso``, ``ankle_pitch``, ...) -> the figures of that link of the build whose
     canonical code is ``code``, where the source weighs each link (the ``lmass.CODE.*``,
-    ``lcom.CODE.*`` and ``linert.CODE.*`` rows); empty for other builds."""
+    ``lcom.CODE.*`` and ``linert.CODE.*`` rows); empty for other builds.
+
+    kxreus weighs every servo case 27.73 g (a KRS-3301's, ``servo.mass_kxreus``); each case a
+    link carries (``lcases.CODE.*``) is brought to the KRS-3304R2's ``servo.mass`` at the
+    link's centre of mass, so the link's centre and moments stay the source's."""
     head = f"lmass.{code}."
+    extra = fig("servo.mass") - fig("servo.mass_kxreus")
     out: dict[str, LinkFigure] = {}
     for key in FIGURES:
         if key.startswith(head):
             slot = key[len(head) :]
             com, inertia = f"lcom.{code}.{slot}", f"linert.{code}.{slot}"
+            cases = f"lcases.{code}.{slot}"
             out[slot] = LinkFigure(
-                fig(key),
+                fig(key) + (fig(cases) * extra if cases in FIGURES else 0.0),
                 vec(com) if com in FIGURES else None,
                 vec(inertia) if inertia in FIGURES else None,
             )
