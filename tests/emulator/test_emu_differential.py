@@ -313,7 +313,9 @@ def _run_both(
         assert _state(fast) == _state(plain), f"step {i} ({seconds} s, {frame!r}): state differs"
 
 
-@settings(max_examples=100)
+# derandomized while the divergence below is open: a random seed found it in about one run
+# in six (with --hypothesis-seed=1), and CI must not pass or fail by chance
+@settings(max_examples=100, derandomize=True)
 @given(configs, programs(), st.booleans(), steps)
 def test_random_programs_run_the_same_accelerated_and_plain(
     config: EmulatorConfig,
@@ -373,6 +375,15 @@ HAND_WRITTEN = {
         Add(Ram(VARS), Data(b"\x01"), 1),
         Branch(False, 0, ALWAYS),
     ),
+    # a polling loop whose conditional JUMP skips part of its body once the flags settle:
+    # each iteration runs 2 instructions, not the 3 laid out, so the loop is counted by what
+    # one iteration ran (the first pass runs the OR, so the whole body is known)
+    "polling-loop-skips-body": (
+        Branch(False, 2, ALWAYS),
+        Branch(False, 3, Condition(compare_z=True, z=True)),
+        Or(Ram(VARS), Data(b"\x00"), 1, True),
+        Branch(False, 1, ALWAYS),
+    ),
     # waiting on update flags while the periods are skipped, then moving again
     "wait-on-flags": (
         RunConstFrameServo(30, {0: 8000, 2: 7000}),
@@ -391,4 +402,32 @@ def test_hand_written_programs_run_the_same(name: str, logic_carry: str) -> None
         logic_carry=logic_carry,  # type: ignore[arg-type]
     )
     image = _build(Program(HAND_WRITTEN[name], True), b"", False)
-    _run_both(config, image, [(0.001, None)] * 20 + [(0.05, None), (0.6, None), (2.0, None)])
+    # odd instruction counts (7 and 301 at 5 a millisecond) end a loop mid-iteration
+    plan = [(0.001, None)] * 20 + [(0.0014, None), (0.05, None), (0.6002, None), (2.0, None)]
+    _run_both(config, image, plan)
+
+
+@pytest.mark.xfail(strict=True, reason="open: the period skip diverges (servo 3 keeps moving)")
+def test_known_divergence_after_the_host_stops_the_rom() -> None:
+    # found with --hypothesis-seed=1 (27 Nov): after a host MOVE stops the ROM, one 33 ms
+    # tick with periods skipped leaves virtual servo 3 moving (output 0xC700) and AD0's
+    # measured register at 455, where the plain model stepped every period to 0 and 0
+    config = EmulatorConfig(
+        branch_condition="and",
+        speed_zero="one",
+        division_by_zero="error",
+        instructions_per_ms=5.0,
+        virtual_servos=(0, 1, 2, 3),
+        power_on_system_register=3,
+    )
+    same = Move(Ram(1122), Ram(1122), 1)
+    body = (same, Not(Ram(1122), 1, False), same, same, same,
+            Mul(Ram(74), Data(b"\x15"), 1, False), Branch(False, 0, ALWAYS))  # fmt: skip
+    plan: list[tuple[float, bytes | None]] = [
+        (0.001, None),
+        (0.001, b"\n\x00\x00J\x00\x00b\x04\x01\xbb"),
+        (0.033, None),
+        (0.12, b"\x08\x00\x02\x00\x00\x00\x00\n"),
+        (0.033, None),
+    ]
+    _run_both(config, _build(Program(body, True), b"", False), plan)

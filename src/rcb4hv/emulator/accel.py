@@ -224,9 +224,11 @@ def _compile_binary(
 
 
 def polling_loop_length(interp: Machine, start: int, jump_pc: int) -> int:
-    """Instructions in the loop ``start``..``jump_pc`` if it only reads memory and sets
-    flags (no-write-back data ops, Not/Shift without write-back, conditional JUMPs), else 0.
-    Memoised; the instruction cache is invalidated with ROM writes, and so is this."""
+    """Instructions laid out in the loop ``start``..``jump_pc`` if it only reads memory and
+    sets flags (no-write-back data ops, Not/Shift without write-back, conditional JUMPs),
+    else 0. The caller counts an iteration as long as one ran: a conditional JUMP inside the
+    loop may skip part of the body. Memoised; the instruction cache is invalidated with ROM
+    writes, and so is this."""
     key = (start, jump_pc)
     known = interp.loop_memo.get(key)
     if known is not None:

@@ -406,6 +406,7 @@ class Interpreter:
         vectors = self.vectors
         fast_loops = self.accelerate
         seen_loop: tuple[int, int] | None = None
+        seen_at = 0  # instructions_executed when seen_loop last closed
         while credit >= 1:
             sysw = r[SYSTEM]
             if not sysw & SYS_ROM:
@@ -451,12 +452,14 @@ class Interpreter:
                 # A backward branch closed an iteration. Nothing but the program changes RAM
                 # within this call, so once a whole iteration of a flags-only polling loop has
                 # run here, every further iteration until `until` is identical: count them.
+                # An iteration is as long as it ran (a conditional JUMP inside the loop may
+                # skip part of its body), not as the loop's instructions laid out.
                 loop = (target, pc)
-                if seen_loop == loop:
-                    length = accel.polling_loop_length(self, target, pc)
-                    if length:
-                        n = int(credit // length)
-                        credit -= n * length
-                        self.instructions_executed += n * length
+                length = self.instructions_executed - seen_at
+                if seen_loop == loop and accel.polling_loop_length(self, target, pc):
+                    n = int(credit // length)
+                    credit -= n * length
+                    self.instructions_executed += n * length
                 seen_loop = loop
+                seen_at = self.instructions_executed
         self.credit = credit
