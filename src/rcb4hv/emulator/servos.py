@@ -166,10 +166,11 @@ class Servos:
             (ics, blk) for ics in self.config.virtual_servos if (blk := blocks[ics]) is not None
         ]
         self.vs_mixing = any(self.mixes(b) for _, b in self.vs_blocks)
-        self.dirty_lo = ALLOC
         if safe:
+            self.dirty_lo = ALLOC
             self.dirty_hi = spans[-1] + BLOCK_SIZE if spans else ALLOC_END
-        else:
+        else:  # a block may lie anywhere, below the table too (over the AD registers, say)
+            self.dirty_lo = 0
             self.dirty_hi = RAM_SIZE + 1
         self.safe = safe
         self.dirty = False
