@@ -4,7 +4,7 @@
   ROM instructions (JUMP, MOVE, and AND..MUL), computing through the same ALU table and
   condition evaluator as :meth:`Interpreter.execute`. Only forms that cannot fail are
   compiled, so results and errors are identical.
-* :func:`polling_loop_length`: a flags-only polling loop is counted, not stepped.
+* :func:`flags_only_loop`: a flags-only polling loop is counted, not stepped.
 * :func:`skip_periods`: output periods nobody can observe are applied in closed form.
 
 (The vector-table memo lives in :mod:`rcb4hv.emulator.vectors`, the servo block cache in
@@ -63,7 +63,7 @@ __all__ = [
     "Executor",
     "Machine",
     "compile_command",
-    "polling_loop_length",
+    "flags_only_loop",
     "skip_periods",
 ]
 
@@ -90,7 +90,7 @@ class Machine(Protocol):
     def cache(self) -> Mapping[int, Entry]: ...
 
     @property
-    def loop_memo(self) -> dict[tuple[int, int], int]: ...
+    def loop_memo(self) -> dict[tuple[int, int], bool]: ...
 
 
 _u16 = U16.unpack_from
@@ -223,37 +223,33 @@ def _compile_binary(
     return binary
 
 
-def polling_loop_length(interp: Machine, start: int, jump_pc: int) -> int:
-    """Instructions laid out in the loop ``start``..``jump_pc`` if it only reads memory and
-    sets flags (no-write-back data ops, Not/Shift without write-back, conditional JUMPs),
-    else 0. The caller counts an iteration as long as one ran: a conditional JUMP inside the
-    loop may skip part of the body. Memoised; the instruction cache is invalidated with ROM
-    writes, and so is this."""
+def flags_only_loop(interp: Machine, start: int, jump_pc: int) -> bool:
+    """The loop ``start``..``jump_pc`` only reads memory and sets flags (no-write-back data
+    ops, Not/Shift without write-back, conditional JUMPs; at most 64 instructions), so every
+    iteration is the one before. The caller counts an iteration as long as one ran (a
+    conditional JUMP inside may skip part of the body). Memoised; the instruction cache is
+    invalidated with ROM writes, and so is this."""
     key = (start, jump_pc)
     known = interp.loop_memo.get(key)
     if known is not None:
         return known
-    count, pc = 0, start
+    count, pc, pure = 0, start, True
     while pc <= jump_pc and count < 64:
         entry = interp.cache.get(pc)
-        if entry is None or entry[0] is None:
-            count = 0
+        if entry is None:
+            pure = False
             break
         cmd = entry[0]
         pure = isinstance(cmd, Jump) or (
             getattr(cmd, "no_write", False) and not isinstance(getattr(cmd, "dst", None), Com)
         )
-        if not pure:
-            count = 0
+        if not pure or pc == jump_pc:
             break
         count += 1
-        if pc == jump_pc:
-            break
         pc += entry[1]
-    if pc != jump_pc:
-        count = 0
-    interp.loop_memo[key] = count
-    return count
+    found = pure and pc == jump_pc
+    interp.loop_memo[key] = found
+    return found
 
 
 def skip_periods(

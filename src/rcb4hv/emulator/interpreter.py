@@ -127,7 +127,7 @@ class Interpreter:
         self._any = config.branch_condition == "or"
         self._logic_clear = config.logic_carry == "clear"
         self.cache: dict[int, Entry] = {}
-        self.loop_memo: dict[tuple[int, int], int] = {}
+        self.loop_memo: dict[tuple[int, int], bool] = {}
         self.dispatch = self._dispatch_table()
         self.instructions_executed = 0
         self.reset(0)
@@ -456,7 +456,7 @@ class Interpreter:
                 # skip part of its body), not as the loop's instructions laid out.
                 loop = (target, pc)
                 length = self.instructions_executed - seen_at
-                if seen_loop == loop and accel.polling_loop_length(self, target, pc):
+                if seen_loop == loop and accel.flags_only_loop(self, target, pc):
                     n = int(credit // length)
                     credit -= n * length
                     self.instructions_executed += n * length

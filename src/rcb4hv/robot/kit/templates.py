@@ -109,6 +109,7 @@ def _arm(arms: int) -> list[Slot]:
         wrist = _add(_add(elbow, vec("arm7.wrist_yaw")), vec("arm7.wrist"))
         grip = _add(wrist, vec("arm7.gripper"))
         order = ("yaw", "roll")
+    forward = arms == 6  # the A6's bent forearm points the hand forward at zero pose
     first, second = order
     pos: dict[str, Vec3] = {"roll": roll, "yaw": yaw}
     lim: dict[str, tuple[float, float]] = {"roll": (-30.0, 185.0), "yaw": (-TRAVEL_DEG, TRAVEL_DEG)}
@@ -153,24 +154,19 @@ def _arm(arms: int) -> list[Slot]:
                 grip,
                 "grip",
                 (-100, 100),
-                (_finger(wrist, grip),),
-                axis=_Z_DOWN if _forward(wrist, grip) else None,
+                (_finger(grip, forward),),
+                axis=_Z_DOWN if forward else None,
             ),
             optional=True,
         ),
     ]
 
 
-def _forward(wrist: Vec3, grip: Vec3) -> bool:
-    """The hand points forward at zero pose (the A6's bent forearm), not down."""
-    return grip[0] - wrist[0] > abs(grip[2] - wrist[2])
-
-
-def _finger(wrist: Vec3, grip: Vec3) -> Geom:
+def _finger(grip: Vec3, forward: bool) -> Geom:
     """The gripper's finger, 35 mm long, pointing the way the hand does at zero pose: down
-    (A3, A4, A7; it opens about x) or forward (A6; it opens about z, as kxreus's gripper
-    frame turns it)."""
-    if _forward(wrist, grip):
+    (A3, A4, A5, A7; it opens about x) or ``forward`` (A6; it opens about z, as kxreus's
+    gripper frame turns it)."""
+    if forward:
         return box((35, 6, 14), _add(grip, (17.5, -10, 0)), light=True)
     return box((14, 6, 35), _add(grip, (0, -10, -17.5)), light=True)
 
