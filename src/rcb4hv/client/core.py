@@ -163,9 +163,16 @@ class Rcb4Client:
                 raise
         return client
 
-    def detect_baudrate(self, rates: Iterable[int] = BAUD_RATES, probe_timeout: float = 0.1) -> int:
-        """Find the rate the board answers at (ACK check at each) and keep it; ValueError
-        when the link is not a serial port."""
+    def detect_baudrate(
+        self, rates: Iterable[int] = BAUD_RATES, probe_timeout: float = 0.1, tries: int = 2
+    ) -> int:
+        """Find the rate the board answers at and keep it; ValueError when the link is not a
+        serial port.
+
+        Each rate gets up to ``tries`` ACK checks, and counts only when a second ACK check at
+        it answers too. The input is flushed before every check, so an ACK that arrives late
+        (a busy host, a slow adapter) is never taken for the answer at the next rate.
+        """
         url = self.transport.url
         for rate in rates:
             try:
@@ -173,14 +180,22 @@ class Rcb4Client:
             except TransportError as exc:
                 log.debug("%s: cannot use %d baud: %s", url, rate, exc)
                 continue
-            try:
-                self.acknowledge_check(timeout=probe_timeout)
-            except (Rcb4TimeoutError, ProtocolError, NakError):
-                log.debug("%s: no ACK at %d baud", url, rate)
-                continue
-            log.info("%s: board answers at %d baud", url, rate)
-            return rate
+            if self._acks(probe_timeout, tries) and self._acks(probe_timeout, tries):
+                log.info("%s: board answers at %d baud", url, rate)
+                return rate
+            log.debug("%s: no ACK at %d baud", url, rate)
         raise TransportError(f"{url}: no answer to an ACK check at any baud rate")
+
+    def _acks(self, timeout: float, tries: int) -> bool:
+        """Whether one of ``tries`` ACK checks, each after a flush of the input, is answered."""
+        for _ in range(max(1, tries)):
+            self.transport.reset_input()
+            try:
+                self.acknowledge_check(timeout=timeout)
+            except (Rcb4TimeoutError, ProtocolError, NakError):
+                continue
+            return True
+        return False
 
     def close(self) -> None:
         self.transport.close()
