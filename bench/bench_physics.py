@@ -1,6 +1,8 @@
 """Physics: CPU time of the emulator driving a robot in MuJoCo, against the virtual time.
 
-For the 17-axis KHR-3HV and the 22-axis KHR-3HV Ver.2 (built-in models): an emulated board
+For the 17-axis KHR-3HV, the 22-axis KHR-3HV Ver.2 (built-in models) and the KXR build
+with the most servos among Kondo's sample projects, the 30-axis KXR-L2L6A7H2G (kit builder:
+6-axis legs, 7-axis arms, grippers, 2-axis head): an emulated board
 set up for the robot's servos (``rcb4hv.physics.standalone.robot_board``) with a
 ``PhysicsBackend``; the robot stands on the floor and crouches and rises every 0.5 s
 (RunConstFrameServo through ``Board.feed``, as a host sends them) for 10 virtual seconds,
@@ -37,9 +39,9 @@ def _one(name: str, virtual_s: float = VIRTUAL_S) -> tuple[float, float, bool]:
     from rcb4hv.physics import PhysicsBackend, PhysicsWorld
     from rcb4hv.physics.standalone import robot_board
     from rcb4hv.protocol import RunConstFrameServo
-    from rcb4hv.robot.builtin import load_builtin
+    from rcb4hv.robot.builtin import load_robot
 
-    model = load_builtin(name)
+    model = load_robot(name)
     board = robot_board(model)
     world = PhysicsWorld(model)
     world.place({})
@@ -68,7 +70,7 @@ def run(quick: bool = False) -> list[dict[str, Any]]:
 
     step_ms = TIMESTEP * 1000
     rows = []
-    robots = (("khr3hv", 17), ("khr3hv-22", 22))
+    robots = (("khr3hv", 17), ("khr3hv-22", 22), ("kxr:L2L6A7H2G", 30))
     for name, axes in robots[:1] if quick else robots:
         best, virtual, upright = float("inf"), 0.0, True
         for _ in range(1 if quick else 3):

@@ -9,14 +9,16 @@ signed in the 16-bit word.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Iterable
 from typing import Final
 
-from rcb4hv.emulator.memmap import AD_CHANNELS, AD_REFERENCE, AD_VALUES, read_u16, s16, write_u16
+from rcb4hv.emulator.memmap import AD_CHANNELS, AD_REFERENCE, AD_VALUES, read_u16, s16
 
 __all__ = ["AD_MAX", "AdConverter"]
 
 AD_MAX: Final = 1023  # a 10-bit converter
+_WORDS: Final = struct.Struct(f"<{AD_CHANNELS}H")  # the 11 references, the 11 measured words
 
 
 class AdConverter:
@@ -41,8 +43,9 @@ class AdConverter:
     def sample(self) -> None:
         """Each measured register gets the channel's input minus its reference."""
         r = self.ram
-        for ch, v in enumerate(self.inputs):
-            write_u16(r, AD_VALUES + 2 * ch, (v - read_u16(r, AD_REFERENCE + 2 * ch)) & 0xFFFF)
+        refs = _WORDS.unpack_from(r, AD_REFERENCE)
+        measured = [(v - ref) & 0xFFFF for v, ref in zip(self.inputs, refs, strict=True)]
+        _WORDS.pack_into(r, AD_VALUES, *measured)
 
     def reference(self, channel: int) -> int:
         """The reference word of AD``channel`` (RAM 000Ch + 2 x channel)."""

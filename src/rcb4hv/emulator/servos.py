@@ -109,6 +109,7 @@ class Servos:
         self.blocks: list[int | None] = [None] * ICS_COUNT
         self.vs_blocks: list[tuple[int, int]] = []
         self.vs_mixing = False
+        self.out_blocks: list[tuple[int, int, bool]] = []
         self.dirty_lo = ALLOC
         self.dirty_hi = RAM_SIZE + 1
         self.physical = dict.fromkeys(cfg.virtual_servos, cfg.servo_initial_position)
@@ -166,6 +167,11 @@ class Servos:
             (ics, blk) for ics in self.config.virtual_servos if (blk := blocks[ics]) is not None
         ]
         self.vs_mixing = any(self.mixes(b) for _, b in self.vs_blocks)
+        # (ics, block, mixes) of every type-0 block: outputs() reads only these while the
+        # cache holds (a write into a block, its mixing words included, makes it dirty)
+        self.out_blocks = [
+            (ics, blk, self.mixes(blk)) for ics, blk in enumerate(blocks) if blk is not None
+        ]
         if safe:
             self.dirty_lo = ALLOC
             self.dirty_hi = spans[-1] + BLOCK_SIZE if spans else ALLOC_END
@@ -352,11 +358,25 @@ class Servos:
 
     def outputs(self) -> dict[int, int]:
         """The value sent to each allocated servo: output + base + mixing (spec 9)."""
+        if self.safe and not self.dirty:  # the cached blocks: the same answer, read faster
+            r = self.ram
+            omit = self.config.free_hold_base == "omit"
+            sent: dict[int, int] = {}
+            for ics, blk, mixing in self.out_blocks:
+                o: int = _u16(r, blk + B_OUTPUT)[0]
+                if omit and o in (FREE, HOLD):
+                    sent[ics] = o
+                    continue
+                v: int = o + _s16(r, blk + B_BASE)[0]
+                if mixing:
+                    v += self.mix(blk)
+                sent[ics] = v & 0xFFFF
+            return sent
         out = {}
         for ics in range(ICS_COUNT):
-            blk = self.block(ics)
-            if blk is not None:
-                out[ics] = self.sent(blk)
+            a = self.block(ics)
+            if a is not None:
+                out[ics] = self.sent(a)
         return out
 
     def mode(self, ics: int) -> ServoMode | None:
