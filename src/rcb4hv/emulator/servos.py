@@ -315,7 +315,8 @@ class Servos:
             set_update_flags(r, update_flags(r) & ~flags_cleared)
 
     def report(self) -> None:
-        """Virtual servos follow their sent value and report position - base into +4."""
+        """Virtual servos follow their sent value and report position - base into +4 (with a
+        servo backend, :attr:`external`, they report the positions it measured)."""
         r = self.ram
         hold_is_free = self.config.position_7fff == "free"
         physical = self.physical
@@ -325,6 +326,14 @@ class Servos:
             pairs = self.vs_blocks
         else:
             pairs = [(k, b) for k in self.config.virtual_servos if (b := self.block(k)) is not None]
+        if external:  # the backend set every position: report it, powered unless freed
+            for ics, blk in pairs:
+                out = _u16(r, blk + B_OUTPUT)[0]
+                torque[ics] = out not in (FREE, HOLD) or output_mode(out, hold_is_free) != "free"
+                m = (physical[ics] - _s16(r, blk + B_BASE)[0]) & 0xFFFF
+                r[blk + B_MEASURED] = m & 0xFF
+                r[blk + B_MEASURED_HI] = m >> 8
+            return
         for ics, blk in pairs:
             out = _u16(r, blk + B_OUTPUT)[0]
             base = _s16(r, blk + B_BASE)[0]
@@ -332,7 +341,7 @@ class Servos:
             if mode == "free":
                 torque[ics] = False
                 p = physical[ics]
-            elif mode == "hold" or external:
+            elif mode == "hold":
                 torque[ics] = True
                 p = physical[ics]
             else:
