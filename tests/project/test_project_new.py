@@ -89,3 +89,23 @@ def test_bind_and_settings_change_only_what_they_say(tmp_path: Path) -> None:
         "project", "settings", out, "--ad-reference", "11=5", "-o", tmp_path / "y.h4p"
     )
     assert code == 1 and "AD channel 11" in text
+
+
+@pytest.mark.parametrize("ms", [10, 15, 20, 25])
+def test_settings_period_sets_the_output_period_and_motions_play_at_its_pace(
+    tmp_path: Path, ms: int
+) -> None:
+    base = tmp_path / "base.h4p"
+    base.write_bytes(dump_project(new_project(load_builtin("kxr-l2"), date="2026-01-01T00:00:00")))
+    out = tmp_path / f"{ms}.h4p"
+    code, text = _run("project", "settings", base, "--period", ms, "-o", out)
+    assert code == 0, text
+    before, after = load_project(base), load_project(out)
+    word = after.system_register
+    assert word & 0x30 == [10, 15, 20, 25].index(ms) << 4
+    assert word & ~0x30 == before.system_register & ~0x30  # nothing else in the register
+    assert [c.field for c in diff_projects(before, after)] in ([], ["config"])
+    image, layout, _ = load_image(out)
+    run = run_motions(image, [1], motion_layout=layout, hold=0)
+    # slot 1 moves to the home pose in HOME_FRAMES output periods
+    assert run.motions[0].result.duration == pytest.approx(30 * ms / 1000, abs=2 * ms / 1000)

@@ -18,6 +18,7 @@ from rcb4hv.hth4.newproject import (
     set_ad_reference,
     set_low_power,
     set_mixing,
+    set_output_period,
     set_priority,
     set_startup,
 )
@@ -96,6 +97,13 @@ def _pair(text: str, what: str) -> tuple[str, str]:
 )
 @click.option("--ad-reference", multiple=True, metavar="CH=VALUE", help="AD calibration.")
 @click.option(
+    "--period",
+    type=click.Choice(["10", "15", "20", "25"]),
+    default=None,
+    help="Servo output period in ms: a pose's frames are periods, so every motion plays at "
+    "another speed.",
+)
+@click.option(
     "--priority",
     multiple=True,
     metavar="I=SLOT,PORT,COMPARE,VALUE",
@@ -112,10 +120,12 @@ def settings_command(
     low_power_value: int | None,
     mixing: tuple[str, ...],
     ad_reference: tuple[str, ...],
+    period: str | None,
     priority: tuple[str, ...],
     output: Path,
 ) -> None:
-    """Change the start-up and low-power motions, mixing and the AD calibration of FILE."""
+    """Change the start-up and low-power motions, mixing, the AD calibration and the output
+    period of FILE."""
     session = EditSession.open(file)
     if startup is not None:
         session.apply(set_startup, _slot_or_none(startup))
@@ -142,6 +152,8 @@ def settings_command(
             if isinstance(exc, EditError):
                 raise
             raise click.BadParameter(f"--ad-reference: {text!r} is not CH=VALUE") from None
+    if period is not None:
+        session.apply(set_output_period, int(period))
     for text in priority:
         session.apply(set_priority, *_priority(text))
     session.save(output)

@@ -8,8 +8,8 @@ then HeartToHeart4's closing ``03 0D 10 FF``) and the start-up program calling i
 
 Settings (pure functions from a project to a new one, as :mod:`rcb4hv.hth4.edit`):
 :func:`set_startup`, :func:`set_low_power`, :func:`set_priority`, :func:`set_mixing`,
-:func:`set_ad_reference` (:func:`set_ad_references`); :func:`mixing_source` reads a mixing
-source as a user writes it.
+:func:`set_ad_reference` (:func:`set_ad_references`), :func:`set_output_period`;
+:func:`mixing_source` reads a mixing source as a user writes it.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from rcb4hv.hth4.model import (
     motion_key,
     motion_rom_address,
 )
-from rcb4hv.protocol.memory import ADDR, CENTER
+from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS
 from rcb4hv.robot.model import RobotModel
 
 __all__ = [
@@ -45,6 +45,7 @@ __all__ = [
     "set_ad_references",
     "set_low_power",
     "set_mixing",
+    "set_output_period",
     "set_priority",
     "set_startup",
 ]
@@ -220,3 +221,18 @@ def set_ad_reference(project: Project, channel: int, value: int) -> Project:
     data = bytearray(project.adc_reference.ljust(2 * ADDR.AD_COUNT, b"\0"))
     data[2 * channel : 2 * channel + 2] = (value & 0xFFFF).to_bytes(2, "little")
     return replace(project, adc_reference=bytes(data))
+
+
+def set_output_period(project: Project, ms: int) -> Project:
+    """The board's servo output period (10, 15, 20 or 25 ms; system register bits 5-4, spec
+    10.2). A pose's frame count is in output periods, so every motion plays at another speed:
+    a move of 20 frames lasts 0.2 s at 10 ms and 0.3 s at 15 ms."""
+    if ms not in FRAME_PERIODS_MS:
+        raise EditError(
+            f"output period {ms} ms: the board has {', '.join(map(str, FRAME_PERIODS_MS))} ms"
+        )
+    config = bytearray(project.config)
+    if len(config) != 2:
+        raise EditError(f"Config holds {len(config)} bytes, expected 2")
+    config[0] = (config[0] & ~0x30) | FRAME_PERIODS_MS.index(ms) << 4
+    return replace(project, config=bytes(config))
