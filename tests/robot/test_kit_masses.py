@@ -10,7 +10,7 @@ import pytest
 from rcb4hv.robot.kit import kit_model
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.build import stock_joint_map
-from rcb4hv.robot.kit.figures import LinkFigure, fig, link_figures
+from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, fig, link_figures
 from rcb4hv.robot.kit.templates import template
 from tests.robot.kit_names import names_for, stock
 
@@ -67,9 +67,22 @@ def test_a_detected_project_gets_the_same_masses() -> None:
 
 
 def test_builds_without_per_link_figures_share_their_total() -> None:
+    """kxreus's total with each of the build's 30 servos at a KRS-3304R2's mass, not the
+    27.73 g kxreus weighs every servo case at (KXR-KITS.md §3.1)."""
     assert link_figures("L2L6A7H2G") == {}
     _, model = stock("kxr:L2L6A7H2G")
-    assert model.mass == pytest.approx(fig("mass.L2L6A7H2G") / 1000)
+    short = fig("servo.mass") - fig("servo.mass_kxreus")
+    assert len(model.servos) == 30
+    assert model.mass == pytest.approx((fig("mass.L2L6A7H2G") + 30 * short) / 1000)
+
+
+@pytest.mark.parametrize(("code", "family"), [("kxr:L4T", "L4T"), ("kxr:L6", "L6")])
+def test_family_totals_count_their_servos_at_the_krs_3304r2s_mass(code: str, family: str) -> None:
+    _, model = stock(code)
+    short = fig("servo.mass") - fig("servo.mass_kxreus")
+    servos = MASS_SERVOS[family]
+    assert len(model.servos) == servos  # the family's reference build itself
+    assert model.mass == pytest.approx((fig(f"mass.{family}") + servos * short) / 1000)
 
 
 def test_the_a6_build_weighs_its_links_as_kxreus_does() -> None:

@@ -11,7 +11,10 @@ Masses: where kxreus weighs each link of the build (``figures.link_figures``), e
 takes its mass and centre of mass from there. Otherwise the build's own whole-robot mass
 where kxreus gives one, else the family's (``figures.MASS_SERVOS`` build) plus or minus one
 servo per servo more or fewer, spread as :func:`rcb4hv.robot.humanoid.distribute_mass`
-does: each link carries its servo case, the rest is shared by shape volume.
+does: each link carries its servo case, the rest is shared by shape volume. kxreus weighs
+every servo case at 27.73 g, a KRS-3301's (``servo.mass_kxreus``; KXR-KITS.md §3.1), so such
+a total counts each servo of its build short of a KRS-3304R2 (``servo.mass``): the
+difference is added per servo (a weighed build's links get it per case they carry).
 """
 
 from __future__ import annotations
@@ -142,12 +145,12 @@ def assemble(
     # masses: the family's total, a servo more or less per servo beyond its reference build
     sided = sum(1 if by_name[p].centre else 2 for p in keep)
     per_servo = fig("mass.per_servo") * MM
-    total = (
-        total_mass
-        if total_mass is not None
-        else fig(f"mass.{template.family}") * MM
-        + (sided - MASS_SERVOS[template.family]) * per_servo
-    )
+    short = (fig("servo.mass") - fig("servo.mass_kxreus")) * MM  # each case kxreus weighs
+    if total_mass is not None:  # this build's own total (a weighed build's cases: per link)
+        total = total_mass + (0.0 if link_masses else sided * short)
+    else:
+        ref = MASS_SERVOS[template.family]
+        total = fig(f"mass.{template.family}") * MM + ref * short + (sided - ref) * per_servo
     parts = {
         (k or "torso"): (1 if k is None or by_name[k].centre else 2, 0 if k is None else 1, g)
         for k, g in links.items()
