@@ -110,6 +110,10 @@ def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_p
         one(user, "settings-mix-source").set_value("nowhere")
         user.find(marker="settings-mix-apply").click()
         await user.should_see("mixing source 'nowhere'")
+        assert one(user, "settings-period").value == 15  # the fixture's 821Bh
+        one(user, "settings-period").set_value(10)
+        user.find(marker="settings-period-apply").click()
+        await until(lambda: "4 edits" in one(user, "editor-status").text)
         user.find(marker="editor-save").click()
         await until(lambda: one(user, "editor-status").text.endswith(" - saved"))
 
@@ -118,3 +122,4 @@ def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_p
     assert p.startup_motion_address == -1
     assert p.adc_reference_words[1:3] == (273, 280)
     assert (p.servo(14).mixing1_address, p.servo(14).mixing1_rate) == (0x0024, 8)
+    assert p.system_register == 0x820B  # 10 ms: bits 5-4 cleared, nothing else

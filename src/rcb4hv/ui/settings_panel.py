@@ -1,5 +1,6 @@
-"""Project settings on the Editor page: the start-up and low-power motions, mixing and the AD
-calibration, each "Apply" one undoable edit (:mod:`rcb4hv.hth4.newproject`). "Read from board"
+"""Project settings on the Editor page: the start-up and low-power motions, the servo output
+period, mixing and the AD calibration, each "Apply" one undoable edit
+(:mod:`rcb4hv.hth4.newproject`). "Read from board"
 fills the AD calibration with the board's inputs now, as HeartToHeart4's calibration reads
 the sensors of the robot at rest."""
 
@@ -15,9 +16,10 @@ from rcb4hv.hth4.newproject import (
     set_ad_references,
     set_low_power,
     set_mixing,
+    set_output_period,
     set_startup,
 )
-from rcb4hv.protocol.memory import ADDR
+from rcb4hv.protocol.memory import ADDR, FRAME_PERIODS_MS, SystemRegister
 from rcb4hv.ui.context import UiContext, guarded, tid
 from rcb4hv.ui.editor_state import Editor
 
@@ -53,6 +55,17 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
                     slot_of(low.value),
                     None if low_value.value is None else int(low_value.value),
                 )
+            )
+        with ui.row().classes("items-center"):
+            period = tid(
+                ui.select({ms: f"{ms} ms" for ms in FRAME_PERIODS_MS}, label="Output period"),
+                "settings-period",
+            ).classes("w-40")
+            ui.label("a pose's frames are periods: this sets the pace of every motion").classes(
+                "text-xs"
+            )
+            tid(ui.button("Apply").props("dense"), "settings-period-apply").on_click(
+                lambda: None if period.value is None else apply(set_output_period, period.value)
             )
         with ui.row().classes("items-center"):
             ui.label("AD calibration (value at rest)").classes("text-sm")
@@ -112,6 +125,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             sel.value = at.slot if at is not None else 0
             sel.update()
         low_value.value = p.low_power_value
+        period.value = SystemRegister.from_word(p.system_register).frame_period_ms
         for r, v in zip(refs, p.adc_reference_words, strict=False):
             r.value = v
         servo.options = {
