@@ -3,31 +3,29 @@ and whose answers may arrive late (a busy host, a slow adapter)."""
 
 from __future__ import annotations
 
-import time
-
 import pytest
 
 from rcb4hv.client import Rcb4Client
 from rcb4hv.errors import TransportError
 from rcb4hv.protocol import Ack, AcknowledgeCheck, encode_reply
-from rcb4hv.transport.base import Transport
+from tests.client.scripted import ScriptedTransport
 
 ACK = encode_reply(Ack(AcknowledgeCheck().cmd))
 PROBE_S = 0.01
 
 
-class ScriptedLink(Transport):
+class ScriptedLink(ScriptedTransport):
     """A board at ``board_rate``. The answers to the first ``late`` checks sent at that rate
     arrive only while the host sends its next frame (after the host gave up waiting)."""
 
     url = "/dev/ttyFAKE0"
 
     def __init__(self, board_rate: int, late: int = 0) -> None:
+        super().__init__()
         self.board_rate = board_rate
         self.late = late
         self.rate = 115200
         self.rates: list[int] = []
-        self.buffer = bytearray()
         self._in_flight = bytearray()
 
     def set_baudrate(self, baudrate: int) -> None:
@@ -35,7 +33,8 @@ class ScriptedLink(Transport):
         self.rates.append(baudrate)
 
     def write(self, data: bytes) -> None:
-        self.buffer += self._in_flight  # a late answer to the previous check lands now
+        self.writes.append(bytes(data))
+        self._rx += self._in_flight  # a late answer to the previous check lands now
         self._in_flight.clear()
         if self.rate != self.board_rate:
             return  # at the wrong rate the board hears noise and stays silent
@@ -43,25 +42,7 @@ class ScriptedLink(Transport):
             self.late -= 1
             self._in_flight += ACK
         else:
-            self.buffer += ACK
-
-    def read(self, size: int, deadline: float) -> bytes:
-        if not self.buffer:
-            time.sleep(max(0.0, deadline - time.monotonic()))
-            return b""
-        out = bytes(self.buffer[:size])
-        del self.buffer[:size]
-        return out
-
-    def reset_input(self) -> None:
-        self.buffer.clear()
-
-    def close(self) -> None:
-        pass
-
-    @property
-    def is_open(self) -> bool:
-        return True
+            self._rx += ACK
 
 
 @pytest.mark.parametrize("board_rate", [1250000, 625000, 115200])

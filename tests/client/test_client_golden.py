@@ -2,50 +2,12 @@
 
 from __future__ import annotations
 
-import time
-from collections import deque
-
 import pytest
 
 from rcb4hv.client import Rcb4Client, Robot, ServoInfo
 from rcb4hv.protocol import Condition, Data, Ram, Rom, ServoBlock
 from rcb4hv.rom.layout import HTH4_22
-from rcb4hv.transport import Transport
-
-
-class ScriptedTransport(Transport):
-    """Records every write and answers each with the next canned reply."""
-
-    url = "scripted://"
-
-    def __init__(self, *replies: bytes) -> None:
-        self.writes: list[bytes] = []
-        self.replies = deque(replies)
-        self._rx = bytearray()
-        self.closed = False
-
-    def write(self, data: bytes) -> None:
-        self.writes.append(bytes(data))
-        if self.replies:
-            self._rx += self.replies.popleft()
-
-    def read(self, size: int, deadline: float) -> bytes:
-        if len(self._rx) < size:
-            time.sleep(max(0.0, min(deadline - time.monotonic(), 0.01)))
-        out = bytes(self._rx[:size])
-        del self._rx[:size]
-        return out
-
-    def reset_input(self) -> None:
-        self._rx.clear()
-
-    def close(self) -> None:
-        self.closed = True
-
-    @property
-    def is_open(self) -> bool:
-        return not self.closed
-
+from tests.client.scripted import ScriptedTransport
 
 H = bytes.fromhex
 

@@ -328,8 +328,7 @@ class Servos:
             pairs = [(k, b) for k in self.config.virtual_servos if (b := self.block(k)) is not None]
         if external:  # the backend set every position: report it, powered unless freed
             for ics, blk in pairs:
-                out = _u16(r, blk + B_OUTPUT)[0]
-                torque[ics] = out not in (FREE, HOLD) or output_mode(out, hold_is_free) != "free"
+                torque[ics] = output_mode(_u16(r, blk + B_OUTPUT)[0], hold_is_free) != "free"
                 m = (physical[ics] - _s16(r, blk + B_BASE)[0]) & 0xFFFF
                 r[blk + B_MEASURED] = m & 0xFF
                 r[blk + B_MEASURED_HI] = m >> 8
@@ -357,35 +356,26 @@ class Servos:
 
     # ------------------------------------------------------------------ host views
 
-    def sent(self, blk: int) -> int:
+    def sent(self, blk: int, mixing: bool | None = None) -> int:
+        """The value sent from block ``blk``: output + base + mixing (spec 9); ``mixing``:
+        whether the block mixes, when the caller knows (else read from the block)."""
         out: int = _u16(self.ram, blk + B_OUTPUT)[0]
         if out in (FREE, HOLD) and self.config.free_hold_base == "omit":
             return out
         base: int = _s16(self.ram, blk + B_BASE)[0]
-        mixed = self.mix(blk) if self.mixes(blk) else 0
-        return (out + base + mixed) & 0xFFFF
+        if mixing is None:
+            mixing = self.mixes(blk)
+        return (out + base + (self.mix(blk) if mixing else 0)) & 0xFFFF
 
     def outputs(self) -> dict[int, int]:
         """The value sent to each allocated servo: output + base + mixing (spec 9)."""
-        if self.safe and not self.dirty:  # the cached blocks: the same answer, read faster
-            r = self.ram
-            omit = self.config.free_hold_base == "omit"
-            sent: dict[int, int] = {}
-            for ics, blk, mixing in self.out_blocks:
-                o: int = _u16(r, blk + B_OUTPUT)[0]
-                if omit and o in (FREE, HOLD):
-                    sent[ics] = o
-                    continue
-                v: int = o + _s16(r, blk + B_BASE)[0]
-                if mixing:
-                    v += self.mix(blk)
-                sent[ics] = v & 0xFFFF
-            return sent
+        if self.safe and not self.dirty:  # the cached blocks and their mixing flags
+            return {ics: self.sent(blk, mixing) for ics, blk, mixing in self.out_blocks}
         out = {}
         for ics in range(ICS_COUNT):
-            a = self.block(ics)
-            if a is not None:
-                out[ics] = self.sent(a)
+            blk = self.block(ics)
+            if blk is not None:
+                out[ics] = self.sent(blk)
         return out
 
     def mode(self, ics: int) -> ServoMode | None:

@@ -33,7 +33,7 @@ from rcb4hv.hth4.model import (
     motion_key,
     motion_rom_address,
 )
-from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS
+from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS, SystemRegister
 from rcb4hv.robot.model import RobotModel
 
 __all__ = [
@@ -231,8 +231,9 @@ def set_output_period(project: Project, ms: int) -> Project:
         raise EditError(
             f"output period {ms} ms: the board has {', '.join(map(str, FRAME_PERIODS_MS))} ms"
         )
-    config = bytearray(project.config)
-    if len(config) != 2:
-        raise EditError(f"Config holds {len(config)} bytes, expected 2")
-    config[0] = (config[0] & ~0x30) | FRAME_PERIODS_MS.index(ms) << 4
-    return replace(project, config=bytes(config))
+    try:
+        reg = SystemRegister.from_word(project.system_register)
+    except ValueError as exc:
+        raise EditError(str(exc)) from None
+    word = replace(reg, frame_code=FRAME_PERIODS_MS.index(ms)).to_word()
+    return replace(project, config=word.to_bytes(2, "little"))

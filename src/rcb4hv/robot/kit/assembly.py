@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
-from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, fig
+from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, case_shortfall, fig
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import KRS_3304R2
 from rcb4hv.robot.shapes import solid_many
@@ -145,7 +145,7 @@ def assemble(
     # masses: the family's total, a servo more or less per servo beyond its reference build
     sided = sum(1 if by_name[p].centre else 2 for p in keep)
     per_servo = fig("mass.per_servo") * MM
-    short = (fig("servo.mass") - fig("servo.mass_kxreus")) * MM  # each case kxreus weighs
+    short = case_shortfall() * MM  # per servo case in kxreus's totals
     if total_mass is not None:  # this build's own total (a weighed build's cases: per link)
         total = total_mass + (0.0 if link_masses else sided * short)
     else:

@@ -22,6 +22,7 @@ __all__ = [
     "SOURCES",
     "Figure",
     "LinkFigure",
+    "case_shortfall",
     "fig",
     "link_figures",
     "provenance_markdown",
@@ -210,6 +211,13 @@ def fig(key: str) -> float:
     return v
 
 
+def case_shortfall() -> float:
+    """Grams kxreus leaves out of every servo case it weighs: it counts each at 27.73 g, a
+    KRS-3301's (``servo.mass_kxreus``), where the kits' KRS-3304R2 weighs ``servo.mass``
+    (KXR-KITS.md §3.1). One place for the correction of its per-link figures and totals."""
+    return fig("servo.mass") - fig("servo.mass_kxreus")
+
+
 def vec(key: str) -> tuple[float, float, float]:
     v = FIGURES[key].value
     if not isinstance(v, tuple):
@@ -235,7 +243,7 @@ def link_figures(code: str) -> dict[str, LinkFigure]:
     link carries (``lcases.CODE.*``) is brought to the KRS-3304R2's ``servo.mass`` at the
     link's centre of mass, so the link's centre and moments stay the source's."""
     head = f"lmass.{code}."
-    extra = fig("servo.mass") - fig("servo.mass_kxreus")
+    extra = case_shortfall()
     out: dict[str, LinkFigure] = {}
     for key in FIGURES:
         if key.startswith(head):
