@@ -29,21 +29,29 @@ def _field(page: Any, name: str) -> Any:
     return page.locator(f"input[data-testid={name}], [data-testid={name}] input").first
 
 
-def _click_slider(page: Any, name: str, fraction: float, done: Any) -> None:
-    """Click a slider's track at ``fraction`` until ``done()`` (a tab switch animates the
-    page, so a click during the transition may land beside the moving track)."""
+def _click_slider(page: Any, name: str, fraction: float, done: Any, drag: bool = False) -> None:
+    """Click (or drag from the middle of) a slider's track to ``fraction`` until ``done()``
+    (a tab switch animates the page, so a click during the transition may land beside the
+    moving track; under load the first try may also come before the page is wired)."""
     slider = page.get_by_test_id(name)
-    deadline = time.monotonic() + 15
+    deadline = time.monotonic() + 20
     while True:
         slider.wait_for(state="visible")
         box = slider.bounding_box()
-        page.mouse.click(box["x"] + box["width"] * fraction, box["y"] + box["height"] / 2)
-        end = time.monotonic() + 2
+        y = box["y"] + box["height"] / 2
+        if drag:
+            page.mouse.move(box["x"] + box["width"] / 2, y)
+            page.mouse.down()
+            page.mouse.move(box["x"] + box["width"] * fraction, y, steps=10)
+            page.mouse.up()
+        else:
+            page.mouse.click(box["x"] + box["width"] * fraction, y)
+        end = time.monotonic() + 3
         while time.monotonic() < end:
             if done():
                 return
             time.sleep(0.05)
-        assert time.monotonic() < deadline, f"{name}: the click did not move the servo"
+        assert time.monotonic() < deadline, f"{name}: the slider did not move the servo"
 
 
 def _wait(cond: Any, timeout: float = 10.0) -> None:
@@ -72,14 +80,7 @@ def test_slider_moves_a_servo(page: Any, board: tuple[Board, str]) -> None:
     b, _ = board
     page.get_by_test_id("tab-servos").click()
     before = _output(b, 2)
-    slider = page.get_by_test_id("slider-2")
-    slider.click()  # the middle of the track: 0 degrees
-    box = slider.bounding_box()
-    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
-    page.mouse.down()
-    page.mouse.move(box["x"] + box["width"] * 0.8, box["y"] + box["height"] / 2, steps=10)
-    page.mouse.up()
-    _wait(lambda: _output(b, 2) > 9000)
+    _click_slider(page, "slider-2", 0.8, lambda: _output(b, 2) > 9000, drag=True)
     assert _output(b, 2) != before
     row = page.get_by_test_id("servo-table").locator("tbody tr").nth(1)
     measured = COLUMNS.index("measured")  # cells hold no spaces (joint names use "_")
