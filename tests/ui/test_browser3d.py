@@ -12,7 +12,7 @@ import pytest
 
 from rcb4hv.emulator import Board
 from tests.ui.browser import SHOTS
-from tests.ui.test_browser import _open_project, _output, _wait
+from tests.ui.test_browser import _click_slider, _open_project, _output, _wait
 
 pytestmark = pytest.mark.slow
 
@@ -80,10 +80,8 @@ def test_the_view_follows_a_servo(page: Any, board: tuple[Board, str]) -> None:
     canvas = _canvas(page, "servos-3d")
     before = _still(canvas)
     assert _changed(before, _still(canvas)) == 0  # nothing moves: the picture is the same
-    slider = page.get_by_test_id("slider-2")  # ICS 2: the left shoulder pitch of a KHR-3HV
-    box = slider.bounding_box()
-    page.mouse.click(box["x"] + box["width"] * 0.85, box["y"] + box["height"] / 2)
-    _wait(lambda: _output(b, 2) > 9000)
+    # ICS 2: the left shoulder pitch of a KHR-3HV
+    _click_slider(page, "slider-2", 0.85, lambda: _output(b, 2) > 9000)
     after = _still(canvas)
     moved = _changed(before, after)
     assert moved > 500, f"only {moved} pixels changed after the arm moved"
