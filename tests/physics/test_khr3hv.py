@@ -1,7 +1,7 @@
 """The KHR-3HV as Kondo builds it: its home pose (every servo at 7500, as Kondo's sample
 project's home-position motion holds) stands with level soles and left-right symmetric, and a
-side step of our own (hth4.keyframes) and its mirror image go opposite ways. Played through
-the public CLI (``project simulate --physics --json``)."""
+side step of our own (hth4.keyframes) and its mirror image go opposite ways, and Kondo's kick
+stands on one foot. Played through the public CLI (``project simulate --physics --json``)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ from tests.physics.conftest import PROJECT
 
 KHR = load_builtin("khr3hv")
 HOME = dict.fromkeys(KHR.indices, 7500)
-STEP, MIRROR, STAND = 18, 19, 20  # free slots of the fixture
+STEP, MIRROR, STAND, KICK = 18, 19, 20, 38  # free slots of the fixture
 DATE = "2026/11/26"
 
 
@@ -61,10 +61,42 @@ def _side_step_left() -> list[Keyframe]:
     return [Keyframe(0.4 if i == 0 else 0.6, p) for i, p in enumerate(poses)]
 
 
+# Kondo's "kick the ball forward (left leg)" (Hello_KHR3(V2.3).h4p, HLO026): its poses as
+# counts from 7500 by servo index, with their frame counts at its 15 ms output period. Both hip
+# rolls and both ankle rolls turn the same way, so the whole robot leans over the right foot and
+# the left one comes off the floor; the right sole must reach far enough outward to carry it.
+# fmt: off
+_KICK: list[tuple[int, dict[int, int]]] = [
+    (14, {2: -500, 3: 500, 4: 200, 5: -200, 8: -1000, 9: 1000, 14: 500, 15: -500,
+          16: 1000, 17: -1000, 18: -550, 19: 550}),
+    (10, {2: -500, 3: 500, 4: 200, 5: -200, 8: -1000, 9: 1000, 12: -200, 13: -200, 14: 500,
+          15: -500, 16: 1000, 17: -1000, 18: -550, 19: 550, 20: 300, 21: 100}),
+    (13, {3: 1500, 4: 200, 5: -700, 8: -2000, 9: 2000, 12: -400, 13: -400, 15: -500,
+          16: 1000, 17: -1000, 18: -700, 19: 550, 20: 100, 21: 100}),
+    (5, {2: -1500, 4: 200, 5: -700, 8: -2000, 9: 2000, 12: -400, 13: -400, 14: 2000,
+         15: -500, 17: -1000, 18: 400, 19: 550, 20: 100, 21: 150}),
+    (4, {2: -1500, 4: 200, 5: -700, 8: -2000, 9: 2000, 12: -400, 13: -400, 14: 2300,
+         15: -500, 17: -1000, 18: 400, 19: 550, 20: 150, 21: 150}),
+    (14, {2: -500, 3: 500, 4: 200, 5: -700, 8: -1000, 9: 1000, 12: -250, 13: -400, 14: 1000,
+          15: -500, 16: 1600, 17: -1000, 18: -750, 19: 500, 20: 300, 21: 150}),
+    (20, {2: -500, 3: 500, 4: 200, 5: -200, 8: -1000, 9: 1000, 14: 500, 15: -500,
+          16: 1000, 17: -1000, 18: -550, 19: 550}),
+    (40, {}),
+]
+# fmt: on
+
+
+def _kick() -> list[Keyframe]:
+    return [
+        Keyframe(frames * 0.015, _pose(**{f"c{k}": v for k, v in counts.items()}))
+        for frames, counts in _KICK
+    ]
+
+
 @pytest.fixture(scope="module")
 def khr_project(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The fixture project with the KHR-3HV's servos (trim 0, no startup motion), our step in
-    slot 18, its mirror image in 19 and a plain home pose in 20."""
+    slot 18, its mirror image in 19, a plain home pose in 20 and Kondo's kick in 38."""
     base = hth4.load_project(PROJECT)
     servos = tuple(
         replace(s, mode="Normal" if s.device_number in KHR.indices else "None", name=None, trim=0)
@@ -73,7 +105,8 @@ def khr_project(tmp_path_factory: pytest.TempPathFactory) -> Path:
     project = replace(base, servos=servos, startup_motion_address=-1)
     step = motion_from_keyframes(_side_step_left(), slot=STEP, name="step left", date=DATE)
     home = motion_from_keyframes([Keyframe(0.5, HOME)], slot=STAND, name="home", date=DATE)
-    project = add_motion(add_motion(project, step), home)
+    kick = motion_from_keyframes(_kick(), slot=KICK, name="kick (left)", date=DATE)
+    project = add_motion(add_motion(add_motion(project, step), home), kick)
     project = mirror_motion(project, STEP, KHR, to=MIRROR, name="step right", checks=Checks(KHR))
     path = tmp_path_factory.mktemp("khr") / "khr.h4p"
     hth4.save_project(project, path)
@@ -110,3 +143,13 @@ def test_home_pose_stays_put_and_a_mirrored_step_goes_the_other_way(khr_project:
     dy_left, dy_right = float(str(left["dy_m"])), float(str(right["dy_m"]))
     assert dy_left > 0.002  # the step goes left ...
     assert dy_right == pytest.approx(-dy_left, abs=1e-3)  # ... and its mirror image right
+
+
+def test_kondos_kick_stands_on_one_foot(khr_project: Path) -> None:
+    """The robot leans over its right foot (both hip and ankle rolls one way), kicks with the
+    left leg and comes back. With the 78 x 43 mm sole of a simplified contact model (SIP's)
+    it fell over that foot's outer edge; on the foot plate as built (120 x 76.8 mm) it stands,
+    as every KHR-3HV kicking with Kondo's sample does."""
+    out = _physics(khr_project, KICK)[KICK]
+    assert not out["fell"] and out["end_pose"] == "upright", out
+    assert abs(float(str(out["dy_m"]))) < 0.03  # it stays where it stood

@@ -14,6 +14,7 @@ Every figure has its source (see docs/robots.md for the tables):
   the arm and head offsets and the link boxes come from sunilgora/SIP2HumnWalking
   ``kondo/kondo_khr3hv.xml`` (Apache-2.0): the CAD table's 28.5/50.8/52.3 for those three
   would make the robot 433 mm tall, against Kondo's ~401 mm; SIP's give 400 mm.
+* the sole plate (120 x 76.8 mm): kxreus's model of Kondo's foot part (eusview ``khr3.json``).
 * mass: 1.493 kg (kxreus eusview ``khr3.json``) for the 17-axis robot; the 22-axis robot adds
   its five servos. Each link carries the KRS-2552RHV cases bolted to it (41.5 g each, on the
   proximal side of the joint they drive); the rest is shared by shape volume.
@@ -166,11 +167,15 @@ MASS_17 = 1.493  # kg, kxreus eusview khr3.json
 HIP_ROLL_INWARD = 4.55 * MM
 PITCH_CHAIN_OUTWARD = 11.3 * MM
 ANKLE_ROLL_INWARD = 11.25 * MM
-# sole: SIP's foot contact corners, x -30..+40 mm and y -5..+30 mm around the ankle, plus
-# their 4 mm contact radius: 78 x 43 mm, 16.5 mm thick
-SOLE = (78.0 * MM, 43.0 * MM, 16.5 * MM)
-SOLE_X = 5.0 * MM
-SOLE_Y = ANKLE_ROLL_INWARD
+# sole: the KHR-3HV's foot plate as kxreus models Kondo's part (eusview ``khr3.json``, the
+# ankle-roll links' sole: an outline of 120.0 x 76.8 mm with chamfered corners, its bottom
+# 26.1 mm below the ankle-roll axis), centred 2.3 mm behind the ankle-pitch axis and 24.4 mm
+# outward of the ankle-roll axis, so the two plates' inner edges nearly meet (3 mm from the
+# middle). SIP's foot (its contact corners, 78 x 43 mm) is a simplified contact model, not the
+# part. Thickness and depth below the ankle-roll axis as before (16.5 mm, 26.5 mm).
+SOLE = (120.0 * MM, 76.8 * MM, 16.5 * MM)
+SOLE_X = -2.3 * MM
+SOLE_Y = 24.4 * MM
 
 _Y, _X, _Z = (0.0, 1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
 _DARK, _LIGHT = (0.25, 0.25, 0.28, 1.0), (0.85, 0.85, 0.88, 1.0)
