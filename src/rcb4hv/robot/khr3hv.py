@@ -172,8 +172,10 @@ ANKLE_ROLL_INWARD = 11.25 * MM
 # 26.1 mm below the ankle-roll axis), centred 2.3 mm behind the ankle-pitch axis and 24.4 mm
 # outward of the ankle-roll axis, so the two plates' inner edges nearly meet (3 mm from the
 # middle). SIP's foot (its contact corners, 78 x 43 mm) is a simplified contact model, not the
-# part. Thickness and depth below the ankle-roll axis as before (16.5 mm, 26.5 mm).
-SOLE = (120.0 * MM, 76.8 * MM, 16.5 * MM)
+# part. The plate is 10 mm thick (kxreus), so its share of the frame's mass (by box volume,
+# humanoid.distribute_mass) comes to about kxreus's 40 g foot; its bottom stays SIP's 26.5 mm
+# below the ankle-roll axis (kxreus: 26.1).
+SOLE = (120.0 * MM, 76.8 * MM, 10.0 * MM)
 SOLE_X = -2.3 * MM
 SOLE_Y = 24.4 * MM
 
