@@ -136,19 +136,30 @@ FIGURES: dict[str, Figure] = {
         "L4N hand ahead of the neck pitch; KX gives no L4N neck offsets (§2.8)",
     ),
     "l4r.wheel": _f(
-        (0.0, 40.0, 0.0),
+        (0.0, 54.5, -21.0),
         "mm",
-        "CHOSEN",
-        "L4R axle where the L4T's roll joint is; KX §2.8: wheel offset not extracted",
+        "KX",
+        "eusview kxrl4r2a3.json rleg-crotch-w from rleg-crotch-y: the wheel joint of the "
+        "`:leg :j1w` leg the L4R shares (KXR-KITS.md §2.8; the disc then sits wheel.axle_offset "
+        "further out, 3 mm past the json's mesh centre)",
+    ),
+    "l4r.shoulder": _f(
+        (0.0, 52.0, 0.0),
+        "mm",
+        "KX",
+        "eusview kxrl4r2a3.json rarm-shoulder-r from rarm-shoulder-y (the L4R2A3 arm: yaw to roll)",
     ),
     "l4r.upper_arm": _f(
-        (0.0, 53.0, 0.0),
+        (0.0, 69.0, 0.0),
         "mm",
-        "CHOSEN",
-        "L4R2A3 arm: shoulder roll to elbow, the L4D's upper leg (no L4R2A3 dimensions published)",
+        "KX",
+        "eusview kxrl4r2a3.json rarm-elbow-r from rarm-shoulder-r (the L4R2A3 arm: roll to elbow)",
     ),
     "l4r.forearm": _f(
-        (0.0, 58.0, 0.0), "mm", "CHOSEN", "L4R2A3 arm: elbow to gripper, the L4D's lower leg"
+        (0.0, 78.0, 0.0),
+        "mm",
+        "KX",
+        "eusview kxrl4r2a3.json rarm-elbow-r link's shapes: the arm ends 78 mm beyond the elbow",
     ),
     "r4ll.hip": _f(
         (64.5, 48.0, 0.0),

@@ -463,7 +463,7 @@ def _four(family: Family) -> Template:
         ]
     if family == "L4R":  # the L4R2A3(G) build: a 3-axis arm on each front yaw joint
         y = vec("l4t.hip")
-        roll = _add(y, vec("l4t.roll"))
+        roll = _add(y, vec("l4r.shoulder"))
         elbow = _add(roll, vec("l4r.upper_arm"))
         grip = _add(elbow, vec("l4r.forearm"))
         arm = [
