@@ -425,7 +425,8 @@ def _build(axes: int) -> RobotModel:
             "limits": "hard: +-180 deg (no public bracket stops); advisory: robotlearn/khr3hv "
             "docs/limits.png and the extremes of Kondo's Hello_KHR3 sample motions",
             "dimensions": "FACTS.md KHRBan CAD table; hip, ankle, arm, head and boxes from "
-            "sunilgora/SIP2HumnWalking kondo/kondo_khr3hv.xml (Apache-2.0)",
+            "sunilgora/SIP2HumnWalking kondo/kondo_khr3hv.xml (Apache-2.0); the foot plate "
+            "(120 x 76.8 x 10 mm) from kxreus eusview khr3.json",
             "mass": f"{total:.4f} kg: 1.493 kg (kxreus eusview khr3.json)"
             + (" + 5 x 41.5 g servos" if full else ""),
             "servo": KRS_2552RHV.source,
