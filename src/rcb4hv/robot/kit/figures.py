@@ -140,8 +140,9 @@ FIGURES: dict[str, Figure] = {
         "mm",
         "KX",
         "eusview kxrl4r2a3.json rleg-crotch-w from rleg-crotch-y: the wheel joint of the "
-        "`:leg :j1w` leg the L4R shares (KXR-KITS.md §2.8; the disc then sits wheel.axle_offset "
-        "further out, 3 mm past the json's mesh centre)",
+        "`:leg :j1w` rear leg the L4R shares (KXR-KITS.md §2.8); the L4R's front `:arm :j1w` "
+        "is taken to match. The disc sits wheel.axle_offset further out, 3 mm past the json's "
+        "mesh centre",
     ),
     "l4r.shoulder": _f(
         (0.0, 52.0, 0.0),
