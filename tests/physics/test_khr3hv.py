@@ -88,7 +88,7 @@ _KICK: list[tuple[int, dict[int, int]]] = [
 
 def _kick() -> list[Keyframe]:
     return [
-        Keyframe(frames * 0.015, _pose(**{f"c{k}": v for k, v in counts.items()}))
+        Keyframe(frames * 0.015, HOME | {k: 7500 + v for k, v in counts.items()})
         for frames, counts in _KICK
     ]
 

@@ -125,7 +125,10 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             sel.value = at.slot if at is not None else 0
             sel.update()
         low_value.value = p.low_power_value
-        period.value = SystemRegister.from_word(p.system_register).frame_period_ms
+        try:
+            period.value = SystemRegister.from_word(p.system_register).frame_period_ms
+        except ValueError:  # a Config that is not one word: nothing to show (Apply says why)
+            period.value = None
         for r, v in zip(refs, p.adc_reference_words, strict=False):
             r.value = v
         servo.options = {
