@@ -33,8 +33,8 @@ def _model(name: str) -> RobotModel:
     [
         ("khr3hv", 17, 18, 1.493),
         ("khr3hv-22", 22, 23, 1.493 + 5 * 0.0415),
-        ("kxr-l2", 16, 17, 1.70026 - 2 * (0.0337 + 2 * 0.02594)),
-        ("kxr-l2-gripper", 18, 19, 1.70026),
+        ("kxr-l2", 16, 17, 1.33594 - 2 * (0.0337 + 2 * 0.02594)),
+        ("kxr-l2-gripper", 18, 19, 1.33594),
     ],
 )
 def test_model_counts_and_mass(name: str, servos: int, links: int, mass: float) -> None:
@@ -193,4 +193,14 @@ def test_the_basic_kxr_l2_arm_ends_at_the_elbow_servo_s_joint_base() -> None:
         assert box.pos[2] + box.size[2] / 2 == pytest.approx(0.0093)  # the servo case's top
     reach = min(g.pos[2] - g.size[2] / 2 for g in gripper.link("r_forearm").geoms)
     assert reach == pytest.approx(-0.093)
-    assert basic.mass == pytest.approx(1.5291)  # the shape changed, not the masses
+    assert basic.mass == pytest.approx(1.16478)  # the shape changed, not the masses
+
+
+def test_the_kxr_l2_torso_weighs_what_kxreus_s_basic_kit_model_says() -> None:
+    """kxrl2l5a3.json's torso link: 372.584 g (battery box, back pack, three servo cases, the
+    frame plates), its centre of mass 6.2 mm behind and 40.4 mm above the hip axes; the fixed
+    head (kxrl2g.l's neck links, 59.302 g) rides on it. kxrl2g.l's 736.904 g is not used."""
+    for name in ("kxr-l2", "kxr-l2-gripper"):
+        torso = load_builtin(name).link("torso")
+        assert torso.inertial.mass == pytest.approx(0.372584 + 0.059302)
+        assert torso.inertial.com[0] < -0.004  # behind the hips, as the back pack is
