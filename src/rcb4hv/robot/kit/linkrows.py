@@ -14,9 +14,16 @@ from rcb4hv.robot.kit.sources import row as _f
 _Vec = tuple[float, float, float]
 #: one weighed link: (slot, index in physics.links, what it is, mass g, com mm, moments g·cm²,
 #: the servo cases kxreus counts in it at 27.73 g each)
-_Link = tuple[str, int, str, float, _Vec, _Vec, int]
+_Link = tuple[str, int, str, float, _Vec | None, _Vec | None, int]
 
 __all__ = ["LINK_ROWS"]
+
+EUCLID_HEAD_G = 145.7
+"""The Intel Euclid head (g) kxreus mounts on its ``:head :e`` builds (its explicit part masses,
+KXR-KITS.md §3): the KXR-L2W2L6A4H2's and KXR-L2W2L5A3H2's head-neck-p links carry it
+(156.521 g). Kondo's samples of those builds carry Kondo's own head part, which no source
+weighs, so the model's neck-pitch link is kxreus's less this part: the servo horn's bracket
+alone, its centre of mass and moments the model's own shapes'."""
 
 # parts with the same figures in several builds' jsons (kxreus weighs each link from its
 # boxes): name -> (what, mass g, com mm, moments g·cm², servo cases)
@@ -57,8 +64,12 @@ def _rows(build: str, source: str, links: list[_Link]) -> dict[str, Figure]:
             float(cases), "servos", "KX", f"{where}: its 27.73 g servo-case boxes"
         )
         out[f"lmass.{build}.{slot}"] = _f(mass, "g", "KX", f"{where} {what}".rstrip())
-        out[f"lcom.{build}.{slot}"] = _f(com, "mm", "KX", f"{where} com")
-        out[f"linert.{build}.{slot}"] = _f(inertia, "g·cm²", "KX", f"{where} inertia ixx, iyy, izz")
+        if com is not None:
+            out[f"lcom.{build}.{slot}"] = _f(com, "mm", "KX", f"{where} com")
+        if inertia is not None:
+            out[f"linert.{build}.{slot}"] = _f(
+                inertia, "g·cm²", "KX", f"{where} inertia ixx, iyy, izz"
+            )
     return out
 
 
@@ -137,10 +148,11 @@ _W2L6A4: list[_Link] = [
     (
         "neck_pitch",
         30,
-        "head-neck-p (kxreus's head part 145.7 g)",
-        156.521,
-        (5.585, 0.0, 40.683),
-        (2165.1916, 300.1152, 2025.7028),
+        "head-neck-p (156.521 g) less the Euclid head (part.euclid_head), which Kondo's build "
+        "lacks",
+        156.521 - EUCLID_HEAD_G,
+        None,
+        None,
         0,
     ),
 ]
@@ -252,7 +264,7 @@ _L6A6: list[_Link] = [
 ]
 
 # kxreus's KXR-L2W2L5A3H2 (kxrl2w2l5a3h2.json, 27 links summing to its 1690.68 g; without
-# the two arm tyres the model weighs 1610.94 g)
+# the two arm tyres and the Euclid head the model's links sum to 1465.24 g)
 _W2L5A3: list[_Link] = [
     (
         "torso",
@@ -328,11 +340,11 @@ _W2L5A3: list[_Link] = [
     (
         "neck_pitch",
         26,
-        "head-neck-p (kxreus's head part 145.7 g): its frame 10.5 mm forward of the model's "
-        "joint, com + 10.5 mm in x",
-        156.521,
-        (16.085, 0.0, 40.683),
-        (2165.1916, 300.1152, 2025.7028),
+        "head-neck-p (156.521 g) less the Euclid head (part.euclid_head), which Kondo's build "
+        "lacks",
+        156.521 - EUCLID_HEAD_G,
+        None,
+        None,
         0,
     ),
 ]
@@ -348,13 +360,22 @@ LINK_ROWS: dict[str, Figure] = {
         "kxrl2w2l6a4h2.json physics.links[12] + [13]: the two gripper fingers 23.767 + "
         "13.267 g (one servo drives both; their CoMs are in rotated frames, not taken)",
     ),
+    "part.euclid_head": _f(
+        EUCLID_HEAD_G,
+        "g",
+        "KX",
+        "kxreus's explicit part masses (KXR-KITS.md §3): the Intel Euclid head of its `:head :e` "
+        "builds, in the KXR-L2W2L6A4H2's and KXR-L2W2L5A3H2's head-neck-p links; Kondo's "
+        "samples of those builds carry Kondo's own head part (no source weighs it), so the "
+        "model leaves this out",
+    ),
     "wheel.tyre_mass": _f(
         39.87,
         "g",
         "KX",
         "kxrl2w2l6a4h2.json physics.links[14] (and [7]): the KXR wheel kxreus puts on each A4 "
         "arm's end; Kondo's project has no servo for it, so the kit builder leaves it out there "
-        "(the model weighs mass.L2W2L6A4H2G less two of these); a wheel servo a weighed build "
-        "lacks carries one",
+        "(the model weighs mass.L2W2L6A4H2G less two of these and part.euclid_head); a wheel "
+        "servo a weighed build lacks carries one",
     ),
 }
