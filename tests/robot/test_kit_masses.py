@@ -166,3 +166,15 @@ def test_weighed_builds_weigh_kxreus_totals_less_what_kondo_lacks(
     total = fig("mass." + code.split(":")[1])
     servo = fig("servo.mass") - fig("servo.mass_kxreus")
     assert model.mass * 1000 == pytest.approx(total - left_out + cases * servo, abs=0.01)
+
+
+def test_the_l2gh_leaves_out_the_eyes_kxreus_s_head_carries() -> None:
+    # kxreus's KXR-L2L5A3H2G (kxrl2l5a3h2g.json) has a head with two eye servos and two eye
+    # links; Kondo's KXR-L2GH has none, so its total leaves them out (its 20 servo cases at
+    # 35.03 g)
+    _, model = stock("kxr:L2L5A3H2G")
+    left_out = fig("leftout.L2L5A3H2G")
+    assert left_out == pytest.approx(2 * 27.73 + 2 * 43.241)
+    servo = fig("servo.mass") - fig("servo.mass_kxreus")
+    expected = fig("mass.L2L5A3H2G") - left_out + 20 * servo
+    assert model.mass * 1000 == pytest.approx(expected, abs=0.01)

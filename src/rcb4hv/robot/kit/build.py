@@ -166,7 +166,8 @@ def kit_model(
             f"kxreus's per-link masses and centres of mass of this build (figures "
             f"lmass.{text}.*, lcom.{text}.*)"
             if per_link
-            else f"the build's whole-robot mass (figures mass.{text})"
+            else f"the build's whole-robot mass (figures mass.{text}"
+            + (f", less leftout.{text})" if f"leftout.{text}" in FIGURES else ")")
             if f"mass.{text}" in FIGURES
             else f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
             "KRS-3304R2 per servo more or fewer"
@@ -182,10 +183,19 @@ def kit_model(
         title=f"Kondo KXR-{text} ({len(jm) - _shared(jm)} servos)",
         sources=src,
         home=home,
-        total_mass=fig(f"mass.{text}") / 1000 if f"mass.{text}" in FIGURES else None,
+        total_mass=_total_mass(text),
         link_masses=per_link,
     )
 
 
 def _shared(jm: Mapping[str, tuple[int, int]]) -> int:
     return len(jm) - len({i for i, _ in jm.values()})
+
+
+def _total_mass(text: str) -> float | None:
+    """kxreus's whole-robot mass (kg) of the build ``text``, less the parts of kxreus's build
+    that Kondo's lacks (``leftout.<code>``), or None where kxreus gives none."""
+    if f"mass.{text}" not in FIGURES:
+        return None
+    left_out = fig(f"leftout.{text}") if f"leftout.{text}" in FIGURES else 0.0
+    return (fig(f"mass.{text}") - left_out) / 1000

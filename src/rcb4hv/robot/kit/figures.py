@@ -191,6 +191,14 @@ FIGURES: dict[str, Figure] = {
     # whole-robot masses of the builds kxreus exports, by this package's canonical code
     "mass.L2L5A3": _f(1135.68, "g", "KX", "kxrl2l5a3.json total (§3.3)"),
     "mass.L2L5A3H2G": _f(1421.74, "g", "KX", "kxrl2l5a3h2g.json total (§3.3)"),
+    "leftout.L2L5A3H2G": _f(
+        141.942,
+        "g",
+        "KX",
+        "kxrl2l5a3h2g.json physics.links[22]-[24]: its `:head :h2s` has two eye servos (27.73 g "
+        "cases in head-neck-p) and two eye links (43.241 g each); Kondo's KXR-L2GH has no eye "
+        "servo (its project's servo table), so the model's total leaves them out",
+    ),
     "mass.L2L5A4H2G": _f(1483.21, "g", "KX", "kxrl2l5a4h2g.json total (§3.3)"),
     "mass.L2L6A5H2G": _f(1700.81, "g", "KX", "kxrl2l6a5h2.json total (§3.3)"),
     "mass.L2L6A6H2G": _f(1708.46, "g", "KX", "kxrl2l6a6h2.json total (§3.3)"),
