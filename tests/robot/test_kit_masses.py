@@ -178,3 +178,14 @@ def test_the_l2gh_leaves_out_the_eyes_kxreus_s_head_carries() -> None:
     servo = fig("servo.mass") - fig("servo.mass_kxreus")
     expected = fig("mass.L2L5A3H2G") - left_out + 20 * servo
     assert model.mass * 1000 == pytest.approx(expected, abs=0.01)
+
+
+def test_the_humanoid_reference_total_is_the_twenty_servo_build() -> None:
+    # the family's reference (20 servos) is kxrl2l5a3h2g.json's build, whose total counts two
+    # eye servos and eye links more: the reference leaves them out, as the L2GH's model does
+    reference = fig("mass.humanoid")
+    assert reference == pytest.approx(fig("mass.L2L5A3H2G") - fig("leftout.L2L5A3H2G"))
+    assert MASS_SERVOS["humanoid"] == 20
+    _, l2gh = stock("kxr:L2L5A3H2G")  # 20 servos: the reference at a KRS-3304R2's mass
+    servo = fig("servo.mass") - fig("servo.mass_kxreus")
+    assert l2gh.mass * 1000 == pytest.approx(reference + 20 * servo, abs=0.01)

@@ -30,6 +30,12 @@ __all__ = [
 ]
 
 
+_L5A3H2G_TOTAL = 1421.74
+"""kxreus's KXR-L2L5A3H2G (``kxrl2l5a3h2g.json``) total, g: 22 servo cases, two of them the
+eye servos of its ``:head :h2s``."""
+_L5A3H2G_EYES = 2 * 27.73 + 2 * 43.241
+"""Its eye servos' cases (in head-neck-p, physics.links[22]) and eye links ([23], [24]), g."""
+
 FIGURES: dict[str, Figure] = {
     # ---------------------------------------------------------------- servo and parts
     "servo.case": _f((32.5, 26.0, 26.0), "mm", "KX", "kxrbody.l kxr-servo-s3300 (§2.1)"),
@@ -181,7 +187,13 @@ FIGURES: dict[str, Figure] = {
     "l6.femur": _f(69.0, "mm", "KX", "models/kxrl6.l pitch/roll to knee (§2.9)"),
     "l6.tibia": _f((78.0, 0.0, 14.0), "mm", "KX", "models/kxrl6.l foot end in knee link"),
     # ---------------------------------------------------------------- whole-robot masses
-    "mass.humanoid": _f(1421.74, "g", "KX", "kxrl2l5a3h2g.json total (20 servos, §3.3)"),
+    "mass.humanoid": _f(
+        _L5A3H2G_TOTAL - _L5A3H2G_EYES,
+        "g",
+        "KX",
+        "kxrl2l5a3h2g.json total (§3.3) less its head's eye servos and eye links "
+        "(leftout.L2L5A3H2G): the 20-servo reference build",
+    ),
     "mass.L4D": _f(1153.07, "g", "KX", "kxrl4d.json total (§3.3)"),
     "mass.L4T": _f(616.2, "g", "KX", "kxrl4t.json total (§3.3)"),
     "mass.L4R": _f(929.82, "g", "KX", "kxrl4r.json total (§3.3)"),
@@ -190,9 +202,9 @@ FIGURES: dict[str, Figure] = {
     "mass.R4LL": _f(929.82, "g", "CHOSEN", "R4LL: the L4R's total (no R4LL figure, §3.3)"),
     # whole-robot masses of the builds kxreus exports, by this package's canonical code
     "mass.L2L5A3": _f(1135.68, "g", "KX", "kxrl2l5a3.json total (§3.3)"),
-    "mass.L2L5A3H2G": _f(1421.74, "g", "KX", "kxrl2l5a3h2g.json total (§3.3)"),
+    "mass.L2L5A3H2G": _f(_L5A3H2G_TOTAL, "g", "KX", "kxrl2l5a3h2g.json total (§3.3)"),
     "leftout.L2L5A3H2G": _f(
-        141.942,
+        _L5A3H2G_EYES,
         "g",
         "KX",
         "kxrl2l5a3h2g.json physics.links[22]-[24]: its `:head :h2s` has two eye servos (27.73 g "
