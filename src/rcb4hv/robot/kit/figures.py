@@ -30,18 +30,25 @@ __all__ = [
 ]
 
 
+_KRS_3304R2_G = 35.03
+"""A KRS-3304R2 with its horn (g): ``servo.mass`` and ``mass.per_servo``."""
+_KXREUS_CASE_G = 27.73
+"""The mass kxreus gives every servo case it weighs (g): ``servo.mass_kxreus``."""
 _L5A3H2G_TOTAL = 1421.74
 """kxreus's KXR-L2L5A3H2G (``kxrl2l5a3h2g.json``) total, g: 22 servo cases, two of them the
 eye servos of its ``:head :h2s``."""
-_L5A3H2G_EYES = 2 * 27.73 + 2 * 43.241
+_L5A3H2G_EYES = 2 * _KXREUS_CASE_G + 2 * 43.241
 """Its eye servos' cases (in head-neck-p, physics.links[22]) and eye links ([23], [24]), g."""
 
 FIGURES: dict[str, Figure] = {
     # ---------------------------------------------------------------- servo and parts
     "servo.case": _f((32.5, 26.0, 26.0), "mm", "KX", "kxrbody.l kxr-servo-s3300 (§2.1)"),
-    "servo.mass": _f(35.03, "g", "KX", "kxrbody.l s3304R2 33.7 + horn 1.33 (§3.1)"),
+    "servo.mass": _f(_KRS_3304R2_G, "g", "KX", "kxrbody.l s3304R2 33.7 + horn 1.33 (§3.1)"),
     "servo.mass_kxreus": _f(
-        27.73, "g", "KX", "kxrbody.l s3301 26.4 + horn 1.33: every servo case of kxreus's models"
+        _KXREUS_CASE_G,
+        "g",
+        "KX",
+        "kxrbody.l s3301 26.4 + horn 1.33: every servo case of kxreus's models",
     ),
     "wheel.radius": _f(30.5, "mm", "KX", "kxrbody.l kxr-wheel r 20 + 10.5 (§2.6)"),
     "wheel.width": _f(13.0, "mm", "KX", "kxrbody.l kxr-wheel tyre half-width 6.5 (§2.6)"),
@@ -221,7 +228,7 @@ FIGURES: dict[str, Figure] = {
     "mass.L2W2L6A4H2G": _f(1878.05, "g", "KX", "kxrl2w2l6a4h2.json total (§3.3)"),
     "mass.L4R2A3G": _f(1174.47, "g", "KX", "kxrl4r2a3g.json total (§3.3)"),
     "mass.per_servo": _f(
-        35.03,
+        _KRS_3304R2_G,
         "g",
         "KX",
         "a servo more or less than the reference build: "
