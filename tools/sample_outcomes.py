@@ -31,6 +31,7 @@ forward / back wins over a step.
     python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
     python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
     python tools/sample_outcomes.py DIR --robot khr3hv --motion 16 --motion 17
+    python tools/sample_outcomes.py DIR --what-if friction=0.5         # on a changed model
     make samples SAMPLES=DIR                                         # and a summary
 
 The rcb4hv it runs is the one ``python -m rcb4hv`` imports (``PYTHONPATH`` picks a tree).
@@ -178,10 +179,16 @@ def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
 
 
 def project_outcomes(
-    file: Path, robot: str | None, slots: list[int], hold: bool = True
+    file: Path,
+    robot: str | None,
+    slots: list[int],
+    hold: bool = True,
+    what_if: tuple[str, ...] = (),
 ) -> list[Outcome]:
-    """Every motion of ``file`` (or ``slots``) labelled, played and judged."""
+    """Every motion of ``file`` (or ``slots``) labelled, played and judged (on the model
+    changed by ``what_if``, ``project simulate --what-if``'s NAME=VALUE items)."""
     base = ["--robot", robot] if robot else []
+    base += [a for w in what_if for a in ("--what-if", w)]
     if not hold:
         base += ["--hold-button", "none"]
     data = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])
@@ -270,12 +277,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--no-hold", action="store_true", help="play remote-bound walks once, with no button"
     )
+    ap.add_argument(
+        "--what-if",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="play on a changed model (project simulate --what-if), e.g. friction=0.5",
+    )
     args = ap.parse_args(argv)
     files: list[Path] = []
     for p in args.paths:
         files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
+    what_if = tuple(args.what_if)
     results = {
-        str(f): project_outcomes(f, args.robot, args.motion, hold=not args.no_hold) for f in files
+        str(f): project_outcomes(f, args.robot, args.motion, not args.no_hold, what_if)
+        for f in files
     }
     if args.json:
         data = {f: [asdict(r) for r in rows] for f, rows in results.items()}

@@ -194,12 +194,37 @@ def test_the_cli_reports_physics_in_json(tmp_path: Path) -> None:
         (["--physics", "--robot", "nao"], "unknown robot 'nao'"),
         (["--physics", "--robot", "khr3hv"], "has no servo at index"),
         (["--physics", "--sequence", "13,200"], "motion slots are 1-120"),
+        (["--what-if", "friction=0.5"], "add --physics"),
+        (["--physics", "--what-if", "grip=2"], "NAME one of stiffness"),
+        (["--physics", "--what-if", "friction=-1"], "finite factor > 0"),
     ],
 )
 def test_the_cli_refuses_bad_physics_options(args: list[str], message: str) -> None:
     res = CliRunner().invoke(cli, ["project", "simulate", str(PROJECT), *args])
     assert res.exit_code != 0
     assert message in res.output
+
+
+def test_what_if_plays_on_the_changed_model_and_says_so() -> None:
+    """``--what-if friction=0.5`` is the API's PhysicsOptions(friction=0.5), to the bit, and the
+    report names it. The fixture's fast walk back is a motion whose verdict the floor's
+    friction decides (docs/physics.md, "How sensitive the verdicts are"), so a flag that did
+    not reach the physics would show here."""
+    from rcb4hv.physics import PhysicsOptions
+
+    args = ["project", "simulate", str(PROJECT), "--physics", "--motion", "10", "--json"]
+    changed = json.loads(CliRunner().invoke(cli, [*args, "--what-if", "friction=0.5"]).output)
+    plain = json.loads(CliRunner().invoke(cli, args).output)
+    assert changed["physics"]["what_if"] == {"friction": 0.5}
+    assert "what_if" not in plain["physics"]
+    api = run_motions(
+        IMAGE, [10], names=NAMES, motion_layout=LAYOUT, robot=KXR,
+        options=PhysicsOptions(friction=0.5),
+    ).to_dict()  # fmt: skip
+    assert changed["motions"][0]["physics"] == api["motions"][0]["physics"]
+    assert changed["motions"][0]["physics"] != plain["motions"][0]["physics"]
+    text = CliRunner().invoke(cli, [*args[:-1], "--what-if", "friction=0.5"]).output
+    assert "what-if: friction=0.5 (not the documented model)" in text
 
 
 def test_without_mujoco_the_cli_says_which_extra(monkeypatch: pytest.MonkeyPatch) -> None:

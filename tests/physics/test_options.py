@@ -37,10 +37,36 @@ def test_sensor_scales() -> None:
     assert s.accel_counts_per_g == 0.5 * DEFAULT_SENSORS.accel_counts_per_g
 
 
-@pytest.mark.parametrize("bad", [0.0, -1.0])
-def test_a_factor_is_positive(bad: float) -> None:
+@pytest.mark.parametrize("bad", [0.0, -1.0, float("inf"), float("nan")])
+def test_a_factor_is_positive_and_finite(bad: float) -> None:
     with pytest.raises(ValueError, match="speed_cap"):
         PhysicsOptions(speed_cap=bad)
+
+
+def test_options_parse_from_name_value_items_and_name_what_they_change() -> None:
+    assert PhysicsOptions().changed() == ()
+    opts = PhysicsOptions.parse(["mass=1.1", " friction = 0.5", "deadband_deg=1"])
+    assert opts == PhysicsOptions(friction=0.5, mass=1.1, deadband_deg=1.0)
+    # in field order, whatever order they were given in
+    assert opts.changed() == (("friction", 0.5), ("mass", 1.1), ("deadband_deg", 1.0))
+    assert PhysicsOptions.parse([]) == PhysicsOptions()
+    # a factor given as 1 changes nothing
+    assert PhysicsOptions.parse(["stiffness=1"]).changed() == ()
+
+
+@pytest.mark.parametrize(
+    ("item", "message"),
+    [
+        ("frictio=0.5", "NAME one of stiffness"),
+        ("friction", "NAME=VALUE"),
+        ("friction=slippery", "'slippery' is not a number"),
+        ("friction=0", "friction must be a finite factor > 0"),
+        ("floor_tilt_deg=50", "floor_tilt_deg must be 0..45"),
+    ],
+)
+def test_bad_items_are_refused_by_name(item: str, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        PhysicsOptions.parse([item])
 
 
 def test_masses_scale_and_the_floor_tilts_by_turning_gravity() -> None:

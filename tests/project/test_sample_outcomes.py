@@ -151,3 +151,16 @@ def test_a_remote_walk_is_played_with_its_button_held(project_file: Path) -> Non
     assert held.dx_m > 0.08  # it kept walking: one pass goes about 2 cm
     plain = tool.project_outcomes(project_file, None, [9], hold=False)
     assert plain[0].how == "standing" and plain[0].dx_m < 0.05
+
+
+def test_a_what_if_reaches_the_physics(project_file: Path) -> None:
+    """``--what-if`` is passed to ``project simulate``: the fixture's fast walk back (slot
+    10) is a motion whose outcome the floor's friction changes (docs/physics.md)."""
+    tool = _tool()
+    (plain,) = tool.project_outcomes(project_file, None, [10])
+    (slippery,) = tool.project_outcomes(project_file, None, [10], what_if=("friction=0.5",))
+    assert (plain.dx_m, plain.dy_m, plain.end_pose) != (
+        slippery.dx_m,
+        slippery.dy_m,
+        slippery.end_pose,
+    )

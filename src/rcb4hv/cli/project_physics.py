@@ -82,6 +82,9 @@ def print_physics(run: SimulationRun, as_json: bool) -> None:
         f"({setup.start}), settled {setup.settled_pose} after {setup.settle_s:g} s "
         f"({run.virtual_s:.3f} s virtual in {run.wall_s:.3f} s)"
     )
+    if setup.what_if:
+        changed = ", ".join(f"{name}={value:g}" for name, value in setup.what_if)
+        click.echo(f"what-if: {changed} (not the documented model)")
     rows = []
     for m in run.motions:
         o = m.outcome

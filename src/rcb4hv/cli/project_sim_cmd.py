@@ -22,6 +22,7 @@ from rcb4hv.cli.project_physics import parse_sequence, physics_robot, plot_run, 
 from rcb4hv.protocol import position_to_degrees
 
 if TYPE_CHECKING:
+    from rcb4hv.physics.options import PhysicsOptions
     from rcb4hv.project.physics_sim import StartPose
     from rcb4hv.project.runresult import SimulationRun
 
@@ -94,6 +95,17 @@ if TYPE_CHECKING:
     help="With --physics: play these slots (e.g. 33,15) one after another on the same "
     "robot, without standing it up again between them.",
 )
+@click.option(
+    "--what-if",
+    "what_if",
+    metavar="NAME=VALUE",
+    multiple=True,
+    help="With --physics: play on a changed model (repeatable): a factor on one of the "
+    "physics' chosen figures (stiffness, speed_cap, free_damping, armature, friction, "
+    "gyro_scale, accel_scale, mass; friction=0.5 halves the floor's) or floor_tilt_deg, "
+    "floor_tilt_dir_deg, deadband_deg. Reports name what they changed (docs/physics.md, "
+    "'How sensitive the verdicts are').",
+)
 @build_options
 @LAYOUT_OPTION
 @handle_errors
@@ -109,6 +121,7 @@ def simulate(
     robot: str | None,
     start: StartPose,
     sequence: str | None,
+    what_if: tuple[str, ...],
     layout_name: str | None,
 ) -> None:
     """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
@@ -151,8 +164,11 @@ def simulate(
         slots = parse_sequence(sequence, lay)
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
-    if not physics and (robot is not None or start != "upright"):
-        raise click.UsageError("--robot and --start set up the robot of --physics: add --physics")
+    if not physics and (robot is not None or start != "upright" or what_if):
+        raise click.UsageError(
+            "--robot, --start and --what-if set up the robot of --physics: add --physics"
+        )
+    options = _what_if(what_if)
     model = physics_robot(file, image, robot) if physics else None
     samples: list[tuple[float, dict[int, int | None]]] = []
 
@@ -163,7 +179,7 @@ def simulate(
     run = run_motions(
         image, slots, names=names, motion_layout=lay, limit=limit, hold=hold, hold_for=hold_for,
         robot=model, sequence=sequence is not None, start=start, track=physics and plot is not None,
-        listener=record if plot is not None and not physics else None,
+        listener=record if plot is not None and not physics else None, options=options,
     )  # fmt: skip
     if physics:
         print_physics(run, as_json)
@@ -180,6 +196,18 @@ def simulate(
             click.echo(f"wrote {plot}")
     codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *run.results]}
     sys.exit(1 if 1 in codes else max(codes))
+
+
+def _what_if(items: tuple[str, ...]) -> PhysicsOptions | None:
+    """The physics options of ``--what-if`` (None: the documented model)."""
+    if not items:
+        return None
+    from rcb4hv.physics.options import PhysicsOptions
+
+    try:
+        return PhysicsOptions.parse(items)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--what-if") from None
 
 
 def _print_plain(run: SimulationRun) -> None:

@@ -11,6 +11,7 @@ nothing.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, fields, replace
 
 from rcb4hv.physics.sensors import SensorLayout
@@ -60,8 +61,38 @@ class PhysicsOptions:
             if f.name in NOT_FACTORS:
                 continue
             v = getattr(self, f.name)
-            if not isinstance(v, (int, float)) or not v > 0:
-                raise ValueError(f"PhysicsOptions.{f.name} must be a factor > 0, not {v!r}")
+            if not isinstance(v, (int, float)) or not 0 < v < math.inf:
+                raise ValueError(f"PhysicsOptions.{f.name} must be a finite factor > 0, not {v!r}")
+
+    def changed(self) -> tuple[tuple[str, float], ...]:
+        """The fields that differ from the documented figures, as (name, value) in field
+        order: empty for the default options. Reports record them (a run on changed figures is
+        a what-if, not the model's verdict)."""
+        base = PhysicsOptions()
+        return tuple(
+            (f.name, float(getattr(self, f.name)))
+            for f in fields(self)
+            if getattr(self, f.name) != getattr(base, f.name)
+        )
+
+    @classmethod
+    def parse(cls, items: Iterable[str]) -> PhysicsOptions:
+        """Options from ``NAME=VALUE`` strings (``friction=0.5``, ``deadband_deg=1``): a
+        factor on the documented figure, or a figure of its own for the :data:`NOT_FACTORS`.
+        Raises ``ValueError`` naming the fields for an unknown name, and for a value that is
+        not a number or is out of range."""
+        names = [f.name for f in fields(cls)]
+        kw: dict[str, float] = {}
+        for item in items:
+            name, sep, text = item.partition("=")
+            name = name.strip()
+            if not sep or name not in names:
+                raise ValueError(f"{item!r}: give NAME=VALUE with NAME one of {', '.join(names)}")
+            try:
+                kw[name] = float(text)
+            except ValueError:
+                raise ValueError(f"{item!r}: {text.strip()!r} is not a number") from None
+        return cls(**kw)
 
     def gravity(self, g: float) -> tuple[float, float, float]:
         """Gravity (m/s^2, world frame) on the tilted floor: a floor sloping ``floor_tilt_deg``

@@ -81,9 +81,12 @@ class PhysicsSetup:
     settle_s: float
     settled_pose: str
     settled_tilt_deg: float
+    what_if: tuple[tuple[str, float], ...] = ()
+    """The :class:`~rcb4hv.physics.PhysicsOptions` fields that differ from the documented
+    figures (name, value), in field order; empty for a run on the documented model."""
 
     def to_dict(self) -> dict[str, object]:
-        return {
+        out: dict[str, object] = {
             "robot": self.robot,
             "engine": self.engine,
             "start": self.start,
@@ -91,3 +94,6 @@ class PhysicsSetup:
             "settled_pose": self.settled_pose,
             "settled_tilt_deg": round(self.settled_tilt_deg, 1),
         }
+        if self.what_if:
+            out["what_if"] = dict(self.what_if)
+        return out

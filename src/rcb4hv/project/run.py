@@ -236,7 +236,8 @@ def _run_physics(
     virtual += sim.now
     settled = first.settled
     setup = PhysicsSetup(
-        robot.name, engine, start, SETTLE_S, pose_name(settled), math.degrees(settled.tilt)
-    )
+        robot.name, engine, start, SETTLE_S, pose_name(settled), math.degrees(settled.tilt),
+        options.changed() if options is not None else (),
+    )  # fmt: skip
     wall = time.perf_counter() - t0
     return SimulationRun(first.boot_result, tuple(runs), virtual, wall, setup)
