@@ -100,11 +100,11 @@ if TYPE_CHECKING:
     "what_if",
     metavar="NAME=VALUE",
     multiple=True,
-    help="With --physics: play on a changed model (repeatable): a factor on one of the "
-    "physics' chosen figures (stiffness, speed_cap, free_damping, armature, friction, "
-    "gyro_scale, accel_scale, mass; friction=0.5 halves the floor's) or floor_tilt_deg, "
-    "floor_tilt_dir_deg, deadband_deg. Reports name what they changed (docs/physics.md, "
-    "'How sensitive the verdicts are').",
+    help="With --physics: play on a changed model (repeatable): NAME a field of "
+    "rcb4hv.physics.PhysicsOptions, a factor on one of the physics' chosen figures "
+    "(friction=0.5 halves the floor's) or a figure of its own (floor_tilt_deg=2); an unknown "
+    "NAME lists them. Reports name what they changed (docs/physics.md, 'How sensitive the "
+    "verdicts are').",
 )
 @build_options
 @LAYOUT_OPTION

@@ -166,8 +166,7 @@ def kit_model(
             f"kxreus's per-link masses and centres of mass of this build (figures "
             f"lmass.{text}.*, lcom.{text}.*)"
             if per_link
-            else f"the build's whole-robot mass (figures mass.{text}"
-            + (f", less leftout.{text})" if f"leftout.{text}" in FIGURES else ")")
+            else f"the build's whole-robot mass (figures {', less '.join(_total_rows(text))})"
             if f"mass.{text}" in FIGURES
             else f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
             "KRS-3304R2 per servo more or fewer"
@@ -192,10 +191,16 @@ def _shared(jm: Mapping[str, tuple[int, int]]) -> int:
     return len(jm) - len({i for i, _ in jm.values()})
 
 
+def _total_rows(text: str) -> list[str]:
+    """The figures of the build ``text``'s whole-robot mass: kxreus's total, then the parts of
+    kxreus's build that Kondo's lacks (``leftout.<code>``) where there are any."""
+    return [k for k in (f"mass.{text}", f"leftout.{text}") if k in FIGURES]
+
+
 def _total_mass(text: str) -> float | None:
-    """kxreus's whole-robot mass (kg) of the build ``text``, less the parts of kxreus's build
-    that Kondo's lacks (``leftout.<code>``), or None where kxreus gives none."""
+    """kxreus's whole-robot mass (kg) of the build ``text`` less what Kondo's build lacks
+    (:func:`_total_rows`), or None where kxreus gives none."""
     if f"mass.{text}" not in FIGURES:
         return None
-    left_out = fig(f"leftout.{text}") if f"leftout.{text}" in FIGURES else 0.0
-    return (fig(f"mass.{text}") - left_out) / 1000
+    total, *left_out = (fig(k) for k in _total_rows(text))
+    return (total - sum(left_out)) / 1000

@@ -25,6 +25,22 @@ KXR-KITS.md §3): the KXR-L2W2L6A4H2's and KXR-L2W2L5A3H2's head-neck-p links ca
 weighs, so the model's neck-pitch link is kxreus's less this part: the servo horn's bracket
 alone, its centre of mass and moments the model's own shapes'."""
 
+
+def _neck_without_euclid_head(index: int) -> _Link:
+    """The ``:head :e`` builds' head-neck-p link (physics.links[``index``], 156.521 g in both
+    jsons) less :data:`EUCLID_HEAD_G`: its centre of mass and moments the model's own shapes'."""
+    return (
+        "neck_pitch",
+        index,
+        "head-neck-p (156.521 g) less the Euclid head (part.euclid_head), which Kondo's build "
+        "lacks",
+        156.521 - EUCLID_HEAD_G,
+        None,
+        None,
+        0,
+    )
+
+
 # parts with the same figures in several builds' jsons (kxreus weighs each link from its
 # boxes): name -> (what, mass g, com mm, moments g·cm², servo cases)
 _PART: dict[str, tuple[str, float, _Vec, _Vec, int]] = {
@@ -145,16 +161,7 @@ _W2L6A4: list[_Link] = [
         (87.2107, 89.7321, 58.3253),
         1,
     ),
-    (
-        "neck_pitch",
-        30,
-        "head-neck-p (156.521 g) less the Euclid head (part.euclid_head), which Kondo's build "
-        "lacks",
-        156.521 - EUCLID_HEAD_G,
-        None,
-        None,
-        0,
-    ),
+    _neck_without_euclid_head(30),
 ]
 
 # kxreus's KXR-L2L6A6H2 (kxrl2l6a6h2.json, 31 links summing to its 1708.46 g): the A6 arm's
@@ -337,16 +344,7 @@ _W2L5A3: list[_Link] = [
         (87.2107, 89.7321, 58.3253),
         1,
     ),
-    (
-        "neck_pitch",
-        26,
-        "head-neck-p (156.521 g) less the Euclid head (part.euclid_head), which Kondo's build "
-        "lacks",
-        156.521 - EUCLID_HEAD_G,
-        None,
-        None,
-        0,
-    ),
+    _neck_without_euclid_head(26),
 ]
 
 LINK_ROWS: dict[str, Figure] = {
