@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from rcb4hv.project.physicsresult import ShapeFrame
     from rcb4hv.project.runresult import SimulationRun
     from rcb4hv.robot.model import RobotModel
+    from rcb4hv.robot.stride import Stride
     from rcb4hv.rom.layout import MotionLayout
 
 __all__ = [
@@ -28,6 +29,7 @@ __all__ = [
     "physics_robot",
     "plot_run",
     "print_physics",
+    "stride_text",
 ]
 
 
@@ -68,6 +70,13 @@ def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
     return project_model(project if project is not None else names, robot, used)
 
 
+def stride_text(stride: Stride | None) -> str:
+    """A motion's no-slip travel as a table cell: dx, dy (m) and turn (degrees)."""
+    if stride is None:
+        return "-"
+    return f"{stride.dx_m:+.3f} {stride.dy_m:+.3f} {stride.dyaw_deg:+.0f}°"
+
+
 def print_physics(run: SimulationRun, as_json: bool) -> None:
     """The table (or JSON) of a physics run: per motion, the pose it started in (``down at
     start`` when it was down although it stood before), whether it fell, its end pose, where
@@ -86,6 +95,7 @@ def print_physics(run: SimulationRun, as_json: bool) -> None:
         changed = ", ".join(f"{name}={value:g}" for name, value in setup.what_if)
         click.echo(f"what-if: {changed} (not the documented model)")
     rows = []
+    strides = any(m.stride is not None for m in run.motions)
     for m in run.motions:
         o = m.outcome
         assert o is not None
@@ -109,10 +119,11 @@ def print_physics(run: SimulationRun, as_json: bool) -> None:
                 f"{o.max_tilt_deg:.1f}",
                 f"{o.max_tracking_error_deg:.1f}",
             ]
+            + ([stride_text(m.stride)] if strides else [])
         )
     print_table(
         ("slot", "name", "status", "start pose", "fell", "end pose", "dx m", "dy m", "dyaw°",
-         "tilt°", "err°"),
+         "tilt°", "err°") + (("no slip",) if strides else ()),
         rows,
     )  # fmt: skip
     for m in run.motions:

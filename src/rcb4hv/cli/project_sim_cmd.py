@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,8 +19,16 @@ from rcb4hv.cli.project_common import (
     load_image,
     parse_buttons,
 )
-from rcb4hv.cli.project_physics import parse_sequence, physics_robot, plot_run, print_physics
+from rcb4hv.cli.project_physics import (
+    parse_sequence,
+    physics_robot,
+    plot_run,
+    print_physics,
+    stride_text,
+)
+from rcb4hv.errors import RobotModelError
 from rcb4hv.protocol import position_to_degrees
+from rcb4hv.robot.stride import has_stride
 
 if TYPE_CHECKING:
     from rcb4hv.physics.options import PhysicsOptions
@@ -78,8 +87,9 @@ if TYPE_CHECKING:
 @click.option(
     "--robot",
     metavar="NAME|FILE",
-    help="Robot for --physics: khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, a KXR kit code "
-    "(kxr:L6) or a URDF file [default: detected from the project's title and servo table].",
+    help="The robot: khr3hv, khr3hv-22, kxr-l2, kxr-l2-gripper, a KXR kit code (kxr:L6) or "
+    "a URDF file [default: detected from the project's title and servo table; without "
+    "--physics a project no model fits plays without the no-slip travel].",
 )
 @click.option(
     "--start",
@@ -106,6 +116,13 @@ if TYPE_CHECKING:
     "NAME lists them. Reports name what they changed (docs/physics.md, 'How sensitive the "
     "verdicts are').",
 )
+@click.option(
+    "--no-slip",
+    "no_slip",
+    is_flag=True,
+    help="With --physics: also each motion's no-slip travel, as reported without --physics "
+    "(the physics then takes about half as long again).",
+)
 @build_options
 @LAYOUT_OPTION
 @handle_errors
@@ -122,6 +139,7 @@ def simulate(
     start: StartPose,
     sequence: str | None,
     what_if: tuple[str, ...],
+    no_slip: bool,
     layout_name: str | None,
 ) -> None:
     """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
@@ -164,12 +182,16 @@ def simulate(
         slots = parse_sequence(sequence, lay)
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
-    if not physics and (robot is not None or start != "upright" or what_if):
+    if not physics and (start != "upright" or what_if or no_slip):
         raise click.UsageError(
-            "--robot, --start and --what-if set up the robot of --physics: add --physics"
+            "--start, --what-if and --no-slip are for the robot of --physics: add --physics"
         )
     options = _what_if(what_if)
-    model = physics_robot(file, image, robot) if physics else None
+    model = physics_robot(file, image, robot) if physics or robot is not None else None
+    if model is None:
+        with contextlib.suppress(RobotModelError):  # no model fits: no stride
+            model = physics_robot(file, image, None)
+    follow = model is not None and has_stride(model) and (no_slip or not physics)
     samples: list[tuple[float, dict[int, int | None]]] = []
 
     def record(t: float, board: Board) -> None:
@@ -178,8 +200,10 @@ def simulate(
     # a failed boot is reported; every motion is still played from the host (spec 11.4)
     run = run_motions(
         image, slots, names=names, motion_layout=lay, limit=limit, hold=hold, hold_for=hold_for,
-        robot=model, sequence=sequence is not None, start=start, track=physics and plot is not None,
-        listener=record if plot is not None and not physics else None, options=options,
+        robot=model if physics else None, sequence=sequence is not None, start=start,
+        track=physics and plot is not None, options=options,
+        listener=record if plot is not None and not physics else None,
+        stride=model if follow else None,
     )  # fmt: skip
     if physics:
         print_physics(run, as_json)
@@ -216,8 +240,10 @@ def _print_plain(run: SimulationRun) -> None:
         f"boot: {boot.status} after {boot.duration:.3f} s virtual"
         + (f" ({boot.detail})" if boot.detail else "")
     )
+    strides = any(m.stride is not None for m in run.motions)
     print_table(
-        ("slot", "address", "name", "status", "virtual s", "instr", "held", "detail"),
+        ("slot", "address", "name", "status", "virtual s", "instr", "held", "detail")
+        + (("no slip",) if strides else ()),
         [
             [
                 r.slot or "-",
@@ -229,7 +255,9 @@ def _print_plain(run: SimulationRun) -> None:
                 r.held or "",
                 r.detail,
             ]
-            for r in run.results
+            + ([stride_text(m.stride)] if strides else [])
+            for m in run.motions
+            for r in [m.result]
         ],
     )
     parts = ", ".join(f"{n} {s}" for s, n in sorted(run.summary().items()))

@@ -19,13 +19,17 @@ defaults holds everywhere:
 * ``listener(board_time_s, board)`` hears every output period of the run and each motion's
   start: ask the board what it sends (:meth:`~rcb4hv.emulator.Board.sent_angles`, the one
   free/hold/angle rule);
-* ``progress`` hears each motion as it ends.
+* ``progress`` hears each motion as it ends;
+* ``stride``: a robot model whose no-slip travel (:mod:`rcb4hv.robot.stride`) each motion's
+  sent poses are followed through, from the motion's start (``MotionRun.stride``); it needs
+  no physics, and with physics it is the motion's design beside what the robot did.
 
 The answer, :class:`~rcb4hv.project.runresult.SimulationRun`, has one JSON form (``--json``).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -35,6 +39,7 @@ from rcb4hv.emulator import Board
 from rcb4hv.errors import ProtocolError
 from rcb4hv.project.runresult import MotionRun, SimulationRun
 from rcb4hv.project.simulate import DEFAULT_LIMIT, Simulator
+from rcb4hv.robot.stride import StrideTracker
 from rcb4hv.rom.layout import MotionLayout
 from rcb4hv.rom.older import play_layout
 
@@ -74,6 +79,7 @@ def run_motions(
     listener: RunListener | None = None,
     progress: Callable[[MotionRun], None] | None = None,
     options: PhysicsOptions | None = None,
+    stride: RobotModel | None = None,
 ) -> SimulationRun:
     """Boot ``image`` and play motion ``slots`` (see the module docstring for the defaults).
 
@@ -86,6 +92,8 @@ def run_motions(
     """
     names = names or {}
     t0 = time.perf_counter()
+    if stride is not None:
+        listener = _StrideWatch(stride, listener)
     if hold == "bound":
         hold = bound_buttons(image, play_layout(image, motion_layout))
     if robot is None:
@@ -158,6 +166,35 @@ def _play(
     return SimulationRun(boot, tuple(runs), sim.now, time.perf_counter() - t0)
 
 
+class _StrideWatch:
+    """A run listener that follows each motion's no-slip travel through the poses the board
+    sends (motion space: the trim left out, hold and free keeping the last angle), then
+    passes the period on to the caller's ``listener``."""
+
+    def __init__(self, model: RobotModel, listener: RunListener | None) -> None:
+        self._model = model
+        self._mapped = set(model.indices)
+        self._listener = listener
+        self._tracker: StrideTracker | None = None
+
+    def begin(self) -> None:
+        """A motion starts: its travel counts from here."""
+        self._tracker = StrideTracker(self._model)
+
+    def __call__(self, t: float, board: Board) -> None:
+        if self._tracker is not None:
+            sent = board.sent_angles(trim=False)
+            values = {i: v for i, v in sent.items() if v is not None and i in self._mapped}
+            self._tracker.update(self._model.motion_angles(values))
+        if self._listener is not None:
+            self._listener(t, board)
+
+    def finish(self, run: MotionRun) -> MotionRun:
+        """``run`` with the travel since :meth:`begin`."""
+        tracker, self._tracker = self._tracker, None
+        return run if tracker is None else dataclasses.replace(run, stride=tracker.stride)
+
+
 def _attach(listener: RunListener, board: Board) -> None:
     """Let ``listener`` hear every output period of ``board``."""
 
@@ -180,15 +217,16 @@ def _one(
     from rcb4hv.project.physics_sim import PhysicsSimulator  # no MuJoCo needed to import
 
     start_s = sim.now
+    if isinstance(listener, _StrideWatch):
+        listener.begin()
     if listener is not None:
         listener(start_s, sim.board)
     address = sim.layout.address(slot)
     name = names.get(slot, "")
     word = hold.get(slot, 0) if isinstance(hold, Mapping) else hold
     r = sim.play(address, slot=slot, name=name, hold=word, hold_for=hold_for, limit=limit)
-    if isinstance(sim, PhysicsSimulator):
-        return sim.runs[-1]
-    return MotionRun(r, start_s=start_s)
+    run = sim.runs[-1] if isinstance(sim, PhysicsSimulator) else MotionRun(r, start_s=start_s)
+    return listener.finish(run) if isinstance(listener, _StrideWatch) else run
 
 
 def _run_physics(

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from rcb4hv.project.physicsresult import PhysicsOutcome, PhysicsSetup, ShapeFrame, TrackPoint
 from rcb4hv.project.simresult import MotionResult
+from rcb4hv.robot.stride import Stride
 
 __all__ = ["MotionRun", "SimulationRun"]
 
@@ -24,12 +25,15 @@ class MotionRun:
     track: tuple[TrackPoint, ...] = ()
     frames: tuple[ShapeFrame, ...] = ()
     start_s: float = 0.0
+    stride: Stride | None = None
 
     def to_dict(self) -> dict[str, object]:
         d = self.result.to_dict()
         d["start_s"] = round(self.start_s, 6)
         if self.outcome is not None:
             d["physics"] = self.outcome.to_dict()
+        if self.stride is not None:
+            d["stride"] = self.stride.to_dict()
         return d
 
 

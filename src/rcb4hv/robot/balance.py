@@ -133,12 +133,23 @@ def _points(model: RobotModel, frames: Mapping[str, Transform]) -> dict[str, lis
     }
 
 
-def ground_frame(model: RobotModel, frames: Mapping[str, Transform]) -> Transform:
+def ground_frame(
+    model: RobotModel,
+    frames: Mapping[str, Transform],
+    points: Mapping[str, list[Vec3]] | None = None,
+    feet: Sequence[str] | None = None,
+) -> Transform:
     """The transform from the root's frame to the ground frame (module docstring): up is
-    the down-touching sole's normal, or the root's z; the lowest point at z = 0."""
-    points = _points(model, frames)
+    the down-touching sole's normal, or the root's z; the lowest point at z = 0.
+
+    ``points`` (default: every link's shape corners in the root's frame) and ``feet``
+    (default: the model's feet) may be given when the caller has them: a caller that only
+    stands the robot on its feet passes just the feet's points, and saves the rest."""
+    points = _points(model, frames) if points is None else points
     lowest = {name: min(p[2] for p in pts) for name, pts in points.items() if pts}
-    feet = [n for n, kind in effectors(model).items() if kind == "foot" and n in lowest]
+    if feet is None:
+        feet = [n for n, kind in effectors(model).items() if kind == "foot"]
+    feet = [n for n in feet if n in lowest]
     up: Vec3 = (0.0, 0.0, 1.0)
     if feet and lowest:
         bottom = min(lowest.values())

@@ -6,11 +6,12 @@ lint need no NumPy. A robot has about 20 joints, so this costs microseconds per 
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 from rcb4hv.errors import RobotModelError
-from rcb4hv.robot.model import RobotModel, Vec3, chain
+from rcb4hv.robot.model import Joint, RobotModel, Vec3, chain
 
 __all__ = [
     "IDENTITY",
@@ -21,6 +22,7 @@ __all__ = [
     "forward",
     "from_xyz_rpy",
     "invert",
+    "joints_to",
     "link_pose",
     "position",
     "require_link",
@@ -78,6 +80,13 @@ def from_xyz_rpy(xyz: Vec3, rpy: Vec3) -> Transform:
     )
 
 
+@functools.lru_cache(maxsize=4096)
+def _origin(xyz: Vec3, rpy: Vec3) -> Transform:
+    """A joint's fixed origin (:func:`from_xyz_rpy`), worked out once per model joint: forward
+    kinematics runs every output period in a simulation."""
+    return from_xyz_rpy(xyz, rpy)
+
+
 def rotation_about(axis: Vec3, angle: float) -> Transform:
     """Rotation by ``angle`` about the unit vector ``axis`` (Rodrigues)."""
     x, y, z = axis
@@ -131,15 +140,32 @@ def position(t: Transform) -> Vec3:
 
 
 def forward(
-    model: RobotModel, angles: Mapping[str, float], base: Transform = IDENTITY
+    model: RobotModel,
+    angles: Mapping[str, float],
+    base: Transform = IDENTITY,
+    joints: Sequence[Joint] | None = None,
 ) -> dict[str, Transform]:
     """World transform of every link for joint ``angles`` (radians by joint name; missing
-    joints are at 0), with the root link at ``base``."""
+    joints are at 0), with the root link at ``base``. ``joints``: only these, parent-first
+    (:func:`joints_to`), for a caller that needs a few links many times."""
     out: dict[str, Transform] = {model.root: base}
-    for j in chain(model.joints, model.root):
-        origin = compose(out[j.parent], from_xyz_rpy(j.xyz, j.rpy))
+    for j in chain(model.joints, model.root) if joints is None else joints:
+        origin = compose(out[j.parent], _origin(j.xyz, j.rpy))
         out[j.child] = compose(origin, rotation_about(j.axis, angles.get(j.name, 0.0)))
     return out
+
+
+def joints_to(model: RobotModel, links: Iterable[str]) -> tuple[Joint, ...]:
+    """The joints between the root and ``links``, parent-first: what :func:`forward` needs to
+    place those links."""
+    wanted = set(links)
+    by_child = {j.child: j for j in model.joints}
+    needed: set[str] = set()
+    for link in wanted:
+        while link in by_child and link not in needed:
+            needed.add(link)
+            link = by_child[link].parent
+    return tuple(j for j in chain(model.joints, model.root) if j.child in needed)
 
 
 def link_pose(

@@ -1,0 +1,107 @@
+"""A motion's no-slip travel (rcb4hv.robot.stride): the fixture's own walks go where their
+names say, mirrored motions go mirrored ways, standing still goes nowhere, and `project
+simulate` reports it with and without --physics (no MuJoCo needed without)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.cli.project_common import load_image
+from rcb4hv.project.run import run_motions
+from rcb4hv.robot.builtin import load_builtin, load_robot
+from rcb4hv.robot.stride import Stride, StrideTracker, has_stride, stride_of
+from tests.conftest import KXR_PROJECT_DIR
+
+PROJECT = KXR_PROJECT_DIR / "HAC_KXR_HTH4_project.h4p"
+KXR = load_builtin("kxr-l2-gripper")
+SLOW_FORWARD, SLOW_BACK = 5, 6  # XL2G_105/106: five slow steps forward / back
+CARRY_LEFT, CARRY_RIGHT = 44, 45  # XL2G_304/305: walk left / right carrying in the left hand
+
+
+def strides(*slots: int) -> dict[int, Stride]:
+    image, layout, names = load_image(Path(PROJECT))
+    run = run_motions(image, list(slots), names=names, motion_layout=layout, stride=KXR)
+    out = {}
+    for m in run.motions:
+        assert m.stride is not None and m.result.slot is not None
+        out[m.result.slot] = m.stride
+    return out
+
+
+def test_kondos_walks_go_where_their_names_say() -> None:
+    s = strides(SLOW_FORWARD, SLOW_BACK, CARRY_LEFT, CARRY_RIGHT)
+    fwd, back, left, right = s[SLOW_FORWARD], s[SLOW_BACK], s[CARRY_LEFT], s[CARRY_RIGHT]
+    assert fwd.dx_m > 0.2 and abs(fwd.dy_m) < 0.05 and abs(fwd.dyaw_deg) < 5
+    assert back.dx_m < -0.2 and abs(back.dy_m) < 0.05
+    assert left.dy_m > 0.05 and abs(left.dx_m) < 0.02
+    assert right.dy_m < -0.05 and abs(right.dx_m) < 0.02
+    # the right-hand step is the left-hand one mirrored: the same travel, the other way
+    assert right.dy_m == pytest.approx(-left.dy_m, abs=0.005)
+    assert fwd.steps >= 8  # five steps each way: the standing foot changes at every one
+
+
+def test_standing_still_goes_nowhere() -> None:
+    s = stride_of(KXR, [KXR.home, dict(KXR.home), {"l_elbow_pitch": 0.5}])
+    assert (s.dx_m, s.dy_m, s.dyaw_deg, s.steps) == (0.0, 0.0, 0.0, 0)
+    assert StrideTracker(KXR).stride == Stride(0.0, 0.0, 0.0, 0)
+
+
+def test_a_swinging_leg_moves_nothing() -> None:
+    """Lifting one leg and swinging it forward and back leaves the body where it stands
+    (on the other foot, which holds): no travel, however far the leg swings."""
+    tracker = StrideTracker(KXR)
+    tracker.update(KXR.home)
+    for hip in (-0.2, -0.5, -0.8, -0.3, 0.2):  # knee bent 0.8 rad, the sole kept level
+        tracker.update({"r_hip_pitch": hip, "r_knee_pitch": 0.8, "r_ankle_pitch": -hip - 0.8})
+        assert abs(tracker.stride.dx_m) < 1e-9 and abs(tracker.stride.dy_m) < 1e-9
+    assert tracker.stride.steps <= 1
+
+
+def test_only_bipeds_without_wheels_get_a_stride() -> None:
+    assert has_stride(KXR) and has_stride(load_builtin("khr3hv"))
+    six_legs = load_robot("kxr:L6")
+    assert not has_stride(six_legs)
+    assert not has_stride(load_robot("kxr:L2W2L6A4H2"))  # wheels behind the ankles
+    with pytest.raises(ValueError, match="two feet and no wheels"):
+        StrideTracker(six_legs)
+
+
+def test_project_simulate_reports_it_without_physics() -> None:
+    args = ["project", "simulate", str(PROJECT), "--motion", str(CARRY_LEFT)]
+    data = json.loads(CliRunner().invoke(cli, [*args, "--json"]).output)
+    stride = data["motions"][0]["stride"]
+    assert set(stride) == {"dx_m", "dy_m", "dyaw_deg", "steps"} and stride["dy_m"] > 0.05
+    text = CliRunner().invoke(cli, args).output
+    assert "no slip" in text and f"{stride['dy_m']:+.3f}" in text
+
+
+def test_a_bare_image_plays_without_a_stride(tmp_path: Path) -> None:
+    """No servo table, no model: the motions play as before, with no stride and no error."""
+    image = tmp_path / "robot.bin"
+    built = CliRunner().invoke(cli, ["project", "build", str(PROJECT), "-o", str(image)])
+    assert built.exit_code == 0, built.output
+    args = ["project", "simulate", str(image), "--motion", str(CARRY_LEFT)]
+    res = CliRunner().invoke(cli, [*args, "--json"])
+    assert res.exit_code == 0, res.output
+    assert "stride" not in json.loads(res.output)["motions"][0]
+    assert "no slip" not in CliRunner().invoke(cli, args).output
+
+
+def test_project_simulate_reports_it_beside_physics() -> None:
+    pytest.importorskip("mujoco")
+    args = ["project", "simulate", str(PROJECT), "--physics", "--motion", str(SLOW_FORWARD)]
+    plain = json.loads(CliRunner().invoke(cli, [*args, "--json"]).output)
+    assert "stride" not in plain["motions"][0]  # asked for with --no-slip only
+    data = json.loads(CliRunner().invoke(cli, [*args, "--no-slip", "--json"]).output)
+    motion = data["motions"][0]
+    assert motion["stride"] == strides(SLOW_FORWARD)[SLOW_FORWARD].to_dict()
+    assert motion["stride"]["dx_m"] > 0.2 and motion["physics"]["dx_m"] > 0.2
+    assert motion["physics"] == plain["motions"][0]["physics"]  # following it changes nothing
+    assert "no slip" in CliRunner().invoke(cli, [*args, "--no-slip"]).output
+    res = CliRunner().invoke(cli, ["project", "simulate", str(PROJECT), "--no-slip"])
+    assert res.exit_code != 0 and "add --physics" in res.output
