@@ -19,6 +19,12 @@ judged against what the name promises:
   ``--start on_back`` / ``on_front``), ends upright;
 - anything else (kicks, punches, clapping, ...): ends upright.
 
+With ``--no-slip`` each motion of a biped is also played for its no-slip travel (``project
+simulate --physics --no-slip``: where its poses take the robot when no foot slips,
+docs/physics.md) and that travel judged by the same rule as if the robot stayed upright
+(``right_no_slip``): the motion's design against its name, beside what the simulated robot
+did. A robot with no no-slip travel (more than two feet, wheels) gets none.
+
 Routines called by other motions (ルーチン) are listed but not judged. Every motion is
 played as ``project simulate`` plays it by default: one that reads the remote with the button
 it loops on held for 3 s (``--hold-button bound``, :func:`rcb4hv.project.run.bound_buttons`),
@@ -72,6 +78,8 @@ class Outcome:
     right: bool | None
     how: str = "standing"
     robot: str = ""
+    no_slip: tuple[float, float, float] | None = None  # dx m, dy m, dyaw degrees
+    right_no_slip: bool | None = None
 
 
 def label_of(name: str) -> str:
@@ -158,10 +166,17 @@ def _simulate(file: Path, extra: list[str]) -> dict[str, Any]:
 
 def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
     p = m.get("physics") or {}
+    stride = m.get("stride")
+    no_slip = None
+    right_no_slip = None
+    if stride is not None:
+        no_slip = (float(stride["dx_m"]), float(stride["dy_m"]), float(stride["dyaw_deg"]))
+        right_no_slip = judge(label, {"fell": False, "end_pose": "upright", **stride})
     if not p:
         return Outcome(
-            str(file), m["slot"], m["name"], label, m["status"], False, "?", 0, 0, 0, False, how
-        )
+            str(file), m["slot"], m["name"], label, m["status"], False, "?", 0, 0, 0, False, how,
+            no_slip=no_slip, right_no_slip=right_no_slip,
+        )  # fmt: skip
     return Outcome(
         str(file),
         m["slot"],
@@ -175,6 +190,8 @@ def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
         float(p["dyaw_deg"]),
         judge(label, p),
         how,
+        no_slip=no_slip,
+        right_no_slip=right_no_slip,
     )
 
 
@@ -184,14 +201,17 @@ def project_outcomes(
     slots: list[int],
     hold: bool = True,
     what_if: tuple[str, ...] = (),
+    no_slip: bool = False,
 ) -> list[Outcome]:
     """Every motion of ``file`` (or ``slots``) labelled, played and judged (on the model
-    changed by ``what_if``, ``project simulate --what-if``'s NAME=VALUE items)."""
+    changed by ``what_if``, ``project simulate --what-if``'s NAME=VALUE items; with
+    ``no_slip``, each motion's no-slip travel judged too)."""
     base = ["--robot", robot] if robot else []
     base += [a for w in what_if for a in ("--what-if", w)]
     if not hold:
         base += ["--hold-button", "none"]
-    data = _simulate(file, base + [a for s in slots for a in ("--motion", str(s))])
+    more = ["--no-slip"] if no_slip else []
+    data = _simulate(file, base + more + [a for s in slots for a in ("--motion", str(s))])
     robot_name = str(data.get("physics", {}).get("robot", "?"))
     motions = data["motions"]
     labels = {m["slot"]: label_of(m["name"]) for m in motions}
@@ -219,15 +239,27 @@ def project_outcomes(
     return out
 
 
+def _verdict(right: bool | None) -> str:
+    return "-" if right is None else "yes" if right else "**no**"
+
+
 def _table(rows: list[Outcome]) -> str:
+    slip = any(r.no_slip is not None for r in rows)
     head = "| slot | motion | label | played | fell | end pose | dx m | dy m | dyaw ° | right |"
-    lines = [head, "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        head + (" no slip | right no slip |" if slip else ""),
+        "|---" * (12 if slip else 10) + "|",
+    ]
     for r in rows:
-        verdict = "-" if r.right is None else "yes" if r.right else "**no**"
-        lines.append(
+        line = (
             f"| {r.slot} | {r.name} | {r.label} | {r.how} | {'yes' if r.fell else 'no'} | "
-            f"{r.end_pose} | {r.dx_m:+.3f} | {r.dy_m:+.3f} | {r.dyaw_deg:+.1f} | {verdict} |"
+            f"{r.end_pose} | {r.dx_m:+.3f} | {r.dy_m:+.3f} | {r.dyaw_deg:+.1f} | "
+            f"{_verdict(r.right)} |"
         )
+        if slip:
+            travel = "-" if r.no_slip is None else "{:+.3f} {:+.3f} {:+.1f}".format(*r.no_slip)
+            line += f" {travel} | {_verdict(r.right_no_slip)} |"
+        lines.append(line)
     judged = [r for r in rows if r.right is not None]
     good = sum(1 for r in judged if r.right)
     lines.append("")
@@ -246,12 +278,20 @@ def _count(rows: list[Outcome], labels: tuple[str, ...] | None) -> str:
     return f"{sum(1 for r in judged if r.right)} of {len(judged)}"
 
 
+def _count_no_slip(rows: list[Outcome]) -> str:
+    judged = [r for r in rows if r.right_no_slip is not None and r.label in NAMED]
+    return f"{sum(1 for r in judged if r.right_no_slip)} of {len(judged)}" if judged else "-"
+
+
 def summary(results: dict[str, list[Outcome]]) -> str:
-    """One row per project: its model and how many labelled outcomes came out right."""
+    """One row per project: its model and how many labelled outcomes came out right (and,
+    with ``--no-slip``, how many of the named ones its motions are built to get right)."""
+    slip = any(r.no_slip is not None for rows in results.values() for r in rows)
+    extra = " no slip: walks, steps, turns, greetings |" if slip else ""
     lines = [
         "| project | model | walks, steps, turns, greetings | with lie-downs and get-ups | "
-        "every judged motion |",
-        "|---|---|---|---|---|",
+        "every judged motion |" + extra,
+        "|---" * (6 if slip else 5) + "|",
     ]
     rows_all: list[Outcome] = []
     for f, rows in results.items():
@@ -260,10 +300,12 @@ def summary(results: dict[str, list[Outcome]]) -> str:
         lines.append(
             f"| {Path(f).name} | `{robot}` | {_count(rows, NAMED)} | "
             f"{_count(rows, (*NAMED, *LYING))} | {_count(rows, None)} |"
+            + (f" {_count_no_slip(rows)} |" if slip else "")
         )
     lines.append(
         f"| **all** | | {_count(rows_all, NAMED)} | "
         f"{_count(rows_all, (*NAMED, *LYING))} | {_count(rows_all, None)} |"
+        + (f" {_count_no_slip(rows_all)} |" if slip else "")
     )
     return "\n".join(lines)
 
@@ -278,6 +320,11 @@ def main(argv: list[str] | None = None) -> int:
         "--no-hold", action="store_true", help="play remote-bound walks once, with no button"
     )
     ap.add_argument(
+        "--no-slip",
+        action="store_true",
+        help="judge each motion's no-slip travel too (its design, project simulate --no-slip)",
+    )
+    ap.add_argument(
         "--what-if",
         action="append",
         default=[],
@@ -290,7 +337,9 @@ def main(argv: list[str] | None = None) -> int:
         files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
     what_if = tuple(args.what_if)
     results = {
-        str(f): project_outcomes(f, args.robot, args.motion, not args.no_hold, what_if)
+        str(f): project_outcomes(
+            f, args.robot, args.motion, not args.no_hold, what_if, args.no_slip
+        )
         for f in files
     }
     if args.json:

@@ -164,3 +164,16 @@ def test_a_what_if_reaches_the_physics(project_file: Path) -> None:
         slippery.dy_m,
         slippery.end_pose,
     )
+
+
+def test_no_slip_judges_each_motions_design_too(project_file: Path) -> None:
+    """``--no-slip``: the fixture's carrying step left (slot 44) is built to go 0.10 m left,
+    and that travel is judged by the same rule as the physics outcome."""
+    tool = _tool()
+    (plain,) = tool.project_outcomes(project_file, None, [44])
+    (both,) = tool.project_outcomes(project_file, None, [44], no_slip=True)
+    assert plain.no_slip is None and plain.right_no_slip is None
+    assert both.no_slip is not None and both.no_slip[1] > 0.05
+    assert both.right_no_slip is True
+    assert (both.dx_m, both.dy_m, both.right) == (plain.dx_m, plain.dy_m, plain.right)
+    assert "right no slip" in tool._table([both]) and "no slip:" in tool.summary({"p": [both]})
