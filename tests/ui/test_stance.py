@@ -181,3 +181,24 @@ def _world_pts(model: RobotModel, s: Stance) -> list[tuple[float, float, float]]
     return [
         p for n in feet(model) for g in model.link(n).geoms for p in geom_points(g, s.frames[n])
     ]
+
+
+def test_the_plain_preview_walks_a_biped_over_the_floor(kxr_project_path: Path) -> None:
+    """A walk's preview moves the robot where its no-slip travel takes it (the KXR's slow
+    walk forward: 0.4 m), feet on the floor; the toy robot's bow stays where it stood."""
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.robot.builtin import load_builtin
+
+    project = load_project(kxr_project_path)
+    kxr = load_builtin("kxr-l2-gripper")
+    walk = simulated_playback(project, 5, kxr)  # XL2G_105: five slow steps forward
+    first, last = walk.frames[0].base, walk.frames[-1].base
+    assert first is not None and last is not None
+    assert last[0][3] - first[0][3] > 0.3 and abs(last[1][3] - first[1][3]) < 0.05
+    s = stance(kxr, walk.frames[-1].angles, last)
+    assert min(
+        p[2] for g in kxr.link("l_foot").geoms for p in geom_points(g, s.frames["l_foot"])
+    ) == pytest.approx(0.0, abs=1e-9)
+    bow = simulated_playback(project, 21, MODEL)
+    assert bow.frames[-1].base is not None
+    assert bow.frames[-1].base[0][3] == pytest.approx(bow.frames[0].base[0][3], abs=1e-9)

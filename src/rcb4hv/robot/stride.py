@@ -163,6 +163,12 @@ class StrideTracker:
         self._heading = heading
 
     @property
+    def base(self) -> Transform | None:
+        """The root link's pose on the floor now (z up, the floor at z = 0, x and y where the
+        first pose stood it), None before any pose: where a 3D view draws the robot."""
+        return self._world
+
+    @property
     def stride(self) -> Stride:
         """The travel since the first pose (zero before any)."""
         if self._start is None:

@@ -7,8 +7,10 @@ through the one run API (:func:`rcb4hv.project.run.run_motions`, its defaults):
 * :func:`simulated_playback`: the plain simulator: the values the board sends each output
   period to the servos at an angle, less each servo block's trim
   (:meth:`~rcb4hv.emulator.Board.sent_angles`, the board's one free/hold/angle rule), through
-  the model's joint map (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). It has no base
-  pose (the 3D view stands the robot on its feet) and cannot tell a fall.
+  the model's joint map (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). A biped's base
+  pose is where its no-slip travel takes it (:mod:`rcb4hv.robot.stride`: a walk walks over
+  the floor as designed); other robots have none (the 3D view stands them on their feet).
+  It cannot tell a fall.
 * :func:`physics_playback`: MuJoCo (:mod:`rcb4hv.physics`, the ``[sim]`` extra): the run's
   :class:`~rcb4hv.project.physicsresult.TrackPoint` of every output period (measured joint
   angles and the torso's pose) and the fall.
@@ -28,6 +30,7 @@ from rcb4hv.project.relocate import project_image
 from rcb4hv.project.run import run_motions
 from rcb4hv.robot import RobotModel, Transform
 from rcb4hv.robot.geometry import pose_transform
+from rcb4hv.robot.stride import StrideTracker, has_stride
 
 __all__ = [
     "Playback",
@@ -94,14 +97,16 @@ def simulated_playback(project: Project, slot: int, model: RobotModel) -> Playba
     name = project.motion(slot).name or ""
     run = run_motions(image, [slot], names={slot: name}, motion_layout=layout, listener=listen)
     m = run.motions[0]
-    frames = [
-        TimedPose(
-            round(t - m.start_s, 6),
-            model.motion_angles({k: v for k, v in values.items() if v is not None}),
-        )
-        for t, values in samples
-        if t >= m.start_s
-    ]
+    tracker = StrideTracker(model) if has_stride(model) else None
+    frames = []
+    for t, values in samples:
+        if t < m.start_s:
+            continue
+        angles = model.motion_angles({k: v for k, v in values.items() if v is not None})
+        if tracker is not None:
+            tracker.update(angles)
+        base = tracker.base if tracker is not None else None
+        frames.append(TimedPose(round(t - m.start_s, 6), angles, base))
     return Playback(slot, m.result.name, tuple(frames), m.result.status)
 
 
