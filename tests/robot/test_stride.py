@@ -106,3 +106,27 @@ def test_project_simulate_reports_it_beside_physics() -> None:
     assert motion["stride"]["dx_m"] > 0.2 and motion["physics"]["dx_m"] > 0.2
     assert motion["physics"] == plain["motions"][0]["physics"]  # following it changes nothing
     assert "no slip" in CliRunner().invoke(cli, [*args, "--no-slip"]).output
+
+
+def test_a_mirrored_motion_is_built_to_go_the_mirrored_way(tmp_path: Path) -> None:
+    """Issue 24's rule "mirrored walks, steps and turns go the other way", checked on the
+    motions' design with no physics: `hth4.edit.mirror_motion` on the fixture's slow walk
+    left (slot 7) and carrying step left (slot 44) gives travels mirrored in y."""
+    from rcb4hv.hth4 import load_project, save_project
+    from rcb4hv.hth4.edit import mirror_motion
+
+    slots = (7, CARRY_LEFT)
+    project = load_project(PROJECT)
+    for slot in slots:
+        project = mirror_motion(project, slot, KXR)
+    mirrored = tmp_path / "mirrored.h4p"
+    save_project(project, mirrored)
+    image, layout, names = load_image(mirrored)
+    run = run_motions(image, list(slots), names=names, motion_layout=layout, stride=KXR)
+    before = strides(*slots)
+    for m in run.motions:
+        assert m.stride is not None and m.result.slot is not None
+        was = before[m.result.slot]
+        assert abs(was.dy_m) > 0.05
+        assert m.stride.dy_m == pytest.approx(-was.dy_m, abs=0.01)
+        assert m.stride.dx_m == pytest.approx(was.dx_m, abs=0.01)
