@@ -19,7 +19,7 @@ judged against what the name promises:
   ``--start on_back`` / ``on_front``), ends upright;
 - anything else (kicks, punches, clapping, ...): ends upright.
 
-With ``--no-slip`` each motion of a biped is also played for its no-slip travel (``project
+With ``--no-slip`` each motion of a robot on feet is also played for its no-slip travel (``project
 simulate --physics --no-slip``: where its poses take the robot when no foot slips,
 docs/physics.md) and that travel judged by the same rule as if the robot stayed upright
 (``right_no_slip``): the motion's design against its name, beside what the simulated robot

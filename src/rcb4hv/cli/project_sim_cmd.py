@@ -120,8 +120,8 @@ if TYPE_CHECKING:
     "--no-slip",
     "no_slip",
     is_flag=True,
-    help="Also each motion's no-slip travel: where its poses take a biped when the foot it "
-    "stands on never slips (the run then takes longer: about six times as long without "
+    help="Also each motion's no-slip travel: where its poses take the robot when the feet it "
+    "stands on never slip (the run then takes longer: about six times as long without "
     "--physics, about half as long again with it).",
 )
 @build_options
@@ -166,6 +166,11 @@ def simulate(
     draws the torso's path on the floor. A robot that is down as a motion starts (it fell
     while settling, or an earlier motion of the sequence left it lying) is reported "down at
     start" with the pose it lies in, and cannot "fall" in that motion.
+
+    --no-slip adds each motion's no-slip travel ('no slip'; 'stride' in --json) when the
+    robot model (--robot, or detected) stands on feet: where its poses take the robot when
+    the feet it stands on never slip, the motion's design without physics (with --physics:
+    beside what the robot did).
     """
     from rcb4hv.emulator import Board
     from rcb4hv.project.run import Hold, run_motions

@@ -47,9 +47,12 @@ __all__ = [
     "PARALLEL_SOLES_DEG",
     "STABILITY_RESERVE_M",
     "PoseBalance",
+    "SetDown",
+    "floor_forces",
     "ground_frame",
     "pose_balance",
     "rigid_balance",
+    "set_down",
     "signed_margin",
 ]
 
@@ -205,7 +208,7 @@ def signed_margin(polygon: Sequence[Point2], p: Point2) -> float:
     return d if inside else -d
 
 
-def _reactions(weight: float, com: Vec3, at: Sequence[Vec3]) -> list[float]:
+def floor_forces(weight: float, com: Vec3, at: Sequence[Vec3]) -> list[float]:
     """Vertical floor forces at points ``at`` carrying ``weight`` (N) at ``com``: the
     minimum-norm solution of the force and moment balance (a ridge pseudo-inverse), points
     that would pull (negative force: the floor cannot) dropped and the rest solved again; a
@@ -345,29 +348,40 @@ def pose_balance(
     return result
 
 
-def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance:
-    """Balance and static servo loads of ``model`` at joint ``angles`` (rad by name), the
-    joints rigid.
+@dataclass(frozen=True)
+class SetDown:
+    """A pose set down on the floor (:func:`set_down`): the root's transform to the ground
+    frame, the points touching the floor (ground frame, by link), every point with its link,
+    the centre of mass (ground frame), the support polygon, the CoM's margin inside it and
+    how far (rad) the robot tipped before it settled."""
 
-    The robot is set down (:func:`ground_frame`); while its centre of mass lies outside the
-    support it tips over the nearest edge until something else touches, as a rigid body
-    settles: a pose that settles within :data:`MAX_TIP_DEG` of tipping stands (its margin is
-    the settled one), one that needs more, or has nothing to tip onto, does not (its margin
-    is the one before tipping)."""
-    frames = forward(model, angles)
-    points = _points(model, frames)
-    total = model.mass
-    com_root = [0.0, 0.0, 0.0]
-    for link in model.links:
-        c = apply(frames[link.name], link.inertial.com)
-        for k in range(3):
-            com_root[k] += link.inertial.mass * c[k] / total
-    ground = ground_frame(model, frames)
+    ground: Transform
+    touching: dict[str, list[Vec3]]
+    every: list[tuple[Vec3, str]]
+    com: Vec3
+    support: tuple[Point2, ...]
+    margin: float
+    tipped: float
+
+
+def set_down(
+    model: RobotModel,
+    frames: Mapping[str, Transform],
+    com_root: Vec3,
+    points: Mapping[str, list[Vec3]] | None = None,
+    feet: Sequence[str] | None = None,
+) -> SetDown:
+    """Set the robot down (:func:`ground_frame`), then, while its centre of mass (``com_root``,
+    root frame) lies outside the support, tip it over the nearest edge until something else
+    touches, as a rigid body settles (see :func:`rigid_balance`). ``points`` and ``feet`` as
+    for :func:`ground_frame` (a caller standing the robot on its feet passes theirs)."""
+    points = _points(model, frames) if points is None else points
+    ground = ground_frame(model, frames, points, feet)
     tipped = 0.0
     first: float | None = None
     while True:
         touching, every = _contacts(points, ground)
-        com = apply(ground, (com_root[0], com_root[1], com_root[2]))
+        com = apply(ground, com_root)
         support = tuple(convex_hull([(p[0], p[1]) for pts in touching.values() for p in pts]))
         margin = signed_margin(support, (com[0], com[1]))
         first = margin if first is None else first
@@ -380,11 +394,33 @@ def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance
             break
         tipped += angle
         ground = _turned(ground, edge[0], edge[1], angle)
+    return SetDown(ground, touching, every, com, support, margin, tipped)
+
+
+def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance:
+    """Balance and static servo loads of ``model`` at joint ``angles`` (rad by name), the
+    joints rigid.
+
+    The robot is set down (:func:`ground_frame`); while its centre of mass lies outside the
+    support it tips over the nearest edge until something else touches, as a rigid body
+    settles: a pose that settles within :data:`MAX_TIP_DEG` of tipping stands (its margin is
+    the settled one), one that needs more, or has nothing to tip onto, does not (its margin
+    is the one before tipping)."""
+    frames = forward(model, angles)
+    total = model.mass
+    com_root = [0.0, 0.0, 0.0]
+    for link in model.links:
+        c = apply(frames[link.name], link.inertial.com)
+        for k in range(3):
+            com_root[k] += link.inertial.mass * c[k] / total
+    down = set_down(model, frames, (com_root[0], com_root[1], com_root[2]))
+    ground, touching, com, support = down.ground, down.touching, down.com, down.support
+    margin, tipped = down.margin, down.tipped
     world = {name: compose(ground, t) for name, t in frames.items()}
     link_com = {lk.name: apply(world[lk.name], lk.inertial.com) for lk in model.links}
     names = sorted(touching)
     flat = [(n, p) for n in names for p in touching[n]]
-    push = _reactions(total * GRAVITY, com, [p for _, p in flat])
+    push = floor_forces(total * GRAVITY, com, [p for _, p in flat])
     loads: dict[str, list[tuple[Vec3, float]]] = {}
     for (n, p), f in zip(flat, push, strict=True):
         loads.setdefault(n, []).append((p, f))

@@ -7,9 +7,9 @@ through the one run API (:func:`rcb4hv.project.run.run_motions`, its defaults):
 * :func:`simulated_playback`: the plain simulator: the values the board sends each output
   period to the servos at an angle, less each servo block's trim
   (:meth:`~rcb4hv.emulator.Board.sent_angles`, the board's one free/hold/angle rule), through
-  the model's joint map (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). A biped's base
-  pose is where its no-slip travel takes it (:mod:`rcb4hv.robot.stride`: a walk walks over
-  the floor as designed); other robots have none (the 3D view stands them on their feet).
+  the model's joint map (:meth:`~rcb4hv.robot.RobotModel.motion_angles`). The base pose is
+  where the no-slip travel takes the robot (:mod:`rcb4hv.robot.stride`: a walk walks over
+  the floor as designed); a robot on wheels has none (the 3D view stands it on its feet).
   It cannot tell a fall.
 * :func:`physics_playback`: MuJoCo (:mod:`rcb4hv.physics`, the ``[sim]`` extra): the run's
   :class:`~rcb4hv.project.physicsresult.TrackPoint` of every output period (measured joint
