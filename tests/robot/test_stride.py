@@ -5,10 +5,13 @@ simulate` reports it with and without --physics (no MuJoCo needed without)."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from hypothesis import assume, given
+from hypothesis import strategies as st
 
 from rcb4hv.cli.main import cli
 from rcb4hv.cli.project_common import load_image
@@ -147,3 +150,29 @@ def test_a_mirrored_motion_is_built_to_go_the_mirrored_way(tmp_path: Path) -> No
         assert abs(was.dy_m) > 0.05
         assert m.stride.dy_m == pytest.approx(-was.dy_m, abs=0.01)
         assert m.stride.dx_m == pytest.approx(was.dx_m, abs=0.01)
+
+
+@given(
+    st.lists(
+        st.tuples(st.floats(-0.2, 0.2), st.floats(-0.2, 0.2), st.floats(0.1, 10.0)),
+        min_size=3,
+        max_size=12,
+    ),
+    st.floats(-3.0, 3.0),
+    st.floats(-0.5, 0.5),
+    st.floats(-0.5, 0.5),
+)
+def test_the_least_friction_fit_finds_a_rigid_move(
+    points: list[tuple[float, float, float]], turn: float, x: float, y: float
+) -> None:
+    """Contact points carried by one rigid move on the floor: the fit gives that move back,
+    whatever each point's force."""
+    from rcb4hv.robot.stride import _fit
+
+    spread = max(abs(a - b) + abs(c - d) for a, c, _ in points for b, d, _ in points)
+    assume(spread > 0.02)  # points that fix a turn
+    c, s = math.cos(turn), math.sin(turn)
+    pairs = [((px, py), (c * px - s * py + x, s * px + c * py + y), w) for px, py, w in points]
+    got_turn, got_x, got_y = _fit(pairs, 0.0)
+    assert math.remainder(got_turn - turn, 2 * math.pi) == pytest.approx(0.0, abs=1e-6)
+    assert (got_x, got_y) == pytest.approx((x, y), abs=1e-6)
