@@ -79,9 +79,9 @@ sensitivity: $(VENV)/.installed-dev
 # labelled outcomes of every .h4p below SAMPLES (local copies of Kondo's sample projects, kept
 # outside the repository): a table per project and a summary (~1-10 CPU-minutes a project)
 samples: $(VENV)/.installed-dev
-	@test -n "$(SAMPLES)" || (echo "usage: make samples SAMPLES=DIR" && false)
+	@test -n "$(SAMPLES)" || (echo "usage: make samples SAMPLES=DIR [NO_SLIP=1]" && false)
 	mkdir -p build
-	nice -n 10 $(BIN)/python tools/sample_outcomes.py $(SAMPLES) > build/samples.md
+	nice -n 10 $(BIN)/python tools/sample_outcomes.py $(if $(NO_SLIP),--no-slip) $(SAMPLES) > build/samples.md
 	sed -n '/^## Summary/,$$p' build/samples.md
 
 clean:
