@@ -19,11 +19,11 @@ judged against what the name promises:
   ``--start on_back`` / ``on_front``), ends upright;
 - anything else (kicks, punches, clapping, ...): ends upright.
 
-With ``--no-slip`` each motion of a robot on feet is also played for its no-slip travel (``project
-simulate --physics --no-slip``: where its poses take the robot when no foot slips,
-docs/physics.md) and that travel judged by the same rule as if the robot stayed upright
-(``right_no_slip``): the motion's design against its name, beside what the simulated robot
-did. A robot with no no-slip travel (more than two feet, wheels) gets none.
+With ``--no-slip`` each motion is also played for its no-slip travel (``project simulate
+--physics --no-slip``: where its poses take the robot when no foot slips, docs/physics.md)
+and that travel judged by the same rule as if the robot stayed upright (``right_no_slip``):
+the motion's design against its name, beside what the simulated robot did. A robot on
+wheels has no no-slip travel.
 
 Routines called by other motions (ルーチン) are listed but not judged. Every motion is
 played as ``project simulate`` plays it by default: one that reads the remote with the button

@@ -191,8 +191,10 @@ def simulate(
     if not physics and (start != "upright" or what_if):
         raise click.UsageError("--start and --what-if set up the robot of --physics: add --physics")
     options = _what_if(what_if)
-    model = physics_robot(file, image, robot) if physics or robot is not None else None
-    if model is None and no_slip:
+    model = None
+    if physics or robot is not None:
+        model = physics_robot(file, image, robot)
+    elif no_slip:
         with contextlib.suppress(RobotModelError):  # no model fits: no stride
             model = physics_robot(file, image, None)
     follow = no_slip and model is not None and has_stride(model)

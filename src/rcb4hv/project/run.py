@@ -173,7 +173,6 @@ class _StrideWatch:
 
     def __init__(self, model: RobotModel, listener: RunListener | None) -> None:
         self._model = model
-        self._mapped = set(model.indices)
         self._listener = listener
         self._tracker: StrideTracker | None = None
 
@@ -184,8 +183,8 @@ class _StrideWatch:
     def __call__(self, t: float, board: Board) -> None:
         if self._tracker is not None:
             sent = board.sent_angles(trim=False)
-            values = {i: v for i, v in sent.items() if v is not None and i in self._mapped}
-            self._tracker.update(self._model.motion_angles(values))
+            values = {i: v for i, v in sent.items() if v is not None}
+            self._tracker.update(self._model.motion_angles(values))  # unmapped: ignored
         if self._listener is not None:
             self._listener(t, board)
 

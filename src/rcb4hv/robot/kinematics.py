@@ -158,10 +158,9 @@ def forward(
 def joints_to(model: RobotModel, links: Iterable[str]) -> tuple[Joint, ...]:
     """The joints between the root and ``links``, parent-first: what :func:`forward` needs to
     place those links."""
-    wanted = set(links)
     by_child = {j.child: j for j in model.joints}
     needed: set[str] = set()
-    for link in wanted:
+    for link in links:
         while link in by_child and link not in needed:
             needed.add(link)
             link = by_child[link].parent

@@ -9,9 +9,9 @@ moves over its planted feet is the motion's **no-slip travel** (:class:`Stride`)
 - **A biped** stands on its lowest sole, laid flat on the floor
   (:func:`rcb4hv.robot.balance.ground_frame`), and the foot it stands on -- its anchor --
   keeps its place and heading on the floor. With both feet down (their lowest points within
-  :data:`~rcb4hv.robot.geometry.CONTACT_TOLERANCE_M`), the one whose sole's middle is nearer
-  the centre of mass holds: it carries more of the weight. When the other foot becomes the
-  anchor it holds from where it is then.
+  :data:`~rcb4hv.robot.balance.CONTACT_TOL`, the set-down's own rule), the one whose sole's
+  middle is nearer the centre of mass holds: it carries more of the weight. When the other
+  foot becomes the anchor it holds from where it is then.
 - **A robot on more feet** (four, six legs) rests on the plane of several feet: it is set
   down as a rigid body settles (:func:`rcb4hv.robot.balance.set_down`, which tips it over an
   edge until its centre of mass is over the feet touching), and the touching feet's
@@ -87,21 +87,15 @@ def has_stride(model: RobotModel) -> bool:
     return len(feet(model)) >= 2
 
 
-def _flat(t: Transform) -> tuple[Transform, float]:
-    """``t`` reduced to its position on the floor and its heading (and the heading, rad)."""
-    yaw = math.atan2(t[1][0], t[0][0])
-    c, s = math.cos(yaw), math.sin(yaw)
-    return (
-        (c, -s, 0.0, t[0][3]),
-        (s, c, 0.0, t[1][3]),
-        (0.0, 0.0, 1.0, 0.0),
-        (0.0, 0.0, 0.0, 1.0),
-    ), yaw
-
-
 def _floor(turn: float, x: float, y: float) -> Transform:
+    """A placement on the floor: turned by ``turn`` (rad) about the vertical, shifted by x, y."""
     c, s = math.cos(turn), math.sin(turn)
     return ((c, -s, 0.0, x), (s, c, 0.0, y), (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+def _flat(t: Transform) -> Transform:
+    """``t`` reduced to its place on the floor: its position and the heading of its x axis."""
+    return _floor(math.atan2(t[1][0], t[0][0]), t[0][3], t[1][3])
 
 
 def _procrustes(
@@ -224,19 +218,19 @@ class StrideTracker:
                 )
         if not low:
             return None
-        touching = [f for f in low if low[f] <= min(low.values()) + CONTACT_TOLERANCE_M]
+        touching = [f for f in low if low[f] <= min(low.values()) + CONTACT_TOL]
         nearest = touching[0]
         if len(touching) > 1:  # the one nearest the centre of mass carries most of it
             com = apply(ground, center_of_mass(model, forward(model, self._angles)))
             nearest = min(touching, key=lambda f: math.dist(middle[f], com[:2]))
         if self._world is None or self._anchor is None or self._anchor_world is None:
             self._anchor = nearest
-            self._anchor_world = _flat(compose(ground, frames[nearest]))[0]
+            self._anchor_world = _flat(compose(ground, frames[nearest]))
         elif nearest != self._anchor:
             self._anchor = nearest
-            self._anchor_world = _flat(compose(self._world, frames[nearest]))[0]
+            self._anchor_world = _flat(compose(self._world, frames[nearest]))
             self._steps += 1
-        held = _flat(compose(ground, frames[self._anchor]))[0]
+        held = _flat(compose(ground, frames[self._anchor]))
         return compose(compose(self._anchor_world, invert(held)), ground)
 
     def _stand_on_many(self) -> Transform | None:
