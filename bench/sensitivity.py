@@ -1,12 +1,12 @@
 """How sensitive the physics verdicts are to the model's chosen constants (``make sensitivity``).
 
-For each chosen figure (:class:`rcb4hv.physics.PhysicsOptions`: stretch -> stiffness, speed
-cap, free-servo damping, armature, foot friction, gyro and accelerometer scales) and each
-factor (default x0.5, x0.75, x1.33, x2) it plays every motion of each project with physics,
-as ``rcb4hv project simulate --physics`` does (a fresh boot, standing, per motion), and lists
-the motions whose verdict differs from the run with the documented figures. A verdict is
-what a user reads off a motion: fell (and how it lies), or the end pose, the way it went
-(the larger of dx, dy when at least 5 cm) and the way it turned (when at least 5°).
+For each chosen figure (:class:`rcb4hv.physics.PhysicsOptions`: stretch -> stiffness, speed cap,
+free-servo damping, armature, the controller's braking, foot friction, gyro and accelerometer
+scales) and each factor (default x0.5, x0.75, x1.33, x2) it plays every motion of each project
+with physics, as ``rcb4hv project simulate --physics`` does (a fresh boot, standing, per
+motion), and lists the motions whose verdict differs from the run with the documented figures. A
+verdict is what a user reads off a motion: fell (and how it lies), or the end pose, the way it
+went (the larger of dx, dy when at least 5 cm) and the way it turned (when at least 5°).
 
 Usage::
 
@@ -45,6 +45,7 @@ FIGURES = {
     "speed_cap": "speed cap (ICS speed / 127 x no-load speed)",
     "free_damping": f"free-servo damping ({FREE_DAMPING_FRACTION:g} x back-EMF)",
     "armature": f"armature ({MOTOR_TIME_CONSTANT * 1000:g} ms motor time constant)",
+    "servo_damping": "servo controller's braking (critically damped bare servo at stretch 127)",
     "friction": f"foot friction ({FLOOR_FRICTION:g})",
     "gyro_scale": f"gyro scale ({DEFAULT_SENSORS.gyro_counts_per_dps:g} counts per °/s)",
     "mass": "link masses and inertias (the models' estimates)",

@@ -13,7 +13,7 @@ from rcb4hv.robot.builtin import BUILTIN, load_builtin
 from rcb4hv.robot.geometry import pose_transform
 from rcb4hv.robot.kinematics import forward
 from rcb4hv.robot.mjcf import IMU_SITE, to_mjcf
-from rcb4hv.robot.servos import back_emf_damping, stiffness
+from rcb4hv.robot.servos import back_emf_damping, controller_damping, stiffness
 
 
 @pytest.mark.parametrize("name", BUILTIN)
@@ -35,6 +35,8 @@ def test_every_builtin_model_loads_with_its_servos(name: str) -> None:
         assert s.servo is not None
         assert act.forcerange[1] == pytest.approx(s.servo.stall_torque)
         assert act.gainprm[0] == pytest.approx(stiffness(s.servo, 60))
+        if model.joint(s.joint).kind != "wheel":  # the controller's braking, inside the clamp
+            assert act.biasprm[2] == pytest.approx(-controller_damping(s.servo))
         joint = m.joint(s.joint)
         assert m.dof_damping[joint.dofadr[0]] == pytest.approx(back_emf_damping(s.servo))
         j = model.joint(s.joint)

@@ -34,6 +34,8 @@ class PhysicsOptions:
     """x a free servo's damping (``servos.FREE_DAMPING_FRACTION``)."""
     armature: float = 1.0
     """x the gear train's reflected inertia (``servos.armature``: MOTOR_TIME_CONSTANT)."""
+    servo_damping: float = 1.0
+    """x a powered servo controller's braking (``servos.controller_damping``)."""
     friction: float = 1.0
     """x the feet's sliding friction (``mjcf.FLOOR_FRICTION``)."""
     gyro_scale: float = 1.0

@@ -38,17 +38,17 @@ the robot's wiring, so it is a :class:`SensorLayout` with documented defaults:
   ``tests/physics/test_gyro_mixing.py`` shows the push experiment: with these signs the
   mixing damps sway, with the opposite signs it excites it.
 
-  *Scale* (chosen: no public figure exists for Kondo's KRG-3 / KRG-4 gyros):
-  **0.05 counts per °/s** (0.24 mV per °/s). Kondo chose its multipliers (x 8, x 9) on the
-  real robot so that the mixing damps sway without shaking it; a feedback loop tuned by hand
-  keeps a gain margin of about 2 (6 dB). In this model Kondo's x 9 into the KXR's ankles
-  starts a 5 Hz oscillation of the torso from 0.105-0.11 counts per °/s (a push
-  experiment, docs/physics.md); half of that is 0.05. For comparison, the calibrated rest
-  reading, 273 counts = 1.33 V, is the null output of Murata's ENC-03 family of piezo gyros
-  (1.35 V), whose raw scale factor, 0.67 mV per °/s, would be 0.137 counts per °/s: past the
-  onset in this model. At 0.05 Kondo's x 9 moves an ankle 0.45 counts (0.015°) per °/s of
-  sway. How much the outcomes depend on the figure is in the sensitivity table of
-  docs/physics.md (``make sensitivity``).
+  *Scale* (chosen: no public figure exists for Kondo's KRG-3 / KRG-4 gyros): **0.06 counts per
+  °/s** (0.29 mV per °/s). Kondo chose its multipliers (x 8, x 9) on the real robot so that the
+  mixing damps sway without shaking it; a feedback loop tuned by hand keeps a gain margin of
+  about 2 (6 dB). In this model Kondo's x 9 into the KXR's ankles starts a 5 Hz oscillation of
+  the torso from 0.12-0.13 counts per °/s (a push experiment, docs/physics.md; 0.105-0.11 before
+  the servos' controller braking, :func:`rcb4hv.robot.servos.controller_damping`); half of that
+  is 0.06. For comparison, the calibrated rest reading, 273 counts = 1.33 V, is the null output
+  of Murata's ENC-03 family of piezo gyros (1.35 V), whose raw scale factor, 0.67 mV per °/s,
+  would be 0.137 counts per °/s: past the onset in this model. At 0.06 Kondo's x 9 moves an
+  ankle 0.54 counts (0.018°) per °/s of sway. How much the outcomes depend on the figure is in
+  the sensitivity table of docs/physics.md (``make sensitivity``).
 
 Values are clamped to 0..1023 like a real ADC.
 """
@@ -64,7 +64,7 @@ __all__ = ["DEFAULT_SENSORS", "GYRO_COUNTS_PER_DPS", "SensorLayout"]
 _COUNTS_PER_VOLT = 1024 / 5.0  # 10-bit ADC over 0-5 V
 _ZERO = 325.0  # counts at 0 g: the middle of the fixture program's thresholds
 _G = 9.81
-GYRO_COUNTS_PER_DPS = 0.05  # chosen (see the module docstring)
+GYRO_COUNTS_PER_DPS = 0.06  # chosen (see the module docstring)
 _NO_REST: Mapping[int, int] = {}
 
 

@@ -94,6 +94,7 @@ class PhysicsWorld:
             timestep=timestep,
             floor_friction=FLOOR_FRICTION * opts.friction,
             armature_scale=opts.armature,
+            damping_scale=opts.servo_damping,
         )
         try:
             self.m = mj.MjModel.from_xml_string(mjcf)
@@ -127,6 +128,8 @@ class PhysicsWorld:
         self._root = int(m.jnt_bodyid[0])  # the free joint's body: the root link
         self._powered: dict[int, bool] = dict.fromkeys(self.servos, True)
         self._kp: dict[int, float] = {}
+        # each position servo's controller braking (the MJCF's -kd): off while it is free
+        self._kd = {i: float(m.actuator_biasprm[s.actuator, 2]) for i, s in self.servos.items()}
 
     # ------------------------------------------------------------------ time
 
@@ -236,6 +239,7 @@ class PhysicsWorld:
         m = self.m
         if not self._powered[index]:
             m.dof_damping[s.dof] = back_emf_damping(s.spec)
+            m.actuator_biasprm[s.actuator, 2] = self._kd[index]
             self._powered[index] = True
         if self._kp.get(index) != kp:
             m.actuator_gainprm[s.actuator, 0] = kp
@@ -267,6 +271,7 @@ class PhysicsWorld:
             self.m.dof_damping[s.dof] = free * back_emf_damping(s.spec)
             self.m.actuator_gainprm[s.actuator, 0] = 0.0
             self.m.actuator_biasprm[s.actuator, 1] = 0.0
+            self.m.actuator_biasprm[s.actuator, 2] = 0.0
             self._kp[index] = 0.0
             self._powered[index] = False
 

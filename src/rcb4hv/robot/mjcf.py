@@ -10,7 +10,8 @@ stretch, limp when free); exported on its own (``rcb4hv robot export NAME --form
 the actuators are plain position servos at the default stretch, ready for MuJoCo's viewer or
 a controller.
 
-Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q)`` clamped to the servo's
+Each servo is a MuJoCo ``general`` actuator ``force = kp * (ctrl - q) - kd * qdot`` (kd the
+controller's braking, :func:`~rcb4hv.robot.servos.controller_damping`) clamped to the servo's
 stall torque, on a hinge with the servo's back-EMF damping ``stall_torque / no_load_speed`` and
 the gear train's reflected inertia (``armature``): together a DC motor's straight
 torque-speed line, so a joint can neither push harder than the stall torque nor turn faster
@@ -35,6 +36,7 @@ from rcb4hv.robot.servos import (
     DEFAULT_STRETCH,
     armature,
     back_emf_damping,
+    controller_damping,
     stiffness,
 )
 
@@ -179,6 +181,7 @@ def to_mjcf(
     stretch: int = DEFAULT_STRETCH,
     base_height: float | None = None,
     armature_scale: float = 1.0,
+    damping_scale: float = 1.0,
 ) -> str:
     """The MJCF document of ``model`` (see the module docstring).
 
@@ -186,7 +189,8 @@ def to_mjcf(
     of the robot's feet on the floor, ``stretch`` the ICS stretch (1-127) the exported
     position servos get, ``base_height`` the root link's start height above the floor (m;
     default: the zero pose standing on the floor), ``armature_scale`` a factor on each
-    servo's reflected inertia (1: :func:`armature`; for sensitivity studies).
+    servo's reflected inertia (1: :func:`armature`; for sensitivity studies),
+    ``damping_scale`` one on each servo controller's braking (1: :func:`controller_damping`).
     """
     if base_height is None:
         base_height = -lowest_point(model)
@@ -235,9 +239,10 @@ def to_mjcf(
             )
             continue
         kp = stiffness(spec, stretch)
+        kd = damping_scale * controller_damping(spec)
         lines.append(
             f'    <general name="servo{s.index}" joint={quoteattr(s.joint)} gaintype="fixed" '
-            f'gainprm="{_f(kp)}" biastype="affine" biasprm="0 {_f(-kp)} 0" '
+            f'gainprm="{_f(kp)}" biastype="affine" biasprm="0 {_f(-kp)} {_f(-kd)}" '
             f'forcerange="{_f(-spec.stall_torque)} {_f(spec.stall_torque)}"/>'
         )
     lines += [

@@ -9,10 +9,11 @@ conversions: 1 kgf·cm = 9.80665 N × 0.01 m = 0.0980665 N·m; a no-load speed g
 Travel: a servo turns over the documented positions ``POSITION_MIN..POSITION_MAX``
 (3500..11500, :mod:`rcb4hv.protocol`) around ``CENTER``, :data:`TRAVEL_DEG` (135°) each way.
 
-The model (:func:`stiffness`, :func:`speed_cap`, :func:`armature`, :func:`back_emf_damping`):
-a position servo ``torque = kp (target - angle)`` clamped to the stall torque, kp growing with
-the ICS stretch; the top speed a fraction of the no-load speed set by the ICS speed; a DC
-motor's back-EMF damping and the gear train's reflected inertia. ICS stretch and speed are
+The model (:func:`stiffness`, :func:`controller_damping`, :func:`speed_cap`, :func:`armature`,
+:func:`back_emf_damping`): a position servo ``torque = kp (target - angle) - kd speed``
+clamped to the stall torque, kp growing with the ICS stretch, kd the controller's braking; the
+top speed a fraction of the no-load speed set by the ICS speed; a DC motor's back-EMF damping
+and the gear train's reflected inertia. ICS stretch and speed are
 SetStretch/SetSpeed (12h) values, 1..``STRETCH_MAX`` (:mod:`rcb4hv.protocol.ranges`).
 """
 
@@ -39,6 +40,7 @@ __all__ = [
     "WHEEL_FULL_SCALE_DEG",
     "armature",
     "back_emf_damping",
+    "controller_damping",
     "speed_cap",
     "speed_from_s_per_60deg",
     "stiffness",
@@ -137,6 +139,23 @@ def back_emf_damping(spec: ServoSpec) -> float:
     """Viscous damping (N·m·s/rad) of a powered servo: a DC motor's torque falls linearly
     from the stall torque at rest to 0 at the no-load speed, so b = stall / no-load speed."""
     return spec.stall_torque / spec.no_load_speed
+
+
+def controller_damping(spec: ServoSpec) -> float:
+    """The servo controller's braking gain kd (N·m·s/rad), inside the stall-torque clamp.
+
+    An ICS servo brakes its motor as it nears its target: its EEPROM carries a *damping*
+    setting beside stretch and speed (FACTS.md, "ICS 3.5 on the wire"), a velocity term in its
+    position loop. Kondo gives no conversion to N·m·s/rad, so the figure is chosen: the least
+    braking with which the bare servo settles without overshoot at its stiffest setting
+    (stretch 127), i.e. its own motor and gear train (:func:`armature`) critically damped
+    together with the back-EMF: ``kd = 2 sqrt(kp(127) J) - b``. A servo whose loop rang at
+    its top stretch would be a faulty design; any stretch below that settles slower still.
+    For a KRS-3304R2: 0.29 N·m·s/rad (1.7 x its back-EMF damping). Without it the model's
+    servos leave the rocking of a robot on its feet nearly undamped (a damping ratio near 0.1
+    at the ankles): docs/physics.md, "The servo model"."""
+    kp = stiffness(spec, STRETCH_MAX)
+    return max(0.0, 2.0 * math.sqrt(kp * armature(spec)) - back_emf_damping(spec))
 
 
 WHEEL_FULL_SCALE_DEG = TRAVEL_DEG
