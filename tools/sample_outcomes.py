@@ -9,8 +9,8 @@ judged against what the name promises:
   way, more than sideways, turned less than 45°;
 - step left / right (左 / 右 with ステップ or a walk; side step left, right): the same,
   sideways;
-- turn left / right (旋回 or ターン with 左 / 右; turn left, turn right): no fall, ends
-  upright, turned at least 5° the named way;
+- turn left / right (旋回 or ターン with 左 / 右; turn, rotation with left, right): no fall,
+  ends upright, turned at least 5° the named way;
 - greeting / home pose (挨拶, おじぎ, ホームポジション; greet, bow, home): no fall, upright, moved
   less than 5 cm;
 - lie on the back / front (仰向けになる / うつぶせになる): ends on_back / on_front;
@@ -32,7 +32,9 @@ as a user drives it. Kondo's remote-driven walks read the button word (RAM 0350h
 once when it is not held: played with no button, the KXR-L2 sample's walk back (XL2_110) only
 lifts its arms and puts them down again. ``--no-hold`` plays every motion once with no button
 (``--hold-button none``). A walk or turn names a side with 左 (left) / 右 (right); a walk
-forward / back wins over a step.
+forward / back wins over a step. The hand that carries an object (左掴み, "Left_Grasp") is not
+a side: 左掴み歩行右 is a step right. English names may use underscores for spaces and spell
+forward "foreward" (kxreus's translations).
 
     python tools/sample_outcomes.py /work/samples/khr3hv            # a table per project
     python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
@@ -82,11 +84,21 @@ class Outcome:
     right_no_slip: bool | None = None
 
 
+GRIP_HANDS = ("左掴み", "右掴み", "left grasp", "right grasp", "left grip", "right grip")
+"""Which hand holds an object (左掴み歩行右: walk right holding with the left hand): not the way
+the motion goes, so left out before the side is read."""
+
+TURN_WORDS = ("turn", "rotation", "rotate", "spin")
+
+
 def label_of(name: str) -> str:
     """The label a motion's name promises (see the module docstring)."""
-    low = name.lower()
+    # English names write words with underscores, and kxreus's spell forward "foreward"
+    low = name.lower().replace("_", " ").replace("foreward", "forward")
     if any(m in name or m in low for m in SKIP_MARKS):
         return "not judged"
+    for hand in GRIP_HANDS:
+        name, low = name.replace(hand, ""), low.replace(hand, "")
     left = "左" in name or "left" in low
     right = "右" in name or "right" in low
     side = "left" if left and not right else "right" if right and not left else ""
@@ -105,7 +117,7 @@ def label_of(name: str) -> str:
         m in low for m in ("greet", "bow", "home")
     ):
         return "greeting"
-    if ("旋回" in name or "ターン" in name or "turn" in low) and side:
+    if ("旋回" in name or "ターン" in name or any(w in low for w in TURN_WORDS)) and side:
         return f"turn {side}"
     walking = any(m in name for m in ("歩行", "歩", "ステップ", "移動")) or any(
         m in low for m in ("walk", "step")

@@ -177,3 +177,24 @@ def test_no_slip_judges_each_motions_design_too(project_file: Path) -> None:
     assert both.right_no_slip is True
     assert (both.dx_m, both.dy_m, both.right) == (plain.dx_m, plain.dy_m, plain.right)
     assert "right no slip" in tool._table([both]) and "no slip:" in tool.summary({"p": [both]})
+
+
+@pytest.mark.parametrize(
+    ("name", "label"),
+    [
+        ("XL2G_304_左掴み歩行左", "step left"),
+        ("XL2G_305_左掴み歩行右", "step right"),  # the left hand carries; it steps right
+        ("XL2G_306_左掴み歩行左旋回", "turn left"),
+        ("XL2G_314_右掴み歩行左旋回", "turn left"),
+        ("XL2G_310_右掴み歩行前", "walk forward"),
+        ("XL2GH_05_Slow_Walk_Foreward_5_times", "walk forward"),  # kxreus's spelling
+        ("XL2GH_13_Fast_Walk_Left_Rotation", "turn left"),
+        ("XL2GH_02_Left_Grasp_Walk_Foreward", "walk forward"),
+        ("XL2GH_13_Right_Grasp_Walk_Right", "step right"),
+        ("XL2GH_12_Right_Grasp_Walk_Left", "step left"),
+        ("XL2GH_06_Left_Kick_Shoot", "other"),
+        ("XL2_111_高速歩行左", "step left"),
+    ],
+)
+def test_names_promise_these_outcomes(name: str, label: str) -> None:
+    assert _tool().label_of(name) == label
