@@ -308,3 +308,25 @@ def test_an_arm_yaw_name_is_the_shoulder_yaw() -> None:
     assert det.model.name == "kxr:L2W2L6A4H2"
     assert det.model.servo(22).joint == "r_shoulder_yaw"
     assert det.model.servo(20).joint == "r_ankle_wheel"
+
+
+def test_the_l4r2a3g_front_rolls_on_free_wheels() -> None:
+    """kxreus's L4R2A3G has a passive wheel beside each arm (``:passive-wheel :shoulder``):
+    no servo drives it, and the robot stands on it and its two driven rear wheels."""
+    from rcb4hv.robot.balance import rigid_balance
+
+    _, model = stock("kxr:L4R2A3G")
+    wheels = ("l_arm_wheel", "r_arm_wheel")
+    assert all(model.joint(w).kind == "wheel" for w in wheels)
+    assert all(model.servo_for_joint(w) is None for w in wheels)
+    # its home (kxreus's Hello_KXR-l4r2a3g, counts from 7500): the arms turned forward on the
+    # front yaw joints (∓2667) and raised (arm roll ∓3300, elbow ∓2500)
+    deg = {"front_yaw": 90.0, "arm_roll": -111.4, "arm_elbow": 84.4}
+    home = {j.name: 0.0 for j in model.joints}
+    for base, d in deg.items():
+        home["r_" + base], home["l_" + base] = math.radians(d), math.radians(-d)
+    b = rigid_balance(model, home)
+    assert b.balanced
+    assert set(b.contacts) == {f"{w}_link" for w in (*wheels, "l_rear_wheel", "r_rear_wheel")}
+    _, plain = stock("kxr:L4R2A3")
+    assert not any(j.name.endswith("arm_wheel") for j in plain.joints)

@@ -71,6 +71,9 @@ class Slot:
     #: an accessory (wheel, gripper finger, arm on a wheeled body) that is not there when its
     #: servo is not: its shapes are dropped instead of joining the parent's link
     optional: bool = False
+    #: a joint no servo drives (a free-rolling wheel): a build that has it names it among its
+    #: present slots; it carries no servo case
+    passive: bool = False
 
 
 @dataclass(frozen=True)
@@ -143,7 +146,7 @@ def assemble(
     origin.update({s.name: s.pos for s in template.slots})
     links = {k: tuple(_local(g, origin[k]) for g in v) for k, v in shapes.items()}
     # masses: the family's total, a servo more or less per servo beyond its reference build
-    sided = sum(1 if by_name[p].centre else 2 for p in keep)
+    sided = sum(1 if by_name[p].centre else 2 for p in keep if not by_name[p].passive)
     per_servo = fig("mass.per_servo") * MM
     short = case_shortfall() * MM  # per servo case in kxreus's totals
     if total_mass is not None:  # this build's own total (a weighed build's cases: per link)
@@ -152,7 +155,11 @@ def assemble(
         ref = MASS_SERVOS[template.family]
         total = fig(f"mass.{template.family}") * MM + ref * short + (sided - ref) * per_servo
     parts = {
-        (k or "torso"): (1 if k is None or by_name[k].centre else 2, 0 if k is None else 1, g)
+        (k or "torso"): (
+            1 if k is None or by_name[k].centre else 2,
+            0 if k is None or by_name[k].passive else 1,
+            g,
+        )
         for k, g in links.items()
         if g
     }

@@ -175,6 +175,15 @@ FIGURES: dict[str, Figure] = {
         "KX",
         "eusview kxrl4r2a3.json rarm-elbow-r link's shapes: the arm ends 78 mm beyond the elbow",
     ),
+    "l4r.arm_wheel": _f(
+        (25.5, 0.0, 0.0),
+        "mm",
+        "KX",
+        "eusview kxrl4r2a3g.json larm-shoulder-w: the L4R2A3G's passive wheel (kxreus's "
+        "`:passive-wheel :shoulder`), its joint at the arm's roll joint, turning about x (at "
+        "the zero pose), its disc (wheel.radius, wheel.width) centred this far out along x; "
+        "no servo drives it (the project's servo table has none)",
+    ),
     "r4ll.hip": _f(
         (64.5, 48.0, 0.0),
         "mm",

@@ -7,6 +7,7 @@ torso boxes are named choices (``_TORSO``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 from rcb4hv.robot.kit.assembly import Slot, Template, box, cylinder_y, segment
@@ -473,6 +474,18 @@ def _four(family: Family) -> Template:
             _slot("gripper", "arm_elbow", grip, "grip", (-100, 100),
                   (box((35, 10, 14), _add(grip, (0, 17.5, 0)), True),)),
         ]  # fmt: skip
+        # the L4R2A3G's front rolls on a free wheel beside each arm (kit.build: passive_slots)
+        disc = _add(roll, vec("l4r.arm_wheel"))
+        tyre = Geom(
+            "cylinder",
+            (fig("wheel.radius"), fig("wheel.width"), 0.0),
+            disc,
+            rpy=(0.0, math.pi / 2, 0.0),
+            rgba=(0.1, 0.1, 0.1, 1.0),
+        )
+        x_axis = (1.0, 0.0, 0.0)
+        wheel = _slot("arm_wheel", "front_yaw", roll, "wheel", WHEEL_LIMITS, (tyre,), axis=x_axis)
+        arm.append(replace(wheel, passive=True))
         slots += [replace(s, optional=True) for s in arm]
     slots += _neck(family, vec("l4t.neck"), 3 if family == "L4N" else 1)
     size, centre = _TORSO["L4T"]
