@@ -30,7 +30,7 @@ from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, ServoSpec, Vec
 from rcb4hv.robot.servos import KRS_3304R2
 from rcb4hv.robot.shapes import solid_many
 
-__all__ = ["Slot", "Template", "assemble", "box", "cylinder_y", "segment"]
+__all__ = ["Slot", "Template", "assemble", "box", "cylinder_x", "cylinder_y", "segment"]
 
 MM = 0.001
 _DARK, _LIGHT = (0.2, 0.2, 0.22, 1.0), (0.9, 0.9, 0.92, 1.0)
@@ -45,6 +45,11 @@ def box(size: Vec3, centre: Vec3, light: bool = False) -> Geom:
 def cylinder_y(radius: float, width: float, centre: Vec3) -> Geom:
     """A wheel: a cylinder with its axis along y (mm, robot frame)."""
     return Geom("cylinder", (radius, width, 0.0), centre, rpy=(math.pi / 2, 0.0, 0.0), rgba=_TYRE)
+
+
+def cylinder_x(radius: float, width: float, centre: Vec3) -> Geom:
+    """A wheel: a cylinder with its axis along x (mm, robot frame)."""
+    return Geom("cylinder", (radius, width, 0.0), centre, rpy=(0.0, math.pi / 2, 0.0), rgba=_TYRE)
 
 
 def segment(a: Vec3, b: Vec3, thick: float = 26.0, light: bool = False) -> Geom:

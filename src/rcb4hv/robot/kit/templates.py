@@ -7,10 +7,9 @@ torso boxes are named choices (``_TORSO``).
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
-from rcb4hv.robot.kit.assembly import Slot, Template, box, cylinder_y, segment
+from rcb4hv.robot.kit.assembly import Slot, Template, box, cylinder_x, cylinder_y, segment
 from rcb4hv.robot.kit.code import Family, KitCode
 from rcb4hv.robot.kit.figures import fig, vec
 from rcb4hv.robot.kxr import SOLE_STEPS, SOLE_TOP
@@ -476,13 +475,7 @@ def _four(family: Family) -> Template:
         ]  # fmt: skip
         # the L4R2A3G's front rolls on a free wheel beside each arm (kit.build: passive_slots)
         disc = _add(roll, vec("l4r.arm_wheel"))
-        tyre = Geom(
-            "cylinder",
-            (fig("wheel.radius"), fig("wheel.width"), 0.0),
-            disc,
-            rpy=(0.0, math.pi / 2, 0.0),
-            rgba=(0.1, 0.1, 0.1, 1.0),
-        )
+        tyre = cylinder_x(fig("wheel.radius"), fig("wheel.width"), disc)
         x_axis = (1.0, 0.0, 0.0)
         wheel = _slot("arm_wheel", "front_yaw", roll, "wheel", WHEEL_LIMITS, (tyre,), axis=x_axis)
         arm.append(replace(wheel, passive=True))
