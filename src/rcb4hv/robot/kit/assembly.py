@@ -76,9 +76,13 @@ class Slot:
     #: an accessory (wheel, gripper finger, arm on a wheeled body) that is not there when its
     #: servo is not: its shapes are dropped instead of joining the parent's link
     optional: bool = False
-    #: a joint no servo drives (a free-rolling wheel): a build that has it names it among its
-    #: present slots; it carries no servo case
-    passive: bool = False
+    #: a joint no servo drives (a free-rolling wheel), there when the slot named here is (the
+    #: L4R2A3G's free wheels come with its grippers); it carries no servo case
+    passive_with: str | None = None
+
+    @property
+    def passive(self) -> bool:
+        return self.passive_with is not None
 
 
 @dataclass(frozen=True)
@@ -130,6 +134,7 @@ def assemble(
     if unknown:
         raise RobotModelError(f"{template.family}: no such joint in this frame: {unknown}")
     keep = set(present)
+    keep |= {s.name for s in template.slots if s.passive_with in keep}
 
     def owner(slot: str | None) -> str | None:
         """The nearest present slot at or above ``slot`` (None: the torso)."""

@@ -150,7 +150,6 @@ def kit_model(
     jm = dict(joint_map) if joint_map is not None else stock_joint_map(code)
     bases = sorted({j[2:] if j[:2] in ("l_", "r_") else j for j in jm})
     text = canonical_code(code, bases)
-    bases += passive_slots(text)
     home = {
         j: math.radians(jm[j][1] * counts / COUNTS_PER_DEGREE)
         for j, counts in (home_counts or {}).items()
@@ -186,13 +185,6 @@ def kit_model(
         total_mass=_total_mass(text),
         link_masses=per_link,
     )
-
-
-def passive_slots(text: str) -> list[str]:
-    """The joints of the build ``text`` (its canonical code) that no servo drives: the
-    L4R2A3G's front rolls on a free wheel beside each arm (kxreus's ``:passive-wheel
-    :shoulder``, figure ``l4r.arm_wheel``); kxreus's L4R2A3 without grippers has none."""
-    return ["arm_wheel"] if text == "L4R2A3G" else []
 
 
 def _shared(jm: Mapping[str, tuple[int, int]]) -> int:

@@ -473,12 +473,12 @@ def _four(family: Family) -> Template:
             _slot("gripper", "arm_elbow", grip, "grip", (-100, 100),
                   (box((35, 10, 14), _add(grip, (0, 17.5, 0)), True),)),
         ]  # fmt: skip
-        # the L4R2A3G's front rolls on a free wheel beside each arm (kit.build: passive_slots)
+        # the L4R2A3G's front rolls on a free wheel beside each arm: kxreus builds them with
+        # its grippers (`:passive-wheel :shoulder`), not on the L4R2A3
         disc = _add(roll, vec("l4r.arm_wheel"))
         tyre = cylinder_x(fig("wheel.radius"), fig("wheel.width"), disc)
-        x_axis = (1.0, 0.0, 0.0)
-        wheel = _slot("arm_wheel", "front_yaw", roll, "wheel", WHEEL_LIMITS, (tyre,), axis=x_axis)
-        arm.append(replace(wheel, passive=True))
+        wheel = _slot("arm_wheel", "front_yaw", roll, "wheel", WHEEL_LIMITS, (tyre,), axis=_X)
+        arm.append(replace(wheel, passive_with="gripper"))
         slots += [replace(s, optional=True) for s in arm]
     slots += _neck(family, vec("l4t.neck"), 3 if family == "L4N" else 1)
     size, centre = _TORSO["L4T"]
