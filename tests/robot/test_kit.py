@@ -330,3 +330,17 @@ def test_the_l4r2a3g_front_rolls_on_free_wheels() -> None:
     assert set(b.contacts) == {f"{w}_link" for w in (*wheels, "l_rear_wheel", "r_rear_wheel")}
     _, plain = stock("kxr:L4R2A3")
     assert not any(j.name.endswith("arm_wheel") for j in plain.joints)
+
+
+def test_the_l4r2a3_front_yaw_is_an_arm_bracket_whatever_the_title_says() -> None:
+    """Kondo's Hello_KXR-l4r2a3 is titled ``Hello_KXR-L4R``: its servo names make it the
+    L4R2A3, and its front yaw joints then carry arms, not the L4R's wheel legs (kxreus's
+    kxrl4r2a3 rarm-shoulder-y: a bracket out to the shoulder roll, nothing below the joint)."""
+    _, arms = stock("kxr:L4R2A3")
+    det = detect_kit("Hello_KXR-L4R", names_for(arms))
+    _, legs = stock("kxr:L4R")
+    for model, lowest in ((det.model, -0.0131), (legs, -0.0236)):
+        link = model.link("l_front_yaw_link")
+        bottom = min(g.pos[2] - g.size[2] / 2 for g in link.geoms)
+        assert bottom == pytest.approx(lowest, abs=1e-3), model.name
+    assert det.model.name == "kxr:L4R2A3"

@@ -175,7 +175,7 @@ def kit_model(
     }
     src.update(sources or {})
     return assemble(
-        template(code),
+        template(code, arms="arm_roll" in bases),
         bases,
         jm,
         name="kxr:" + text,

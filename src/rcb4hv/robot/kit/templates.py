@@ -354,7 +354,8 @@ def _neck(family: Family, base: Vec3, pitches: int) -> list[Slot]:
     return out
 
 
-def _four(family: Family) -> Template:
+def _four(family: Family, arms: bool = False) -> Template:
+    """A four-legged frame; ``arms``: the L4R2A3(G) build, whose front limbs are arms."""
     slots: list[Slot] = []
     if family == "L4D":
         for limb, sx in (("front", 1.0), ("rear", -1.0)):
@@ -446,8 +447,12 @@ def _four(family: Family) -> Template:
         y = (sx * hip[0], hip[1], hip[2])
         if family == "L4R":
             w = _add(y, vec("l4r.wheel"))
+            # the L4R2A3's front yaw joint carries an arm, not a wheel leg: its part is the
+            # bracket out to the shoulder roll (kxrl4r2a3.json rarm-shoulder-y: 17 g, nothing
+            # below the joint), so nothing of a front leg reaches the floor
+            end = _add(y, vec("l4r.shoulder")) if arms and limb == "front" else w
             slots += [
-                _slot(f"{limb}_yaw", None, y, "yaw", (-110, 110), (segment(y, w),)),
+                _slot(f"{limb}_yaw", None, y, "yaw", (-110, 110), (segment(y, end),)),
                 _wheel_slot(
                     f"{limb}_wheel", f"{limb}_yaw", _add(w, (0.0, fig("wheel.axle_offset"), 0.0))
                 ),
@@ -485,10 +490,11 @@ def _four(family: Family) -> Template:
     return Template(family, (box(size, centre, True),), tuple(slots))
 
 
-def template(code: KitCode) -> Template:
-    """The frame of the kit ``code`` describes."""
+def template(code: KitCode, *, arms: bool | None = None) -> Template:
+    """The frame of the kit ``code`` describes; ``arms``: whether a four-legged body carries
+    arms (default: whether the code says so; a project's servo names may say it instead)."""
     if code.family == "humanoid":
         return _humanoid(code)
     if code.family == "L6":
         return _six()
-    return _four(code.family)
+    return _four(code.family, arms=bool(code.arms) if arms is None else arms)
