@@ -18,8 +18,18 @@ from rcb4hv.physics.sensors import SensorLayout
 
 __all__ = ["NOT_FACTORS", "PhysicsOptions"]
 
-NOT_FACTORS = ("floor_tilt_deg", "floor_tilt_dir_deg", "deadband_deg")
+NOT_FACTORS = (
+    "floor_tilt_deg",
+    "floor_tilt_dir_deg",
+    "deadband_deg",
+    "carry_left_g",
+    "carry_right_g",
+)
 """The :class:`PhysicsOptions` fields that are figures of their own (0 = none), not factors."""
+
+MAX_CARRY_G = 2000.0
+"""The heaviest load a hand may carry in a what-if (g): beyond any KRS servo's stall torque at
+a KXR's arm length, so no plausible study needs more."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,6 +61,11 @@ class PhysicsOptions:
     deadband_deg: float = 0.0
     """A servo's dead band (degrees, 0..5; not a factor): it keeps its target until the
     commanded angle moves further than this from it (ICS servos have a dead-band setting)."""
+    carry_left_g: float = 0.0
+    """An object in the left hand (grams, 0..2000; not a factor): a point mass at the hand's
+    tip (:mod:`rcb4hv.physics.load`). No project says what its carrying motions carry."""
+    carry_right_g: float = 0.0
+    """An object in the right hand (grams, 0..2000; not a factor)."""
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.floor_tilt_deg <= 45.0:
@@ -59,6 +74,12 @@ class PhysicsOptions:
             )
         if not 0.0 <= self.deadband_deg <= 5.0:
             raise ValueError(f"PhysicsOptions.deadband_deg must be 0..5, not {self.deadband_deg!r}")
+        for name in ("carry_left_g", "carry_right_g"):
+            if not 0.0 <= getattr(self, name) <= MAX_CARRY_G:
+                raise ValueError(
+                    f"PhysicsOptions.{name} must be 0..{MAX_CARRY_G:g} g, "
+                    f"not {getattr(self, name)!r}"
+                )
         for f in fields(self):
             if f.name in NOT_FACTORS:
                 continue

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
+from rcb4hv.physics.load import add_load
 from rcb4hv.physics.options import PhysicsOptions
 from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
 from rcb4hv.robot.mjcf import FLOOR_FRICTION, TIMESTEP, to_mjcf
@@ -106,6 +107,10 @@ class PhysicsWorld:
             m.body_inertia[:] *= opts.mass
         if opts.floor_tilt_deg:
             m.opt.gravity[:] = opts.gravity(-float(m.opt.gravity[2]))
+        if opts.carry_left_g:
+            add_load(mj, m, model, "left", opts.carry_left_g)
+        if opts.carry_right_g:
+            add_load(mj, m, model, "right", opts.carry_right_g)
         self.d = mj.MjData(self.m)
         self.servos: dict[int, _Servo] = {}
         for s in model.servos:
