@@ -77,6 +77,30 @@ def test_builds_without_per_link_figures_share_their_total() -> None:
     assert model.mass == pytest.approx((fig("mass.L2L6A7H2G") + 30 * short) / 1000)
 
 
+@pytest.mark.parametrize(
+    ("code", "weighed", "cases"),
+    [("kxr:L2L6A7H2G", "L2L6A6H2G", 5), ("kxr:L2L5A3H2G", "L2W2L5A3H2G", 3)],
+)
+def test_an_unweighed_humanoid_has_the_weighed_torso_less_its_servo_cases(
+    code: str, weighed: str, cases: int
+) -> None:
+    """One KXR humanoid torso (board, battery box, back pack, frames) in every build: a build
+    kxreus does not weigh link by link takes the weighed build's torso with the same legs,
+    less the servo cases on it (those servos weigh in with their joints' links), and keeps its
+    own total. The weighed torsos agree on their contents within 10 g."""
+    _, model = stock(code)
+    source = link_figures(weighed)["torso"]
+    torso = model.link("torso").inertial
+    assert torso.mass == pytest.approx((source.mass - cases * fig("servo.mass")) / 1000)
+    assert torso.com == pytest.approx(tuple(c / 1000 for c in source.com))
+    contents = [
+        link_figures(b)["torso"].mass - fig(f"lcases.{b}.torso") * fig("servo.mass")
+        for b in ("L2W2L5A3H2G", "L2L6A6H2G", "L2W2L6A4H2G")
+    ]
+    assert max(contents) - min(contents) < 10.0
+    # and the build's own total stays (test_builds_without_per_link_figures_share_their_total)
+
+
 @pytest.mark.parametrize(("code", "family"), [("kxr:L4T", "L4T"), ("kxr:L6", "L6")])
 def test_family_totals_count_their_servos_at_the_krs_3304r2s_mass(code: str, family: str) -> None:
     _, model = stock(code)

@@ -14,7 +14,14 @@ from rcb4hv.protocol.memory import COUNTS_PER_DEGREE
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.code import KitCode
 from rcb4hv.robot.kit.convention import SHORT_LEG_ROLL, SIGNS, STOCK, STOCK_VARIANTS, arm_signs
-from rcb4hv.robot.kit.figures import FIGURES, SOURCES, fig, link_figures
+from rcb4hv.robot.kit.figures import (
+    FIGURES,
+    SOURCES,
+    WEIGHED_TORSO,
+    fig,
+    link_figures,
+    torso_contents,
+)
 from rcb4hv.robot.kit.templates import template
 from rcb4hv.robot.model import RobotModel
 
@@ -117,6 +124,13 @@ def stock_joint_map(
     return out
 
 
+def _legs(joints: list[str]) -> int:
+    """Axes a humanoid's leg has, from its base joint names."""
+    if "knee_pitch" not in joints:
+        return 2
+    return 6 if "hip_yaw" in joints else 5 if "ankle_roll" in joints else 4
+
+
 def canonical_code(code: KitCode, joints: list[str]) -> str:
     """The code of the build whose base joints are ``joints`` (``L2W2L6A4H2G``, ``L6``)."""
     if code.family == "L4R" and "arm_roll" in joints:
@@ -124,10 +138,7 @@ def canonical_code(code: KitCode, joints: list[str]) -> str:
     if code.family != "humanoid":
         return code.family + ("H4" if code.family == "L4N" and "neck_pitch3" in joints else "")
     have = set(joints)
-    if "knee_pitch" not in have:
-        legs = 2
-    else:
-        legs = 6 if "hip_yaw" in have else 5 if "ankle_roll" in have else 4
+    legs = _legs(joints)
     arms = sum(1 for j in _ARM if j in have) + (1 if "elbow_yaw" in have else 0)
     head = sum(1 for j in ("neck_yaw", "neck_pitch") if j in have)
     text = "L2" + ("W2" if "ankle_wheel" in have else "")
@@ -171,7 +182,17 @@ def kit_model(
             else f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
             "KRS-3304R2 per servo more or fewer"
         )
-        + ("" if per_link else ", shared over the links by servo and shape volume"),
+        + (
+            ""
+            if per_link
+            else ", shared over the links by servo and shape volume"
+            + (
+                "; the torso's contents from the weighed build with the same legs "
+                "(figures.torso_contents)"
+                if code.family == "humanoid" and _legs(bases) in WEIGHED_TORSO
+                else ""
+            )
+        ),
     }
     src.update(sources or {})
     return assemble(
@@ -184,6 +205,7 @@ def kit_model(
         home=home,
         total_mass=_total_mass(text),
         link_masses=per_link,
+        torso=None if per_link or code.family != "humanoid" else torso_contents(_legs(bases)),
     )
 
 

@@ -306,6 +306,26 @@ def link_figures(code: str) -> dict[str, LinkFigure]:
     return out
 
 
+# the weighed humanoid builds whose torso stands for every build with the same legs: the KXR
+# humanoid torso is one set of parts (board, battery box, back pack, frames) whatever the arms
+WEIGHED_TORSO = {5: "L2W2L5A3H2G", 6: "L2L6A6H2G"}
+
+
+def torso_contents(legs: int) -> LinkFigure | None:
+    """What a KXR humanoid's torso weighs without the servo cases on it, from the weighed
+    build with ``legs``-axis legs (:data:`WEIGHED_TORSO`), for a build no source weighs link
+    by link: its board, battery box, back pack and frames. The servos on the torso (hip,
+    shoulder and neck servos, by build) are counted with their own joints' links, as every
+    servo of such a build is; the centre and moments stay the weighed torso's. None for legs
+    no weighed build has (the two-axis legs of the kxra6g bases)."""
+    code = WEIGHED_TORSO.get(legs)
+    if code is None:
+        return None
+    torso = link_figures(code)["torso"]
+    cases = fig(f"lcases.{code}.torso")
+    return LinkFigure(torso.mass - cases * fig("servo.mass"), torso.com, torso.inertia)
+
+
 def provenance_markdown() -> str:
     """The provenance table as Markdown (docs/robots.md carries it; a test keeps them equal)."""
     rows = ["| source | what | licence |", "|---|---|---|"]
