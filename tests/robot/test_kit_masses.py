@@ -10,7 +10,7 @@ import pytest
 from rcb4hv.robot.kit import kit_model
 from rcb4hv.robot.kit.assembly import assemble
 from rcb4hv.robot.kit.build import stock_joint_map
-from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, fig, link_figures
+from rcb4hv.robot.kit.figures import LEG_SLOTS, MASS_SERVOS, LinkFigure, fig, link_figures
 from rcb4hv.robot.kit.templates import template
 from tests.robot.kit_names import names_for, stock
 
@@ -99,6 +99,39 @@ def test_an_unweighed_humanoid_has_the_weighed_torso_less_its_servo_cases(
     ]
     assert max(contents) - min(contents) < 10.0
     # and the build's own total stays (test_builds_without_per_link_figures_share_their_total)
+
+
+@pytest.mark.parametrize(
+    ("code", "weighed", "slots"),
+    [
+        ("kxr:L2L6A7H2G", "L2L6A6H2G", LEG_SLOTS),
+        ("kxr:L2L5A3H2G", "L2L6A6H2G", LEG_SLOTS[1:]),
+        ("kxr:L2W2L6A5H2G", "L2W2L6A4H2G", (*LEG_SLOTS, "ankle_wheel")),
+        ("kxr:L2W2L5A4H2G", "L2W2L5A3H2G", (*LEG_SLOTS[1:], "ankle_wheel")),
+    ],
+)
+def test_an_unweighed_humanoid_has_the_weighed_legs(
+    code: str, weighed: str, slots: tuple[str, ...]
+) -> None:
+    """The same leg parts weigh the same in every build: a build no source weighs link by
+    link takes each leg link's mass, centre and moments from the weighed build with the same
+    legs (the five-axis leg is the six-axis one below its hip yaw; kxrl2g.l's five-axis leg
+    links are those, their cases at 27.73 g). The hip yaw link carries its servo's case,
+    which the weighed build counts in its torso."""
+    _, model = stock(code)
+    source = link_figures(weighed)
+    for slot in slots:
+        link = model.link(f"l_{slot}_link").inertial
+        extra = fig("servo.mass") if slot == "hip_yaw" else 0.0
+        assert link.mass == pytest.approx((source[slot].mass + extra) / 1000), slot
+        if source[slot].com is not None:
+            com = source[slot].com
+            assert link.com == pytest.approx((com[0] / 1000, com[1] / 1000, com[2] / 1000))
+    # kxrl2g.l's five-axis leg (kxr.py), each case brought to a KRS-3304R2's mass
+    short = fig("servo.mass") - fig("servo.mass_kxreus")
+    five = {"hip_roll": 78.374 + 2 * short, "hip_pitch": 22.434, "knee_pitch": 54.3 + short}
+    for slot, grams in five.items():
+        assert link_figures("L2L6A6H2G")[slot].mass == pytest.approx(grams, abs=0.1), slot
 
 
 @pytest.mark.parametrize(("code", "family"), [("kxr:L4T", "L4T"), ("kxr:L6", "L6")])

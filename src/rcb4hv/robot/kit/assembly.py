@@ -12,8 +12,9 @@ takes its mass and centre of mass from there. Otherwise the build's own whole-ro
 where kxreus gives one, else the family's (``figures.MASS_SERVOS`` build) plus or minus one
 servo per servo more or fewer, spread as :func:`rcb4hv.robot.humanoid.distribute_mass`
 does: each link carries its servo case, the rest is shared by shape volume; a humanoid's
-torso first takes its contents (board, battery box, back pack, frames) from the weighed build
-with the same legs (``figures.torso_contents``). kxreus weighs
+torso and leg links first take their figures from the weighed build with the same legs
+(``figures.torso_contents``, ``figures.weighed_legs``): the same parts weigh the same in
+every build. kxreus weighs
 every servo case at 27.73 g, a KRS-3301's (``servo.mass_kxreus``; KXR-KITS.md §3.1), so such
 a total counts each servo of its build short of a KRS-3304R2 (``servo.mass``): the
 difference is added per servo (a weighed build's links get it per case they carry).
@@ -124,16 +125,16 @@ def assemble(
     servo: ServoSpec = KRS_3304R2,
     total_mass: float | None = None,
     link_masses: Mapping[str, LinkFigure] | None = None,
-    torso: LinkFigure | None = None,
+    borrowed: Mapping[str, LinkFigure] | None = None,
 ) -> RobotModel:
     """The model of ``template`` with the slots ``present`` (base names); ``joint_map``: full
     joint name (``l_knee_pitch``, ``neck_yaw``) -> (servo index, sign); ``total_mass`` (kg):
     the build's own whole-robot mass when a source gives it (else the family's, see the
     module docstring); ``link_masses``: slot (``torso`` for the body) -> what a source gives
     of that link (mass, centre of mass, moments of inertia): those links take them, the
-    others share what is left of the total; ``torso``: the body's figures from another build
-    with the same torso, for a build the source does not weigh link by link (its total, and
-    so the case correction, stay this build's)."""
+    others share what is left of the total; ``borrowed``: slot -> the figures of the same
+    part in another build, for a build the source does not weigh link by link (its total,
+    and so the case correction, stay this build's)."""
     by_name = {s.name: s for s in template.slots}
     unknown = [p for p in present if p not in by_name]
     if unknown:
@@ -178,9 +179,7 @@ def assemble(
         for k, g in links.items()
         if g
     }
-    known = dict(link_masses or {})
-    if torso is not None and "torso" not in known:
-        known["torso"] = torso
+    known = {**(borrowed or {}), **(link_masses or {})}
     masses = _masses(total, per_servo, parts, known)
     given = {k: f for k, f in known.items() if k in parts}
     com = {k: _scaled(f.com, MM) for k, f in given.items() if f.com is not None}

@@ -17,10 +17,11 @@ from rcb4hv.robot.kit.convention import SHORT_LEG_ROLL, SIGNS, STOCK, STOCK_VARI
 from rcb4hv.robot.kit.figures import (
     FIGURES,
     SOURCES,
-    WEIGHED_TORSO,
+    LinkFigure,
     fig,
     link_figures,
     torso_contents,
+    weighed_legs,
 )
 from rcb4hv.robot.kit.templates import template
 from rcb4hv.robot.model import RobotModel
@@ -187,9 +188,9 @@ def kit_model(
             if per_link
             else ", shared over the links by servo and shape volume"
             + (
-                "; the torso's contents from the weighed build with the same legs "
-                "(figures.torso_contents)"
-                if code.family == "humanoid" and _legs(bases) in WEIGHED_TORSO
+                "; the torso's contents and the leg links from the weighed build with the "
+                "same legs (figures.torso_contents, figures.weighed_legs)"
+                if code.family == "humanoid" and _borrowed(bases)
                 else ""
             )
         ),
@@ -205,8 +206,19 @@ def kit_model(
         home=home,
         total_mass=_total_mass(text),
         link_masses=per_link,
-        torso=None if per_link or code.family != "humanoid" else torso_contents(_legs(bases)),
+        borrowed=None if per_link or code.family != "humanoid" else _borrowed(bases),
     )
+
+
+def _borrowed(bases: list[str]) -> dict[str, LinkFigure]:
+    """The weighed builds' torso contents and leg links for a humanoid build no source
+    weighs link by link (``figures.torso_contents``, ``figures.weighed_legs``)."""
+    legs = _legs(bases)
+    out = weighed_legs(legs, "ankle_wheel" in bases)
+    torso = torso_contents(legs)
+    if torso is not None:
+        out["torso"] = torso
+    return out
 
 
 def _shared(jm: Mapping[str, tuple[int, int]]) -> int:

@@ -326,6 +326,37 @@ def torso_contents(legs: int) -> LinkFigure | None:
     return LinkFigure(torso.mass - cases * fig("servo.mass"), torso.com, torso.inertia)
 
 
+# the leg links a build no source weighs takes from the weighed build with the same legs:
+# (leg axes, ankle wheels) -> build. The five-axis leg is the six-axis one below its hip yaw
+# (kxrl2l6a6h2.json's hip-roll to foot links are kxrl2g.l's five-axis leg links, their servo
+# cases at 27.73 g: 78.374, 22.434, 54.3, 78.374, 38.432 g)
+WEIGHED_LEGS = {
+    (6, False): "L2L6A6H2G",
+    (5, False): "L2L6A6H2G",
+    (6, True): "L2W2L6A4H2G",
+    (5, True): "L2W2L5A3H2G",
+}
+LEG_SLOTS = ("hip_yaw", "hip_roll", "hip_pitch", "knee_pitch", "ankle_pitch", "ankle_roll")
+
+
+def weighed_legs(legs: int, wheels: bool) -> dict[str, LinkFigure]:
+    """Slot -> the figures of the leg links of the weighed build with the same legs
+    (:data:`WEIGHED_LEGS`), for a humanoid build no source weighs link by link: the same
+    parts weigh the same in every build. A six-axis hip yaw link takes the case of its servo,
+    which the weighed build counts in its torso (:func:`torso_contents` lends the torso
+    without it). Empty for legs no weighed build has."""
+    code = WEIGHED_LEGS.get((legs, wheels))
+    if code is None:
+        return {}
+    have = link_figures(code)
+    slots = LEG_SLOTS[1 if legs == 5 else 0 :] + (("ankle_wheel",) if wheels else ())
+    out = {s: have[s] for s in slots if s in have}
+    if "hip_yaw" in out:
+        yaw = out["hip_yaw"]
+        out["hip_yaw"] = LinkFigure(yaw.mass + fig("servo.mass"), yaw.com, yaw.inertia)
+    return out
+
+
 def provenance_markdown() -> str:
     """The provenance table as Markdown (docs/robots.md carries it; a test keeps them equal)."""
     rows = ["| source | what | licence |", "|---|---|---|"]
