@@ -50,23 +50,18 @@ def add_load(mj: Any, m: Any, model: RobotModel, side: Side, grams: float) -> st
     link = hand_link(model, side)
     body = int(m.body(link).id)
     load = grams / 1000.0
-    tip = effector_point(model, link)
+    tip = np.array(effector_point(model, link))
     m0 = float(m.body_mass[body])
-    old = [float(v) for v in m.body_ipos[body]]
-    total = m0 + load
-    com = [(m0 * old[k] + load * tip[k]) / total for k in range(3)]
-    # offsets of the link's own centre and of the load from the new centre, on the link's
-    # principal axes (body_iquat turns those axes into the body frame)
+    old = np.array(m.body_ipos[body], dtype=float)
+    com = (m0 * old + load * tip) / (m0 + load)
+    # the link's own centre and the load, offset from the new centre on the link's principal
+    # axes (body_iquat turns those axes into the body frame): their parallel-axis terms
     inv = np.zeros(4)
     mj.mju_negQuat(inv, m.body_iquat[body])
-    axes = []
     for point, mass in ((old, m0), (tip, load)):
-        out = np.zeros(3)
-        mj.mju_rotVecQuat(out, np.array([point[k] - com[k] for k in range(3)]), inv)
-        axes.append(([float(v) for v in out], mass))
-    for k in range(3):
-        extra = sum(mass * (sum(v * v for v in d) - d[k] * d[k]) for d, mass in axes)
-        m.body_inertia[body][k] += extra
-    m.body_mass[body] = total
+        d = np.zeros(3)
+        mj.mju_rotVecQuat(d, point - com, inv)
+        m.body_inertia[body] += mass * (d @ d - d * d)
+    m.body_mass[body] = m0 + load
     m.body_ipos[body] = com
     return link

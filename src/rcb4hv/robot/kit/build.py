@@ -169,6 +169,7 @@ def kit_model(
     }
     used = sorted({FIGURES[k].source for k in FIGURES})
     per_link = link_figures(text)
+    borrowed = {} if per_link or code.family != "humanoid" else _borrowed(bases)
     src = {
         "dimensions": "rcb4hv.robot.kit.figures (one row per figure, with its source); "
         + "; ".join(f"{k}: {SOURCES[k][0]} ({SOURCES[k][1]})" for k in used),
@@ -183,16 +184,12 @@ def kit_model(
             else f"{code.family} whole-robot mass (figures mass.{code.family}) ± one "
             "KRS-3304R2 per servo more or fewer"
         )
+        + ("" if per_link else ", shared over the links by servo and shape volume")
         + (
-            ""
-            if per_link
-            else ", shared over the links by servo and shape volume"
-            + (
-                "; the torso's contents and the leg links from the weighed build with the "
-                "same legs (figures.torso_contents, figures.weighed_legs)"
-                if code.family == "humanoid" and _borrowed(bases)
-                else ""
-            )
+            "; the torso's contents and the leg links from the weighed build with the same "
+            "legs (figures.torso_contents, figures.weighed_legs)"
+            if borrowed
+            else ""
         ),
     }
     src.update(sources or {})
@@ -206,7 +203,7 @@ def kit_model(
         home=home,
         total_mass=_total_mass(text),
         link_masses=per_link,
-        borrowed=None if per_link or code.family != "humanoid" else _borrowed(bases),
+        borrowed=borrowed,
     )
 
 
