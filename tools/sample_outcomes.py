@@ -25,6 +25,11 @@ and that travel judged by the same rule as if the robot stayed upright (``right_
 the motion's design against its name, beside what the simulated robot did. A robot on
 wheels has no no-slip travel.
 
+With ``--mirror`` every walk, step and turn is mirrored left <-> right in its own slot
+(``project mirror``) and its mirror image judged instead: a walk forward still walks forward,
+a step or turn left must go right (issue 24: "mirrored walks, steps and turns go the other
+way"); a motion ``project mirror`` refuses counts as wrong.
+
 Routines called by other motions (ルーチン) are listed but not judged. Every motion is
 played as ``project simulate`` plays it by default: one that reads the remote with the button
 it loops on held for 3 s (``--hold-button bound``, :func:`rcb4hv.project.run.bound_buttons`),
@@ -40,6 +45,7 @@ forward "foreward" (kxreus's translations).
     python tools/sample_outcomes.py Hello_KHR3.h4p --json > out.json
     python tools/sample_outcomes.py DIR --robot khr3hv --motion 16 --motion 17
     python tools/sample_outcomes.py DIR --what-if friction=0.5         # on a changed model
+    python tools/sample_outcomes.py DIR --mirror                       # mirror images
     make samples SAMPLES=DIR                                         # and a summary
 
 The rcb4hv it runs is the one ``python -m rcb4hv`` imports (``PYTHONPATH`` picks a tree).
@@ -251,6 +257,74 @@ def project_outcomes(
     return out
 
 
+MIRRORED = {
+    "walk forward": "walk forward", "walk back": "walk back",
+    "step left": "step right", "step right": "step left",
+    "turn left": "turn right", "turn right": "turn left",
+}  # fmt: skip
+"""What a motion's mirror image (``project mirror``) must do, by the original's label."""
+
+
+def _cli(args: list[str]) -> subprocess.CompletedProcess[str]:
+    cmd = [sys.executable, "-m", "rcb4hv", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
+
+
+def mirrored_outcomes(
+    file: Path,
+    robot: str | None,
+    slots: list[int],
+    hold: bool = True,
+    what_if: tuple[str, ...] = (),
+) -> list[Outcome]:
+    """Every walk, step and turn of ``file`` (or of ``slots``) mirrored left <-> right in its
+    own slot (``project mirror``, one after another into a temporary copy), played and
+    judged against the mirrored label: a walk forward still walks forward, a step or turn
+    left goes right. A motion ``project mirror`` refuses counts as wrong."""
+    import tempfile
+
+    done = _cli(["project", "info", str(file), "--json"])
+    if done.returncode:
+        raise SystemExit(f"{file}: project info failed: {done.stderr.strip()}")
+    names = {int(m["slot"]): str(m["name"]) for m in json.loads(done.stdout)["motions"]}
+    wanted = {
+        slot: MIRRORED[label_of(name)]
+        for slot, name in names.items()
+        if label_of(name) in MIRRORED and (not slots or slot in slots)
+    }
+    base = ["--robot", robot] if robot else []
+    refused: dict[int, str] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        current = file
+        for i, slot in enumerate(sorted(wanted)):
+            nxt = Path(tmp) / f"mirror{i}.h4p"
+            r = _cli(["project", "mirror", str(current), "--motion", str(slot), "-o", str(nxt),
+                      *base])  # fmt: skip
+            if r.returncode:
+                refused[slot] = (r.stderr.strip().splitlines() or ["?"])[-1]
+                continue
+            current = nxt
+        played = [s for s in sorted(wanted) if s not in refused]
+        extra = [*base, *(a for w in what_if for a in ("--what-if", w))]
+        if not hold:
+            extra += ["--hold-button", "none"]
+        motions = (
+            _simulate(current, extra + [a for s in played for a in ("--motion", str(s))])
+            if played
+            else {"motions": [], "physics": {}}
+        )
+    robot_name = str(motions.get("physics", {}).get("robot", "?"))
+    out = []
+    for slot, why in refused.items():
+        row = (str(file), slot, names[slot], wanted[slot], f"mirror refused: {why}", False, "?")
+        out.append(Outcome(*row, 0.0, 0.0, 0.0, False, "not mirrored", robot_name))
+    for m in motions["motions"]:
+        how = "mirrored, " + (f"held {m['held']}" if m.get("held") else "standing")
+        o = _outcome(file, m, wanted[m["slot"]], how)
+        out.append(replace(o, name=names[m["slot"]], robot=robot_name))
+    return sorted(out, key=lambda o: o.slot)
+
+
 def _verdict(right: bool | None) -> str:
     return "-" if right is None else "yes" if right else "**no**"
 
@@ -337,6 +411,11 @@ def main(argv: list[str] | None = None) -> int:
         help="judge each motion's no-slip travel too (its design, project simulate --no-slip)",
     )
     ap.add_argument(
+        "--mirror",
+        action="store_true",
+        help="judge the mirror image of each walk, step and turn (project mirror) instead",
+    )
+    ap.add_argument(
         "--what-if",
         action="append",
         default=[],
@@ -348,12 +427,18 @@ def main(argv: list[str] | None = None) -> int:
     for p in args.paths:
         files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
     what_if = tuple(args.what_if)
-    results = {
-        str(f): project_outcomes(
-            f, args.robot, args.motion, not args.no_hold, what_if, args.no_slip
-        )
-        for f in files
-    }
+    if args.mirror:
+        results = {
+            str(f): mirrored_outcomes(f, args.robot, args.motion, not args.no_hold, what_if)
+            for f in files
+        }
+    else:
+        results = {
+            str(f): project_outcomes(
+                f, args.robot, args.motion, not args.no_hold, what_if, args.no_slip
+            )
+            for f in files
+        }
     if args.json:
         data = {f: [asdict(r) for r in rows] for f, rows in results.items()}
         sys.stdout.write(json.dumps(data, indent=1, ensure_ascii=False) + "\n")

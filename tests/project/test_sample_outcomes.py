@@ -179,6 +179,23 @@ def test_no_slip_judges_each_motions_design_too(project_file: Path) -> None:
     assert "right no slip" in tool._table([both]) and "no slip:" in tool.summary({"p": [both]})
 
 
+def test_mirror_judges_each_walk_steps_and_turns_mirror_image() -> None:
+    """``--mirror``: the fixture's fine step left (slot 3) and fast turn left (13), mirrored
+    in their own slots, must step and turn right; its walk forward (9) must still go
+    forward. The model is left-right symmetric, so each mirror image goes where the
+    original goes, reflected."""
+    tool = _tool()
+    fixture = KXR_PROJECT_DIR / "HAC_KXR_HTH4_project.h4p"
+    rows = {r.slot: r for r in tool.mirrored_outcomes(fixture, None, [3, 9, 13, 21])}
+    assert sorted(rows) == [3, 9, 13]  # the greeting (21) has no mirror label
+    assert [rows[s].label for s in (3, 9, 13)] == ["step right", "walk forward", "turn right"]
+    assert all(r.right for r in rows.values()), rows
+    assert all(r.how.startswith("mirrored, held") for r in rows.values())
+    plain = {r.slot: r for r in tool.project_outcomes(fixture, None, [3, 13])}
+    assert rows[3].dy_m == pytest.approx(-plain[3].dy_m, abs=0.002)
+    assert rows[13].dyaw_deg == pytest.approx(-plain[13].dyaw_deg, abs=0.5)
+
+
 @pytest.mark.parametrize(
     ("name", "label"),
     [

@@ -13,6 +13,7 @@ exactly what the plain path (``accelerate=False``) gives, which
 
 from __future__ import annotations
 
+import copy
 import logging
 from collections.abc import Callable
 from typing import Any, Final
@@ -131,6 +132,19 @@ class Interpreter:
         self.dispatch = self._dispatch_table()
         self.instructions_executed = 0
         self.reset(0)
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Interpreter:
+        """An interpreter in the same state over copied memory. The decoded instructions
+        are left behind: their executors are closures over this interpreter and its RAM, so
+        the copy decodes again as it runs (the same commands, the same results)."""
+        new = object.__new__(type(self))
+        memo[id(self)] = new
+        for name, value in self.__dict__.items():
+            if name not in ("cache", "dispatch"):
+                setattr(new, name, copy.deepcopy(value, memo))
+        new.cache = {}
+        new.dispatch = new._dispatch_table()
+        return new
 
     def reset(self, t_us: int) -> None:
         """Power-on: empty call stack, program time ``t_us``, no stop recorded."""

@@ -7,6 +7,7 @@ board (that is :mod:`rcb4hv.physics.backend`). MuJoCo is imported on first use; 
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -135,6 +136,17 @@ class PhysicsWorld:
         self._kp: dict[int, float] = {}
         # each position servo's controller braking (the MJCF's -kd): off while it is free
         self._kd = {i: float(m.actuator_biasprm[s.actuator, 2]) for i, s in self.servos.items()}
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> PhysicsWorld:
+        """A world in the same state that goes on by itself: MuJoCo's model (whose servo
+        gains :meth:`drive` and :meth:`release` change) and data are copied; the robot
+        model, the options and the MuJoCo module are shared (never changed)."""
+        new = object.__new__(type(self))
+        memo[id(self)] = new
+        shared = ("_mj", "model", "options")
+        for name, value in self.__dict__.items():
+            setattr(new, name, value if name in shared else copy.deepcopy(value, memo))
+        return new
 
     # ------------------------------------------------------------------ time
 

@@ -11,14 +11,17 @@ defaults holds everywhere:
   measured positions and sensors for certain, so the motion's own progress cannot end it);
 * the board boots once (``Simulator.boot``) and the motions play one after another on it; with
   physics (``robot``) each motion gets a freshly booted robot stood on the floor in ``start``
-  unless ``sequence`` (one robot for all, as a user plays them);
+  unless ``sequence`` (one robot for all, as a user plays them). The robot is booted and
+  settled once and each motion plays on a copy of it (the same state to the bit, so the same
+  outcomes as booting it again, in about two thirds of the time);
 * ``hold="bound"`` (the default): each motion that reads the remote plays with the button it
   loops on held for :data:`HOLD_S` seconds, as a user drives the robot
   (:func:`bound_buttons`; Kondo's remote-driven walks stop at once when their button is not
   held);
 * ``listener(board_time_s, board)`` hears every output period of the run and each motion's
   start: ask the board what it sends (:meth:`~rcb4hv.emulator.Board.sent_angles`, the one
-  free/hold/angle rule);
+  free/hold/angle rule). With physics and without ``sequence`` it hears each motion from its
+  start on that motion's own board (the shared boot and settling before it are not replayed);
 * ``progress`` hears each motion as it ends;
 * ``stride``: a robot model whose no-slip travel (:mod:`rcb4hv.robot.stride`) each motion's
   sent poses are followed through, from the motion's start (``MotionRun.stride``); it needs
@@ -29,6 +32,7 @@ The answer, :class:`~rcb4hv.project.runresult.SimulationRun`, has one JSON form 
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 import time
@@ -258,12 +262,18 @@ def _run_physics(
         if sim is None or not sequence:
             if sim is not None:
                 virtual += sim.now
-            sim = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track,
-                                   start=start, options=options)  # fmt: skip
-            if listener is not None:
+            if first is None:
+                first = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track,
+                                         start=start, options=options)  # fmt: skip
+                if sequence and listener is not None:
+                    _attach(listener, first.board)
+                first.boot()
+            # every motion of a run that is not a sequence starts from the same booted and
+            # settled robot: a copy of the first (the same state, so the same outcomes as
+            # booting it again; the robot model is shared, never changed)
+            sim = first if sequence else copy.deepcopy(first, {id(robot): robot})
+            if listener is not None and not sequence:
                 _attach(listener, sim.board)
-            sim.boot()
-            first = first or sim
         run = _one(sim, slot, names, limit, hold, hold_for, listener)
         runs.append(run)
         if progress is not None:
