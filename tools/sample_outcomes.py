@@ -171,11 +171,20 @@ def judge(label: str, p: dict[str, Any]) -> bool | None:
     return None
 
 
+def _cli(args: list[str]) -> subprocess.CompletedProcess[str]:
+    cmd = [sys.executable, "-m", "rcb4hv", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
+
+
+def _play_args(robot: str | None, what_if: tuple[str, ...], hold: bool) -> list[str]:
+    """``project simulate``'s options for the model, its what-ifs and the button."""
+    args = ["--robot", robot] if robot else []
+    args += [a for w in what_if for a in ("--what-if", w)]
+    return args if hold else [*args, "--hold-button", "none"]
+
+
 def _simulate(file: Path, extra: list[str]) -> dict[str, Any]:
-    cmd = [sys.executable, "-m", "rcb4hv", "project", "simulate", str(file), "--physics"]
-    done = subprocess.run(
-        [*cmd, "--json", *extra], capture_output=True, text=True, env=os.environ.copy()
-    )
+    done = _cli(["project", "simulate", str(file), "--physics", "--json", *extra])
     if not done.stdout.strip():
         raise SystemExit(f"{file}: simulate failed ({done.returncode}): {done.stderr.strip()}")
     data: dict[str, Any] = json.loads(done.stdout)
@@ -224,10 +233,7 @@ def project_outcomes(
     """Every motion of ``file`` (or ``slots``) labelled, played and judged (on the model
     changed by ``what_if``, ``project simulate --what-if``'s NAME=VALUE items; with
     ``no_slip``, each motion's no-slip travel judged too)."""
-    base = ["--robot", robot] if robot else []
-    base += [a for w in what_if for a in ("--what-if", w)]
-    if not hold:
-        base += ["--hold-button", "none"]
+    base = _play_args(robot, what_if, hold)
     more = ["--no-slip"] if no_slip else []
     data = _simulate(file, base + more + [a for s in slots for a in ("--motion", str(s))])
     robot_name = str(data.get("physics", {}).get("robot", "?"))
@@ -265,11 +271,6 @@ MIRRORED = {
 """What a motion's mirror image (``project mirror``) must do, by the original's label."""
 
 
-def _cli(args: list[str]) -> subprocess.CompletedProcess[str]:
-    cmd = [sys.executable, "-m", "rcb4hv", *args]
-    return subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
-
-
 def mirrored_outcomes(
     file: Path,
     robot: str | None,
@@ -305,9 +306,7 @@ def mirrored_outcomes(
                 continue
             current = nxt
         played = [s for s in sorted(wanted) if s not in refused]
-        extra = [*base, *(a for w in what_if for a in ("--what-if", w))]
-        if not hold:
-            extra += ["--hold-button", "none"]
+        extra = _play_args(robot, what_if, hold)
         motions = (
             _simulate(current, extra + [a for s in played for a in ("--motion", str(s))])
             if played
