@@ -81,7 +81,7 @@ sensitivity: $(VENV)/.installed-dev
 samples: $(VENV)/.installed-dev
 	@test -n "$(SAMPLES)" || (echo "usage: make samples SAMPLES=DIR [NO_SLIP=1]" && false)
 	mkdir -p build
-	nice -n 10 $(BIN)/python tools/sample_outcomes.py $(if $(NO_SLIP),--no-slip) $(SAMPLES) > build/samples.md
+	nice -n 10 $(BIN)/python tools/sample_outcomes.py --jobs 2 $(if $(NO_SLIP),--no-slip) $(SAMPLES) > build/samples.md
 	sed -n '/^## Summary/,$$p' build/samples.md
 
 clean:

@@ -46,6 +46,7 @@ forward "foreward" (kxreus's translations).
     python tools/sample_outcomes.py DIR --robot khr3hv --motion 16 --motion 17
     python tools/sample_outcomes.py DIR --what-if friction=0.5         # on a changed model
     python tools/sample_outcomes.py DIR --mirror                       # mirror images
+    python tools/sample_outcomes.py DIR --jobs 2                       # two at once
     make samples SAMPLES=DIR                                         # and a summary
 
 The rcb4hv it runs is the one ``python -m rcb4hv`` imports (``PYTHONPATH`` picks a tree).
@@ -59,6 +60,7 @@ import json
 import os
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -410,6 +412,9 @@ def main(argv: list[str] | None = None) -> int:
         help="judge each motion's no-slip travel too (its design, project simulate --no-slip)",
     )
     ap.add_argument(
+        "--jobs", type=int, default=1, help="projects played at once (each in its own process)"
+    )
+    ap.add_argument(
         "--mirror",
         action="store_true",
         help="judge the mirror image of each walk, step and turn (project mirror) instead",
@@ -426,18 +431,15 @@ def main(argv: list[str] | None = None) -> int:
     for p in args.paths:
         files += sorted(p.rglob("*.h4p")) if p.is_dir() else [p]
     what_if = tuple(args.what_if)
-    if args.mirror:
-        results = {
-            str(f): mirrored_outcomes(f, args.robot, args.motion, not args.no_hold, what_if)
-            for f in files
-        }
-    else:
-        results = {
-            str(f): project_outcomes(
-                f, args.robot, args.motion, not args.no_hold, what_if, args.no_slip
-            )
-            for f in files
-        }
+
+    def one(f: Path) -> list[Outcome]:
+        if args.mirror:
+            return mirrored_outcomes(f, args.robot, args.motion, not args.no_hold, what_if)
+        return project_outcomes(f, args.robot, args.motion, not args.no_hold, what_if, args.no_slip)
+
+    # each project plays in `project simulate` processes of its own: threads only wait on them
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        results = dict(zip(map(str, files), pool.map(one, files), strict=True))
     if args.json:
         data = {f: [asdict(r) for r in rows] for f, rows in results.items()}
         sys.stdout.write(json.dumps(data, indent=1, ensure_ascii=False) + "\n")
