@@ -13,7 +13,7 @@ defaults holds everywhere:
   physics (``robot``) each motion gets a freshly booted robot stood on the floor in ``start``
   unless ``sequence`` (one robot for all, as a user plays them). The robot is booted and
   settled once and each motion plays on a copy of it (the same state to the bit, so the same
-  outcomes as booting it again, in about two thirds of the time);
+  outcomes as booting it again, in about four fifths of the time);
 * ``hold="bound"`` (the default): each motion that reads the remote plays with the button it
   loops on held for :data:`HOLD_S` seconds, as a user drives the robot
   (:func:`bound_buttons`; Kondo's remote-driven walks stop at once when their button is not
