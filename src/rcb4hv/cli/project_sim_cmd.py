@@ -53,6 +53,12 @@ if TYPE_CHECKING:
     "path on the floor).",
 )
 @click.option(
+    "--trace",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="With --physics: write each motion's track to this CSV file, a row per output period "
+    "(the torso's position, heading, tilt and lean, every joint's angle).",
+)
+@click.option(
     "--hold-button",
     "hold_button",
     metavar="NAME|bound|none",
@@ -132,6 +138,7 @@ def simulate(
     motion: tuple[int, ...],
     as_json: bool,
     plot: Path | None,
+    trace: Path | None,
     hold_button: str,
     hold_for: float,
     limit: float | None,
@@ -163,9 +170,10 @@ def simulate(
     and reports whether it fell (and when), the end pose, the displacement dx/dy (m, x forward
     where the robot faced at the start, y left) and turn dyaw (degrees, counter-clockwise),
     the largest tilt and tracking error and the joints at their torque limit; --plot then
-    draws the torso's path on the floor. A robot that is down as a motion starts (it fell
-    while settling, or an earlier motion of the sequence left it lying) is reported "down at
-    start" with the pose it lies in, and cannot "fall" in that motion.
+    draws the torso's path on the floor, --trace writes the robot's state every output
+    period to a CSV file (see why a motion fell). A robot that is down as a motion starts
+    (it fell while settling, or an earlier motion of the sequence left it lying) is reported
+    "down at start" with the pose it lies in, and cannot "fall" in that motion.
 
     --no-slip adds each motion's no-slip travel ('no slip'; 'stride' in --json) when the
     robot model (--robot, or detected) stands on feet: where its poses take the robot when
@@ -190,6 +198,8 @@ def simulate(
         slots = sorted(names) if names else image_slots(image, lay)
     if not physics and (start != "upright" or what_if):
         raise click.UsageError("--start and --what-if set up the robot of --physics: add --physics")
+    if trace is not None and not physics:
+        raise click.UsageError("--trace writes the simulated robot's track: add --physics")
     options = _what_if(what_if)
     model = None
     if physics or robot is not None:
@@ -207,7 +217,7 @@ def simulate(
     run = run_motions(
         image, slots, names=names, motion_layout=lay, limit=limit, hold=hold, hold_for=hold_for,
         robot=model if physics else None, sequence=sequence is not None, start=start,
-        track=physics and plot is not None, options=options,
+        track=physics and (plot is not None or trace is not None), options=options,
         listener=record if plot is not None and not physics else None,
         stride=model if follow else None,
     )  # fmt: skip
@@ -224,6 +234,13 @@ def simulate(
             _plot(plot, samples, [(m.start_s, m.result.slot or 0) for m in run.motions])
         if not as_json:
             click.echo(f"wrote {plot}")
+    if trace is not None:
+        from rcb4hv.files import write_atomic
+        from rcb4hv.project.trace import trace_csv
+
+        write_atomic(trace, trace_csv(run))
+        if not as_json:
+            click.echo(f"wrote {trace}")
     codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *run.results]}
     sys.exit(1 if 1 in codes else max(codes))
 

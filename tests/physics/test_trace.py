@@ -1,0 +1,54 @@
+"""``project simulate --physics --trace FILE.csv``: the robot's state every output period of
+each motion, agreeing with what the report says of it."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from rcb4hv.cli.main import cli
+from rcb4hv.project.trace import TRACE_COLUMNS
+from tests.physics.conftest import PROJECT
+
+GREETING, STEP_LEFT = 21, 3  # the fixture's XL2G_201 (a bow) and XL2G_103 (fine step left)
+
+
+def test_the_trace_follows_each_motion_as_the_report_does(tmp_path: Path) -> None:
+    trace = tmp_path / "trace.csv"
+    res = CliRunner().invoke(
+        cli,
+        ["project", "simulate", str(PROJECT), "--physics", "--motion", str(GREETING),
+         "--motion", str(STEP_LEFT), "--json", "--trace", str(trace)],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    report = {m["slot"]: m["physics"] for m in json.loads(res.output)["motions"]}
+    with trace.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    header = list(rows[0])
+    assert header[: len(TRACE_COLUMNS)] == list(TRACE_COLUMNS)
+    assert "l_knee_pitch_deg" in header and "r_ankle_roll_deg" in header
+    by_slot = {s: [r for r in rows if r["slot"] == str(s)] for s in (GREETING, STEP_LEFT)}
+    for slot, track in by_slot.items():
+        times = [float(r["t_s"]) for r in track]
+        assert times[0] < 0.05 and times == sorted(times) and times[-1] > 1.0, slot
+        tilt = max(float(r["tilt_deg"]) for r in track)
+        assert abs(tilt - report[slot]["max_tilt_deg"]) < 0.2, slot
+    # a bow leans forward, not back or sideways
+    bow = by_slot[GREETING]
+    assert max(float(r["lean_forward_deg"]) for r in bow) > 30.0
+    assert min(float(r["lean_forward_deg"]) for r in bow) > -5.0
+    assert max(abs(float(r["lean_right_deg"])) for r in bow) < 1.0
+    # the step left ends where the report says, left of where it started
+    step = by_slot[STEP_LEFT]
+    moved = float(step[-1]["y_m"]) - float(step[0]["y_m"])
+    assert moved > 0.05 and abs(moved - report[STEP_LEFT]["dy_m"]) < 0.01
+
+
+def test_a_trace_needs_the_simulated_robot(tmp_path: Path) -> None:
+    res = CliRunner().invoke(
+        cli, ["project", "simulate", str(PROJECT), "--motion", "21", "--trace", "t.csv"]
+    )
+    assert res.exit_code == 2 and "add --physics" in res.output
