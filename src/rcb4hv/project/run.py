@@ -259,20 +259,22 @@ def _run_physics(
     first: PhysicsSimulator | None = None
     sim: PhysicsSimulator | None = None
     for slot in slots:
-        if sim is None or not sequence:
+        if first is None:
+            first = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track,
+                                     start=start, options=options)  # fmt: skip
+            if sequence and listener is not None:
+                _attach(listener, first.board)
+            first.boot()
+        if sequence:
+            sim = first
+        else:
+            # every motion starts from the same booted and settled robot: a copy of the first
+            # (the same state, so the same outcomes as booting it again; the robot model is
+            # shared, never changed)
             if sim is not None:
                 virtual += sim.now
-            if first is None:
-                first = PhysicsSimulator(image, robot, motion_layout=motion_layout, track=track,
-                                         start=start, options=options)  # fmt: skip
-                if sequence and listener is not None:
-                    _attach(listener, first.board)
-                first.boot()
-            # every motion of a run that is not a sequence starts from the same booted and
-            # settled robot: a copy of the first (the same state, so the same outcomes as
-            # booting it again; the robot model is shared, never changed)
-            sim = first if sequence else copy.deepcopy(first, {id(robot): robot})
-            if listener is not None and not sequence:
+            sim = copy.deepcopy(first, {id(robot): robot})
+            if listener is not None:
                 _attach(listener, sim.board)
         run = _one(sim, slot, names, limit, hold, hold_for, listener)
         runs.append(run)
