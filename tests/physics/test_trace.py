@@ -45,6 +45,17 @@ def test_the_trace_follows_each_motion_as_the_report_does(tmp_path: Path) -> Non
     step = by_slot[STEP_LEFT]
     moved = float(step[-1]["y_m"]) - float(step[0]["y_m"])
     assert moved > 0.05 and abs(moved - report[STEP_LEFT]["dy_m"]) < 0.01
+    # the bow stands on both feet throughout; the steps lift one foot, then the other
+    assert {r["touching"] for r in bow} == {"l_foot r_foot"}
+    stood_on = {r["touching"] for r in step}
+    assert {"l_foot", "r_foot", "l_foot r_foot"} <= stood_on
+    # each joint follows the angle the board commands it to, a servo's lag behind
+    assert "l_knee_pitch_target_deg" in header
+    for r in bow:
+        for j in ("l_knee_pitch", "r_hip_pitch", "l_shoulder_pitch"):
+            assert abs(float(r[f"{j}_deg"]) - float(r[f"{j}_target_deg"])) < 15.0, (j, r["t_s"])
+    bent = min(float(r["l_hip_pitch_target_deg"]) for r in bow)
+    assert bent < -40.0  # the bow bends at the hips (-50.6°): the targets are the board's
 
 
 def test_a_trace_needs_the_simulated_robot(tmp_path: Path) -> None:

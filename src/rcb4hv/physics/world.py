@@ -211,6 +211,17 @@ class PhysicsWorld:
             out.append((shape, (px, py, pz), rotation, half))
         return out
 
+    def touching(self) -> tuple[str, ...]:
+        """The links touching the floor now (sorted; only the floor touches the robot)."""
+        m, d = self.m, self.d
+        bodies = {
+            int(m.geom_bodyid[g])
+            for c in d.contact[: d.ncon]
+            for g in (int(c.geom1), int(c.geom2))
+            if g != self._floor
+        }
+        return tuple(sorted(m.body(b).name for b in bodies))
+
     def lowest_point(self) -> float:
         """The lowest z (m) of the robot's geoms."""
         return min((lowest_z(*shape) for shape in self._geom_shapes()), default=math.inf)

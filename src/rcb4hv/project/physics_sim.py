@@ -197,7 +197,7 @@ class PhysicsSimulator(Simulator):
         if base.tilt < math.radians(FALL_TILT_DEG):
             self._stood = True
         if self.track is not None:
-            self._track(t, base)
+            self._track(t, base, backend.commanded)
         if w is None:
             return
         # unwrapped yaw: turns beyond 180° add up
@@ -219,13 +219,14 @@ class PhysicsSimulator(Simulator):
             joint = servos[index].joint
             w.saturated[joint] = w.saturated.get(joint, 0.0) + dt
 
-    def _track(self, t: float, base: BasePose) -> None:
+    def _track(self, t: float, base: BasePose, commanded: dict[int, float | None]) -> None:
         assert self.track is not None
         world = self.world
         angles = world.joint_angles()
-        self.track.append(
-            TrackPoint(t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles)
-        )
+        servos = world.servos
+        targets = {servos[i].joint: goal for i, goal in commanded.items() if goal is not None}
+        pose = (t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles)
+        self.track.append(TrackPoint(*pose, targets, world.touching()))
         if t >= self._next_frame:
             self.frames.append(ShapeFrame(t, world.shapes()))
             self._next_frame = t + FRAME_EVERY_S
@@ -248,7 +249,7 @@ class PhysicsSimulator(Simulator):
         )
         if self.track is not None:  # the path starts where the motion starts
             self._next_frame = t
-            self._track(t, base)
+            self._track(t, base, self.backend.commanded)
 
     def _outcome(self) -> PhysicsOutcome:
         w = self._watch

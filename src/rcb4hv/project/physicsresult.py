@@ -47,7 +47,9 @@ class PhysicsOutcome:
 class TrackPoint:
     """The robot at one output period: virtual time (s), the torso's position (m), yaw and
     tilt (rad) and orientation (quaternion w, x, y, z), and every joint's angle (rad): enough
-    to draw it (``kinematics.forward`` from the torso's pose)."""
+    to draw it (``kinematics.forward`` from the torso's pose). ``targets``: the angle (rad)
+    each servo driven to an angle is commanded to (free and wheel servos left out);
+    ``touching``: the links on the floor."""
 
     t: float
     x: float
@@ -57,6 +59,8 @@ class TrackPoint:
     z: float = 0.0
     quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
     angles: Mapping[str, float] = field(default_factory=dict)
+    targets: Mapping[str, float] = field(default_factory=dict)
+    touching: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

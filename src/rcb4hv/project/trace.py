@@ -5,9 +5,10 @@ One row per output period of each motion, from its start to the end of the settl
 motion's start, the torso's position (m, in the world: the floor the robot was put on, x
 forward and y left of where it first stood, z up), its heading and tilt, how far it leans
 forward and to its right (degrees, from the world's up seen in the torso's frame: a bow leans
-forward, standing on the right foot leans right), then every joint's angle (degrees). What a
-spreadsheet or a plotting script needs to see why a motion fell: when the lean grew, and which
-joints moved.
+forward, standing on the right foot leans right), the links on the floor, then every joint's
+angle and the angle the board commands it to (degrees). What a spreadsheet or a plotting
+script needs to see why a motion fell: when the lean grew, what it stood on, and which joints
+moved or could not follow.
 """
 
 from __future__ import annotations
@@ -24,9 +25,10 @@ __all__ = ["TRACE_COLUMNS", "trace_csv", "trace_rows"]
 
 TRACE_COLUMNS = (
     "slot", "t_s", "x_m", "y_m", "z_m", "yaw_deg", "tilt_deg", "lean_forward_deg",
-    "lean_right_deg",
+    "lean_right_deg", "touching",
 )  # fmt: skip
-"""The columns before the joints' (``<joint>_deg``, in the robot model's order)."""
+"""The columns before the joints': each joint's angle (``<joint>_deg``), then the angle the
+board commands it to (``<joint>_target_deg``; empty while it is free), in the model's order."""
 
 
 def trace_rows(run: SimulationRun) -> Iterator[list[str]]:
@@ -36,7 +38,7 @@ def trace_rows(run: SimulationRun) -> Iterator[list[str]]:
     for m in run.motions:
         for p in m.track:
             joints += [j for j in p.angles if j not in joints]
-    yield [*TRACE_COLUMNS, *(f"{j}_deg" for j in joints)]
+    yield [*TRACE_COLUMNS, *(f"{j}_deg" for j in joints), *(f"{j}_target_deg" for j in joints)]
     for m in run.motions:
         for p in m.track:
             up_x, up_y, up_z = quaternion_matrix(p.quat)[2]  # the world's up in the torso
@@ -47,8 +49,10 @@ def trace_rows(run: SimulationRun) -> Iterator[list[str]]:
                 *(f"{math.degrees(v):.2f}" for v in (p.yaw, p.tilt)),
                 f"{math.degrees(math.atan2(-up_x, up_z)):.2f}",
                 f"{math.degrees(math.atan2(up_y, up_z)):.2f}",
+                " ".join(p.touching),
             ]
-            row += [f"{math.degrees(p.angles[j]):.2f}" if j in p.angles else "" for j in joints]
+            for angles in (p.angles, p.targets):
+                row += [f"{math.degrees(angles[j]):.2f}" if j in angles else "" for j in joints]
             yield [str(v) for v in row]
 
 
