@@ -193,6 +193,11 @@ def _simulate(file: Path, extra: list[str]) -> dict[str, Any]:
     return data
 
 
+def _how(m: dict[str, Any]) -> str:
+    """How ``project simulate`` played motion ``m``: with the button it held, or standing."""
+    return f"held {m['held']}" if m.get("held") else "standing"
+
+
 def _outcome(file: Path, m: dict[str, Any], label: str, how: str) -> Outcome:
     p = m.get("physics") or {}
     stride = m.get("stride")
@@ -249,8 +254,7 @@ def project_outcomes(
     for m in motions:
         label = labels[m["slot"]]
         if not label.startswith("get up"):
-            how = f"held {m['held']}" if m.get("held") else "standing"
-            out.append(replace(_outcome(file, m, label, how), robot=robot_name))
+            out.append(replace(_outcome(file, m, label, _how(m)), robot=robot_name))
             continue
         side = label.split()[-1]
         first = lie[side]
@@ -290,11 +294,8 @@ def mirrored_outcomes(
     if done.returncode:
         raise SystemExit(f"{file}: project info failed: {done.stderr.strip()}")
     names = {int(m["slot"]): str(m["name"]) for m in json.loads(done.stdout)["motions"]}
-    wanted = {
-        slot: MIRRORED[label_of(name)]
-        for slot, name in names.items()
-        if label_of(name) in MIRRORED and (not slots or slot in slots)
-    }
+    labels = {slot: label_of(name) for slot, name in names.items() if not slots or slot in slots}
+    wanted = {slot: MIRRORED[label] for slot, label in labels.items() if label in MIRRORED}
     base = ["--robot", robot] if robot else []
     refused: dict[int, str] = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -320,8 +321,7 @@ def mirrored_outcomes(
         row = (str(file), slot, names[slot], wanted[slot], f"mirror refused: {why}", False, "?")
         out.append(Outcome(*row, 0.0, 0.0, 0.0, False, "not mirrored", robot_name))
     for m in motions["motions"]:
-        how = "mirrored, " + (f"held {m['held']}" if m.get("held") else "standing")
-        o = _outcome(file, m, wanted[m["slot"]], how)
+        o = _outcome(file, m, wanted[m["slot"]], f"mirrored, {_how(m)}")
         out.append(replace(o, name=names[m["slot"]], robot=robot_name))
     return sorted(out, key=lambda o: o.slot)
 

@@ -197,7 +197,7 @@ class PhysicsSimulator(Simulator):
         if base.tilt < math.radians(FALL_TILT_DEG):
             self._stood = True
         if self.track is not None:
-            self._track(t, base, backend.commanded)
+            self._track(t, base)
         if w is None:
             return
         # unwrapped yaw: turns beyond 180° add up
@@ -219,9 +219,10 @@ class PhysicsSimulator(Simulator):
             joint = servos[index].joint
             w.saturated[joint] = w.saturated.get(joint, 0.0) + dt
 
-    def _track(self, t: float, base: BasePose, commanded: dict[int, float | None]) -> None:
-        assert self.track is not None
+    def _track(self, t: float, base: BasePose) -> None:
+        assert self.track is not None and self.backend is not None
         world = self.world
+        commanded = self.backend.commanded
         angles = world.joint_angles()
         servos = world.servos
         targets = {servos[i].joint: goal for i, goal in commanded.items() if goal is not None}
@@ -249,7 +250,7 @@ class PhysicsSimulator(Simulator):
         )
         if self.track is not None:  # the path starts where the motion starts
             self._next_frame = t
-            self._track(t, base, self.backend.commanded)
+            self._track(t, base)
 
     def _outcome(self) -> PhysicsOutcome:
         w = self._watch

@@ -34,10 +34,7 @@ board commands it to (``<joint>_target_deg``; empty while it is free), in the mo
 def trace_rows(run: SimulationRun) -> Iterator[list[str]]:
     """The header, then one row per track point of every motion of ``run`` (a physics run
     made with ``track=True``; a motion without a track gives no rows)."""
-    joints: list[str] = []
-    for m in run.motions:
-        for p in m.track:
-            joints += [j for j in p.angles if j not in joints]
+    joints = next((list(p.angles) for m in run.motions for p in m.track), [])
     yield [*TRACE_COLUMNS, *(f"{j}_deg" for j in joints), *(f"{j}_target_deg" for j in joints)]
     for m in run.motions:
         for p in m.track:
