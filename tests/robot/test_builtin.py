@@ -10,6 +10,8 @@ from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.builtin import BUILTIN, load_builtin, load_robot
 from rcb4hv.robot.ik import effector_point
 from rcb4hv.robot.kinematics import apply, center_of_mass, forward
+from rcb4hv.robot.kit import kit_model, parse_kit_code
+from rcb4hv.robot.kit.figures import fig
 from rcb4hv.robot.model import RobotModel
 
 # FACTS.md: KHR-3HV index -> sign (kxreus "khr"/"khr20")
@@ -33,8 +35,9 @@ def _model(name: str) -> RobotModel:
     [
         ("khr3hv", 17, 18, 1.493),
         ("khr3hv-22", 22, 23, 1.493 + 5 * 0.0415),
-        ("kxr-l2", 16, 17, 1.33594 - 2 * (0.0337 + 2 * 0.02594)),
-        ("kxr-l2-gripper", 18, 19, 1.33594),
+        # kxrl2l5a3.json's total, every servo case a KRS-3304R2 (35.03 g, not kxreus's 27.73)
+        ("kxr-l2", 16, 17, 1.13568 + 16 * (0.03503 - 0.02773)),
+        ("kxr-l2-gripper", 18, 19, 1.355738),
     ],
 )
 def test_model_counts_and_mass(name: str, servos: int, links: int, mass: float) -> None:
@@ -189,18 +192,28 @@ def test_the_basic_kxr_l2_arm_ends_at_the_elbow_servo_s_joint_base() -> None:
     for side in ("l", "r"):
         tip = effector_point(basic, f"{side}_forearm")
         assert tip[2] == pytest.approx(-0.0326)
-        (box,) = basic.link(f"{side}_forearm").geoms
-        assert box.pos[2] + box.size[2] / 2 == pytest.approx(0.0093)  # the servo case's top
-    reach = min(g.pos[2] - g.size[2] / 2 for g in gripper.link("r_forearm").geoms)
-    assert reach == pytest.approx(-0.093)
-    assert basic.mass == pytest.approx(1.16478)  # the shape changed, not the masses
+        top = max(g.pos[2] + g.size[2] / 2 for g in basic.link(f"{side}_forearm").geoms)
+        assert top == pytest.approx(0.013)  # the elbow servo's case, 26 mm about its axis
+        bottom = min(g.pos[2] - g.size[2] / 2 for g in basic.link(f"{side}_forearm").geoms)
+        assert bottom == pytest.approx(-0.0326)
+    finger = gripper.joint("r_gripper")
+    assert finger.xyz[2] == pytest.approx(-0.0655)  # kxrl2g.l's gripper joint below the elbow
+    (box,) = gripper.link("r_finger").geoms
+    assert finger.xyz[2] + box.pos[2] - box.size[2] / 2 == pytest.approx(-0.1005)
 
 
-def test_the_kxr_l2_torso_weighs_what_kxreus_s_basic_kit_model_says() -> None:
-    """kxrl2l5a3.json's torso link: 372.584 g (battery box, back pack, three servo cases, the
-    frame plates), its centre of mass 6.2 mm behind and 40.4 mm above the hip axes; the fixed
-    head (kxrl2g.l's neck links, 59.302 g) rides on it. kxrl2g.l's 736.904 g is not used."""
-    for name in ("kxr-l2", "kxr-l2-gripper"):
-        torso = load_builtin(name).link("torso")
-        assert torso.inertial.mass == pytest.approx(0.372584 + 0.059302)
+def test_the_kxr_l2_is_the_kit_builder_s_model_of_its_kit() -> None:
+    """One kit, one model: the built-in names are the kit builder's KXR-L2L5A3(G) with the
+    links named as the KHR-3HV's and Kondo's home pose; the torso is kxrl2l5a3.json's torso
+    (372.584 g: battery box, back pack, three servo cases, frame plates) without its servo
+    cases, which are counted at a KRS-3304R2's mass with the joints they drive."""
+    for name, code in (("kxr-l2", "L2L5A3"), ("kxr-l2-gripper", "L2L5A3G")):
+        model, kit = load_builtin(name), kit_model(parse_kit_code("kxr:" + code))
+        assert model.mass == pytest.approx(kit.mass)
+        assert [j.name for j in model.joints] == [j.name for j in kit.joints]
+        assert [(s.index, s.joint, s.sign) for s in model.servos] == [
+            (s.index, s.joint, s.sign) for s in kit.servos
+        ]
+        torso = model.link("torso")
+        assert torso.inertial.mass == pytest.approx(0.372584 - 3 * fig("servo.mass_kxreus") / 1000)
         assert torso.inertial.com[0] < -0.004  # behind the hips, as the back pack is

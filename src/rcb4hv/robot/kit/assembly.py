@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.humanoid import LimbJoint, build_humanoid, distribute_mass
-from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, case_shortfall, fig
+from rcb4hv.robot.kit.figures import MASS_SERVOS, LinkFigure, case_shortfall, fig, vec
 from rcb4hv.robot.model import Geom, JointKind, Link, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import KRS_3304R2
 from rcb4hv.robot.shapes import solid_many
@@ -62,6 +62,17 @@ def segment(a: Vec3, b: Vec3, thick: float = 26.0, light: bool = False) -> Geom:
     size[k] = max(abs(b[k] - a[k]), thick)
     centre = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2)
     return box((size[0], size[1], size[2]), centre, light)
+
+
+def sole(ankle: Vec3) -> tuple[Geom, ...]:
+    """A KXR biped's foot at ``ankle`` (mm): the stepped sole plate and the block above it."""
+    x0, y0, z0 = ankle
+    top, thick = fig("l2.sole_top"), fig("l2.sole") - fig("l2.sole_top")
+    steps = tuple(
+        box((2 * x, y2 - y1, thick), (x0, y0 + (y1 + y2) / 2, z0 - top - thick / 2), True)
+        for x, y1, y2 in (vec(f"l2.sole_step{k}") for k in (1, 2, 3))
+    )
+    return (*steps, box((38.0, 27.0, top), (x0, y0, z0 - top / 2)))
 
 
 @dataclass(frozen=True)

@@ -66,6 +66,20 @@ FIGURES: dict[str, Figure] = {
     "l2.thigh": _f(58.0, "mm", "KX", "models/kxrl2g.l knee (§2.2)"),
     "l2.shin": _f(57.98, "mm", "KX", "models/kxrl2g.l ankle (§2.2)"),
     "l2.sole": _f(31.0, "mm", "KX", "models/kxrl2g.l leg end-coords (§2.2)"),
+    "l2.sole_top": _f(
+        21.0, "mm", "KX", "models/kxrl2g.l foot link RLEG_LINK4: its plate's top below the ankle"
+    ),
+    **{
+        f"l2.sole_step{k}": _f(
+            step,
+            "mm",
+            "KX",
+            "models/kxrl2g.l foot link RLEG_LINK4 (mirrored): the plate, 105 mm long, reaches 21 "
+            "mm inward and 46.2 mm outward of the ankle; its rounded outer side is three boxes "
+            "inside that outline (x half-length, inner y, outer y)",
+        )
+        for k, step in enumerate(((52.5, -21.0, 18.9), (42.0, 18.9, 33.6), (21.0, 33.6, 44.1)), 1)
+    },
     "l2.base_wheel": _f(
         (54.0, 14.0, -34.0),
         "mm",
@@ -100,6 +114,17 @@ FIGURES: dict[str, Figure] = {
     "arm3.roll": _f((0.0, 29.0, 0.0), "mm", "KX", "models/kxrl2g.l shoulder-r (§2.2)"),
     "arm3.elbow": _f((0.0, 0.0, -53.0), "mm", "KX", "models/kxrl2g.l elbow-p (§2.2)"),
     "arm3.gripper": _f((0.0, 0.0, -65.5), "mm", "KX", "models/kxrl2g.l gripper2-r (§2.2)"),
+    "arm3.basic_forearm": _f(
+        (27.4, 31.0, 41.9),
+        "mm",
+        "KX",
+        "eusview/robots/kxr/kxrl2l5a3.json (the basic kit) forearm link shapes: the elbow "
+        "servo's case and the joint base screwed to its end with its side plates, from 9.3 mm "
+        "above the elbow axis to arm3.basic_hand below it (an A3 arm without a gripper)",
+    ),
+    "arm3.basic_hand": _f(
+        32.6, "mm", "KX", "kxrl2l5a3.json: the basic kit's forearm ends this far below the elbow"
+    ),
     "arm4.roll": _f((0.0, 29.0, 0.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-shoulder-r pos"),
     "arm4.yaw": _f((0.0, 0.0, -67.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-shoulder-y pos"),
     "arm4.elbow": _f((0.0, 0.0, -29.0), "mm", "KX", "kxrl2w2l6a4h2.json larm-elbow-p pos"),

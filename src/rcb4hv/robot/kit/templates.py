@@ -9,10 +9,17 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from rcb4hv.robot.kit.assembly import Slot, Template, box, cylinder_x, cylinder_y, segment
+from rcb4hv.robot.kit.assembly import (
+    Slot,
+    Template,
+    box,
+    cylinder_x,
+    cylinder_y,
+    segment,
+    sole,
+)
 from rcb4hv.robot.kit.code import Family, KitCode
 from rcb4hv.robot.kit.figures import fig, vec
-from rcb4hv.robot.kxr import SOLE_STEPS, SOLE_TOP
 from rcb4hv.robot.model import Geom, JointKind, Vec3
 from rcb4hv.robot.servos import TRAVEL_DEG
 
@@ -68,7 +75,7 @@ def _wheel_slot(name: str, parent: str, axle: Vec3, tyre_at: Vec3 = (0.0, 0.0, 0
 # --------------------------------------------------------------------- humanoid
 
 
-def _arm(arms: int) -> list[Slot]:
+def _arm(arms: int, gripper: bool) -> list[Slot]:
     # the A6's shoulder sits in front (kxreus's `:shoulder :pry-cross :shoulder-front t`)
     s = vec("arm6.shoulder" if arms == 6 else "l2.shoulder")
     pitch = _slot(
@@ -110,6 +117,9 @@ def _arm(arms: int) -> list[Slot]:
         grip = _add(wrist, vec("arm7.gripper"))
         order = ("yaw", "roll")
     forward = arms == 6  # the A6's bent forearm points the hand forward at zero pose
+    forearm, size = segment(wrist, grip, light=True), vec("arm3.basic_forearm")
+    if arms <= 3 and not gripper:  # the basic kit's forearm ends at the elbow servo's base
+        forearm = box(size, _add(elbow, (0, 0, size[2] / 2 - fig("arm3.basic_hand"))), True)
     first, second = order
     pos: dict[str, Vec3] = {"roll": roll, "yaw": yaw}
     lim: dict[str, tuple[float, float]] = {"roll": (-30.0, 185.0), "yaw": (-TRAVEL_DEG, TRAVEL_DEG)}
@@ -144,7 +154,7 @@ def _arm(arms: int) -> list[Slot]:
             wrist,
             "pitch",
             (-125, 100),
-            (segment(wrist, grip, light=True),),
+            (forearm,),
         ),
         _slot("wrist_roll", "wrist_pitch", wrist, "roll", (-135, 135), ()),
         replace(
@@ -171,16 +181,6 @@ def _finger(grip: Vec3, forward: bool) -> Geom:
     return box((14, 6, 35), _add(grip, (0, -10, -17.5)), light=True)
 
 
-def _sole(ankle: Vec3) -> tuple[Geom, ...]:
-    sole = fig("l2.sole")
-    thick = sole - SOLE_TOP
-    steps = tuple(
-        box((2 * x, y1 - y0, thick), _add(ankle, (0.0, (y0 + y1) / 2, -SOLE_TOP - thick / 2)), True)
-        for x, y0, y1 in SOLE_STEPS
-    )
-    return (*steps, box((38.0, 27.0, SOLE_TOP), _add(ankle, (0.0, 0.0, -SOLE_TOP / 2))))
-
-
 def _flip_x(v: Vec3) -> Vec3:
     return (-v[0], v[1], v[2])
 
@@ -202,7 +202,7 @@ def _leg(code: KitCode) -> list[Slot]:
                 roll,
                 "roll",
                 (-135, 133),
-                (segment(roll, _add(roll, (0.0, 0.0, -SOLE_TOP))), *_sole(roll)),
+                (segment(roll, _add(roll, (0.0, 0.0, -fig("l2.sole_top")))), *sole(roll)),
             ),
             _wheel_slot("front_wheel", "hip_roll", _add(roll, wheel)),
             _wheel_slot("rear_wheel", "hip_roll", _add(roll, _flip_x(wheel))),
@@ -237,7 +237,7 @@ def _leg(code: KitCode) -> list[Slot]:
             (-105, 105),
             (box((40, 27, 40), _add(ankle, (-5, 0, 8))),),
         ),
-        _slot("ankle_roll", "ankle_pitch", ankle, "roll", (-170, 170), _sole(ankle)),
+        _slot("ankle_roll", "ankle_pitch", ankle, "roll", (-170, 170), sole(ankle)),
         _wheel_slot(
             "ankle_wheel", "ankle_pitch", _add(ankle, vec("l2.ankle_wheel")), vec("l2.ankle_tyre")
         ),
@@ -251,7 +251,7 @@ def _humanoid(code: KitCode) -> Template:
     neck = vec("l2.neck_yaw")
     head = _add(neck, vec("l2.neck_pitch"))
     slots = (
-        _arm(code.arms or 3)
+        _arm(code.arms or 3, code.gripper)
         + _leg(code)
         + [
             _slot(
