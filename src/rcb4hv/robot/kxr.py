@@ -43,8 +43,17 @@ joint; the basic kit leaves out the grippers."""
 
 
 STANDARD_TRIM: dict[int, int] = {
-    **{2: 1350, 3: -1350, 4: -2700, 5: -2700, 10: -250, 11: -250, 12: -1980, 13: -2000},
-    **{14: 550, 15: 550, 18: -100},
+    2: 1350,
+    3: -1350,
+    4: -2700,
+    5: -2700,
+    10: -250,
+    11: -250,
+    12: -1980,
+    13: -2000,
+    14: 550,
+    15: 550,
+    18: -100,
 }
 """Kondo's standard trim of the KXR-L2G (``KXR-L2G標準トリム.h4t``), counts by servo index (the
 others 0): where each joint's zero sits in its servo's travel."""
