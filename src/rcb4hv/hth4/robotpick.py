@@ -92,6 +92,13 @@ def detect_project(
         if code is None or not names:
             return load_robot(name), None
         det = detect_kit(title, names, home, force=code)
+        if det.model.name != code.name:  # never wrong in silence: say why it is not the code
+            log.warning(
+                "--robot %s: the project's servo names make it %s (%s)",
+                code.name,
+                det.model.name,
+                "; ".join(det.notes) or "the names complete the code",
+            )
         return det.model, det
     if parse_kit_code(title) is not None:
         det = detect_kit(title, names, home)

@@ -93,16 +93,16 @@ def _humanoid_code(base: KitCode | None, p: Placement) -> KitCode:
     return replace(parsed, width=probe.width)
 
 
-def _conflicts(code: KitCode, names: KitCode) -> list[str]:
-    """What the title's code claims that the servo names contradict."""
+def _conflicts(code: KitCode, names: KitCode, said_by: str = "the title") -> list[str]:
+    """What ``code`` (from the title, or ``--robot``) claims that the servo names contradict."""
     out = []
     for what in ("legs", "arms", "head"):
         said, found = getattr(code, what), getattr(names, what)
         if said is not None and said != found:
-            out.append(f"the title says {what} {said}, the servo names {found}: names win")
+            out.append(f"{said_by} says {what} {said}, the servo names {found}: names win")
     for what in ("gripper", "wheels"):
         if getattr(code, what) and not getattr(names, what):
-            out.append(f"the title says {what}, the servo names have none: names win")
+            out.append(f"{said_by} says {what}, the servo names have none: names win")
     return out
 
 
@@ -253,7 +253,8 @@ def _choose(
     if family == "humanoid":
         effective = _humanoid_code(code, placement)
         if code is not None and code.family == "humanoid":
-            notes += _conflicts(code, effective)
+            said_by = f"--robot kxr:{force.code}" if force is not None else "the title"
+            notes += _conflicts(code, effective, said_by)
     else:
         effective = code if code is not None and code.family == family else KitCode(family, family)
     return effective, _joint_map(effective, placement), by_names
