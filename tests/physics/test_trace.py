@@ -49,6 +49,11 @@ def test_the_trace_follows_each_motion_as_the_report_does(tmp_path: Path) -> Non
     assert {r["touching"] for r in bow} == {"l_foot r_foot"}
     stood_on = {r["touching"] for r in step}
     assert {"l_foot", "r_foot", "l_foot r_foot"} <= stood_on
+    # the bow keeps its centre of mass well inside its feet (33-52 mm on this model); the
+    # step shifts it over one foot and on past its edge as it tips onto the other
+    assert all(float(r["com_margin_mm"]) > 20.0 for r in bow)
+    assert all(0.12 < float(r["com_z_m"]) < 0.16 for r in bow)
+    assert min(float(r["com_margin_mm"]) for r in step) < 0.0
     # each joint follows the angle the board commands it to, a servo's lag behind
     assert "l_knee_pitch_target_deg" in header
     for r in bow:

@@ -16,7 +16,14 @@ from typing import Any
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
 from rcb4hv.physics.load import add_load
 from rcb4hv.physics.options import PhysicsOptions
-from rcb4hv.robot.geometry import Matrix3, box_corners, lowest_z, quaternion_matrix
+from rcb4hv.robot.balance import signed_margin
+from rcb4hv.robot.geometry import (
+    Matrix3,
+    box_corners,
+    convex_hull,
+    lowest_z,
+    quaternion_matrix,
+)
 from rcb4hv.robot.mjcf import FLOOR_FRICTION, TIMESTEP, to_mjcf
 from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import (
@@ -221,6 +228,21 @@ class PhysicsWorld:
             if g != self._floor
         }
         return tuple(sorted(m.body(b).name for b in bodies))
+
+    def centre_of_mass(self) -> tuple[float, float, float]:
+        """The whole robot's centre of mass (world, m)."""
+        x, y, z = self.d.subtree_com[self._root].tolist()
+        return (x, y, z)
+
+    def com_margin(self) -> float | None:
+        """How far (m) the centre of mass's ground projection lies inside the convex hull of
+        the robot's floor contacts (negative: outside it, the robot tipping over that edge);
+        None while nothing touches the floor. Static balance: how far from toppling."""
+        points = [(float(c.pos[0]), float(c.pos[1])) for c in self.d.contact[: self.d.ncon]]
+        if not points:
+            return None
+        x, y, _ = self.centre_of_mass()
+        return signed_margin(convex_hull(points), (x, y))
 
     def lowest_point(self) -> float:
         """The lowest z (m) of the robot's geoms."""

@@ -227,7 +227,9 @@ class PhysicsSimulator(Simulator):
         servos = world.servos
         targets = {servos[i].joint: goal for i, goal in commanded.items() if goal is not None}
         pose = (t, base.x, base.y, base.yaw, base.tilt, base.z, world.quaternion(), angles)
-        self.track.append(TrackPoint(*pose, targets, world.touching()))
+        touching = world.touching()
+        com, margin = world.centre_of_mass(), world.com_margin()
+        self.track.append(TrackPoint(*pose, targets, touching, com, margin))
         if t >= self._next_frame:
             self.frames.append(ShapeFrame(t, world.shapes()))
             self._next_frame = t + FRAME_EVERY_S

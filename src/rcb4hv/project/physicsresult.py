@@ -49,7 +49,9 @@ class TrackPoint:
     tilt (rad) and orientation (quaternion w, x, y, z), and every joint's angle (rad): enough
     to draw it (``kinematics.forward`` from the torso's pose). ``targets``: the angle (rad)
     each servo driven to an angle is commanded to (free and wheel servos left out);
-    ``touching``: the links on the floor."""
+    ``touching``: the links on the floor; ``com``: the robot's centre of mass (world, m);
+    ``com_margin``: how far (m) its ground projection lies inside the convex hull of the floor
+    contacts (negative: outside, tipping over that edge; None: touching nothing)."""
 
     t: float
     x: float
@@ -61,6 +63,8 @@ class TrackPoint:
     angles: Mapping[str, float] = field(default_factory=dict)
     targets: Mapping[str, float] = field(default_factory=dict)
     touching: tuple[str, ...] = ()
+    com: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    com_margin: float | None = None
 
 
 @dataclass(frozen=True, slots=True)

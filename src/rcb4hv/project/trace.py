@@ -5,10 +5,13 @@ One row per output period of each motion, from its start to the end of the settl
 motion's start, the torso's position (m, in the world: the floor the robot was put on, x
 forward and y left of where it first stood, z up), its heading and tilt, how far it leans
 forward and to its right (degrees, from the world's up seen in the torso's frame: a bow leans
-forward, standing on the right foot leans right), the links on the floor, then every joint's
-angle and the angle the board commands it to (degrees). What a spreadsheet or a plotting
-script needs to see why a motion fell: when the lean grew, what it stood on, and which joints
-moved or could not follow.
+forward, standing on the right foot leans right), the links on the floor, the robot's centre
+of mass (m, world) and how far its ground projection lies inside what the robot stands on
+(``com_margin_mm``: inside the convex hull of the floor contacts; negative outside, tipping
+over that edge; empty in the air), then every joint's angle and the angle the board commands
+it to (degrees). What a spreadsheet or a plotting script needs to see why a motion fell:
+when the lean grew, what it stood on, when the centre of mass left the support, and which
+joints moved or could not follow.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ __all__ = ["TRACE_COLUMNS", "trace_csv", "trace_rows"]
 
 TRACE_COLUMNS = (
     "slot", "t_s", "x_m", "y_m", "z_m", "yaw_deg", "tilt_deg", "lean_forward_deg",
-    "lean_right_deg", "touching",
+    "lean_right_deg", "touching", "com_x_m", "com_y_m", "com_z_m", "com_margin_mm",
 )  # fmt: skip
 """The columns before the joints': each joint's angle (``<joint>_deg``), then the angle the
 board commands it to (``<joint>_target_deg``; empty while it is free), in the model's order."""
@@ -47,6 +50,8 @@ def trace_rows(run: SimulationRun) -> Iterator[list[str]]:
                 f"{math.degrees(math.atan2(-up_x, up_z)):.2f}",
                 f"{math.degrees(math.atan2(up_y, up_z)):.2f}",
                 " ".join(p.touching),
+                *(f"{v:.4f}" for v in p.com),
+                "" if p.com_margin is None else f"{p.com_margin * 1000:.1f}",
             ]
             for angles in (p.angles, p.targets):
                 row += [f"{math.degrees(angles[j]):.2f}" if j in angles else "" for j in joints]
