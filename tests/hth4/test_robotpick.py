@@ -78,18 +78,27 @@ def test_the_editor_refuses_a_named_model_the_project_cannot_drive(project: hth4
     assert project_model(project, load_builtin("kxr-l2")) is load_builtin("kxr-l2")
 
 
-def test_a_kit_code_the_names_change_is_said(
+def test_a_kit_code_the_names_contradict_is_said(
     project: hth4.Project, caplog: pytest.LogCaptureFixture
 ) -> None:
-    # the fixture is a KXR-L2 with grippers: --robot kxr:L2L5A3 (no G) builds the grippers
-    # its servo names (18, 19) say, and says so instead of answering another model in silence
-    with caplog.at_level("WARNING", logger="rcb4hv.hth4.robotpick"):
-        model = project_model(project, "kxr:L2L5A3")
+    # the fixture's servo names have no hip yaw: --robot kxr:L2L6A3G (six-axis legs) builds
+    # the five-axis legs they name, and says so instead of answering another model in silence
+    with caplog.at_level("INFO", logger="rcb4hv.hth4.robotpick"):
+        model = project_model(project, "kxr:L2L6A3G")
     assert model.name == "kxr:L2L5A3G"
     (record,) = caplog.records
-    assert "--robot kxr:L2L5A3: the project's servo names make it kxr:L2L5A3G" in record.message
-    assert record.message.endswith("(the names complete the code)")
+    assert record.levelname == "WARNING"
+    assert record.message == (
+        "--robot kxr:L2L6A3G: the project's servo names make it kxr:L2L5A3G "
+        "(--robot kxr:L2L6A3G says legs 6, the servo names 5: names win)"
+    )
+    # a code the names only complete (the grippers it does not spell) is said, quietly
     caplog.clear()
-    with caplog.at_level("WARNING", logger="rcb4hv.hth4.robotpick"):
+    with caplog.at_level("INFO", logger="rcb4hv.hth4.robotpick"):
+        assert project_model(project, "kxr:L2L5A3").name == "kxr:L2L5A3G"
+    (record,) = caplog.records
+    assert record.levelname == "INFO" and record.message.endswith("(the names complete the code)")
+    caplog.clear()
+    with caplog.at_level("INFO", logger="rcb4hv.hth4.robotpick"):
         assert project_model(project, "kxr:L2L5A3G").name == "kxr:L2L5A3G"
     assert not caplog.records  # the code it asked for: nothing to say
