@@ -11,7 +11,13 @@ import pytest
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.hth4.keyframes import Keyframe, add_motion, motion_from_keyframes
 from rcb4hv.hth4.project import load_project
-from rcb4hv.hth4.robotpick import detect_project, project_model
+from rcb4hv.hth4.robotpick import (
+    detect_project,
+    home_pose,
+    motion_extremes,
+    project_model,
+    servo_table,
+)
 from rcb4hv.robot.builtin import load_robot
 from rcb4hv.robot.kit import detect_kit, parse_kit_code, parse_servo_name
 from rcb4hv.robot.kit.figures import FIGURES, SOURCES
@@ -344,3 +350,43 @@ def test_the_l4r2a3_front_yaw_is_an_arm_bracket_whatever_the_title_says() -> Non
         bottom = min(g.pos[2] - g.size[2] / 2 for g in link.geoms)
         assert bottom == pytest.approx(lowest, abs=1e-3), model.name
     assert det.model.name == "kxr:L4R2A3"
+
+
+def test_motions_past_the_mechanical_limits_turn_a_pair_of_signs(kxr_project_path: Path) -> None:
+    """kxreus's seven-axis arm maps the shoulder rolls +1 / -1 (ICS 4 / 5), the basic arm -1 /
+    +1. Kondo's motions, copied into the seven-axis builds' projects, raise both arms
+    sideways with 10300 on ICS 4 and 5 (the goalkeeper): with the seven-axis signs that is
+    94.5° inward, 64.5° past the 30° where the arm meets the body. The motions are valid on
+    the real robot, so detection turns both signs and says so; the home pose (both at 7500)
+    cannot tell."""
+    code, model = stock("kxr:L2L6A7H2G")
+    assert (model.servo(4).sign, model.servo(5).sign) == (1, -1)
+    names, home = names_for(model), home_values(model, {})
+    title = f"Hello_KXR-{code.code}(V1.0)"
+    extremes = {4: (7500, 10300), 5: (7500, 10300), 12: (7500, 8700), 13: (7500, 8700)}
+    det = detect_kit(title, names, home, extremes=extremes)
+    assert (det.model.servo(4).sign, det.model.servo(5).sign) == (-1, 1)
+    assert math.degrees(det.model.motion_angle(4, 10300)) == pytest.approx(-94.5, abs=0.1)
+    assert det.notes == (
+        "shoulder_roll: both signs turned: the project's motions go 64° past its mechanical "
+        "limits with the kit's convention and stay inside them so",
+    )
+    assert ("motions within the mechanical limits", True, "every joint") in det.checks
+    # without the motions, or with motions inside the limits, the kit's convention stands
+    assert detect_kit(title, names, home).model.servo(4).sign == 1
+    inside = detect_kit(title, names, home, extremes={4: (7000, 7800), 5: (7200, 8000)})
+    assert inside.model.servo(4).sign == 1 and inside.notes == ()
+    # a pair no sign keeps inside is left as it is and reported
+    both = detect_kit(title, names, home, extremes={4: (3500, 11500), 5: (3500, 11500)})
+    assert both.model.servo(4).sign == 1
+    assert ("motions within the mechanical limits", False, "shoulder_roll (105° past)") in (
+        both.checks
+    )
+    # the fixture (three-axis arms): its motions fit the kit's convention; values past the
+    # servo's travel (2100, 12900: pushing a joint to its end) are not counted
+    project = load_project(kxr_project_path)
+    ext = motion_extremes(project)
+    assert ext[2][0] >= 3500 and ext[3][1] <= 11500
+    det_f = detect_kit(None, servo_table(project), home_pose(project), extremes=ext)
+    assert det_f.model.name == "kxr:L2L5A3G" and det_f.notes == ()
+    assert ("motions within the mechanical limits", True, "every joint") in det_f.checks

@@ -34,12 +34,12 @@ from collections.abc import Iterable, Mapping
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.hth4.model import Project
 from rcb4hv.hth4.poses import motion_poses
-from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, POSITION_MAX, POSITION_MIN
 from rcb4hv.robot.builtin import BUILTIN, check_indices, detect_robot, load_builtin, load_robot
 from rcb4hv.robot.kit import Detection, detect_kit, parse_kit_code
 from rcb4hv.robot.model import RobotModel
 
-__all__ = ["detect_project", "home_pose", "project_model", "servo_table"]
+__all__ = ["detect_project", "home_pose", "motion_extremes", "project_model", "servo_table"]
 
 log = logging.getLogger(__name__)
 
@@ -67,6 +67,20 @@ def home_pose(project: Project) -> dict[int, int]:
     return {}
 
 
+def motion_extremes(project: Project) -> dict[int, tuple[int, int]]:
+    """The smallest and largest value each ICS number takes in the poses of the project's
+    used motions, of the values within the servo's travel (3500-11500; Kondo's motions send
+    2100 or 12700 only to push a joint to its end): what its mechanical limits must allow."""
+    out: dict[int, tuple[int, int]] = {}
+    for motion in project.used_motions:
+        for pose in motion_poses(motion):
+            for i, v in pose.values.items():
+                if POSITION_MIN <= v <= POSITION_MAX:
+                    lo, hi = out.get(i, (v, v))
+                    out[i] = (min(lo, v), max(hi, v))
+    return out
+
+
 def _builtin_twin(model: RobotModel) -> RobotModel:
     """The built-in model with exactly ``model``'s joint map, else ``model``."""
     mine = {(s.index, s.joint, s.sign) for s in model.servos}
@@ -83,15 +97,17 @@ def detect_project(
     """The model of ``project`` (or of a servo table with its ``title``) by rules 1-2 of the
     module docstring and its evidence (None for a built-in found by its servo table or named
     by ``name``)."""
+    extremes: dict[int, tuple[int, int]] = {}
     if isinstance(project, Project):
         names, title, home = servo_table(project), project.project_title or "", home_pose(project)
+        extremes = motion_extremes(project)
     else:
         names, home = dict(project), {}
     if name is not None:
         code = parse_kit_code(name) if name.lower().startswith("kxr:") else None
         if code is None or not names:
             return load_robot(name), None
-        det = detect_kit(title, names, home, force=code)
+        det = detect_kit(title, names, home, force=code, extremes=extremes)
         if det.model.name != code.name:  # never wrong in silence: say why it is not the code
             conflicts = [n for n in det.notes if n.startswith("--robot")]
             log.log(
@@ -103,12 +119,12 @@ def detect_project(
             )
         return det.model, det
     if parse_kit_code(title) is not None:
-        det = detect_kit(title, names, home)
+        det = detect_kit(title, names, home, extremes=extremes)
         return _builtin_twin(det.model), det
     legged: Detection | None = None
     ambiguous: AmbiguousRobotError | None = None
     try:
-        legged = detect_kit(None, names, home)
+        legged = detect_kit(None, names, home, extremes=extremes)
     except AmbiguousRobotError as exc:
         ambiguous = exc
     except NoRobotModelError as exc:

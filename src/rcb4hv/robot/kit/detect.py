@@ -160,6 +160,51 @@ def _symmetry(
     return notes, [row]
 
 
+def _within_limits(
+    code: KitCode, jm: dict[str, tuple[int, int]], extremes: Mapping[int, tuple[int, int]]
+) -> tuple[list[str], list[tuple[str, bool, str]]]:
+    """Turn a pair of signs the project's own motions show reversed. Kondo's motions are
+    physically valid, so where the kit's convention sends a left-right pair past its
+    mechanical limits and the other sign keeps every value inside them, both sides turn (a
+    pair turned together keeps the home pose symmetric, so :func:`_symmetry` cannot tell).
+    ``extremes``: the smallest and largest motion value of each ICS number within the
+    servo's travel (values beyond it only push a joint to its end)."""
+    notes: list[str] = []
+    bad: list[str] = []
+    probe = kit_model(code, jm)
+
+    def past(pair: list[tuple[str, int, int]], flip: int) -> float:
+        """Degrees past the hard limits, the worst value of the pair (<= 0: inside)."""
+        worst = -math.inf
+        for name, index, sign in pair:
+            j, offset = probe.joint(name), probe.servo(index).offset
+            lo, hi = math.degrees(j.lower), math.degrees(j.upper)
+            for v in extremes.get(index, ()):
+                a = flip * sign * (v - CENTER - offset) / COUNTS_PER_DEGREE
+                worst = max(worst, lo - a, a - hi)
+        return worst
+
+    for joint, (index, sign) in sorted(jm.items()):
+        other = "r_" + joint[2:]
+        if not joint.startswith("l_") or other not in jm or joint.endswith("wheel"):
+            continue
+        pair = [(joint, index, sign), (other, *jm[other])]
+        now = past(pair, 1)
+        if now <= 0:
+            continue
+        if past(pair, -1) <= 0:
+            for name, i, s in pair:
+                jm[name] = (i, -s)
+            notes.append(
+                f"{joint[2:]}: both signs turned: the project's motions go {now:.0f}° past its "
+                "mechanical limits with the kit's convention and stay inside them so"
+            )
+        else:
+            bad.append(f"{joint[2:]} ({now:.0f}° past)")
+    row = ("motions within the mechanical limits", not bad, ", ".join(bad) or "every joint")
+    return notes, [row]
+
+
 def _level(model: RobotModel) -> list[tuple[str, bool, str]]:
     """A biped's soles level with its torso at home (feet flat, upright)."""
     feet = [f"{s}_ankle_roll_link" for s in ("l", "r")]
@@ -266,10 +311,13 @@ def detect_kit(
     home: Mapping[int, int] | None = None,
     *,
     force: KitCode | None = None,
+    extremes: Mapping[int, tuple[int, int]] | None = None,
 ) -> Detection:
     """The kit model of a project (see the module docstring). ``names``: ICS number -> servo
     name of the slots in use; ``home``: the home pose's motion values by ICS number; ``force``:
-    the kit code ``--robot kxr:CODE`` gives (its family wins over the names)."""
+    the kit code ``--robot kxr:CODE`` gives (its family wins over the names); ``extremes``:
+    the smallest and largest value the project's motions give each ICS number within the
+    servo's travel (:func:`_within_limits`)."""
     roles, spare = _roles(names)
     code = force or parse_kit_code(title)
     notes: list[str] = []
@@ -281,6 +329,10 @@ def detect_kit(
     if home:
         sym_notes, rows = _symmetry(effective, jm, home)
         notes += sym_notes
+        checks += rows
+    if extremes:
+        lim_notes, rows = _within_limits(effective, jm, extremes)
+        notes += lim_notes
         checks += rows
     counts = {j: home[i] - CENTER for j, (i, _) in jm.items() if home and i in home}
     model = kit_model(
