@@ -173,28 +173,30 @@ def _within_limits(
     bad: list[str] = []
     probe = kit_model(code, jm)
 
-    def past(pair: list[tuple[str, int, int]], flip: int) -> float:
-        """Degrees past the hard limits, the worst value of the pair (<= 0: inside)."""
+    def past(pair: tuple[str, str], flip: int) -> float:
+        """Degrees past the hard limits, the worst value of the pair with its signs times
+        ``flip`` (<= 0: inside)."""
         worst = -math.inf
-        for name, index, sign in pair:
-            j, offset = probe.joint(name), probe.servo(index).offset
+        for name in pair:
+            j, index = probe.joint(name), jm[name][0]
             lo, hi = math.degrees(j.lower), math.degrees(j.upper)
             for v in extremes.get(index, ()):
-                a = flip * sign * (v - CENTER - offset) / COUNTS_PER_DEGREE
+                a = flip * math.degrees(probe.motion_angle(index, v))  # the one conversion
                 worst = max(worst, lo - a, a - hi)
         return worst
 
-    for joint, (index, sign) in sorted(jm.items()):
+    for joint in sorted(jm):
         other = "r_" + joint[2:]
         if not joint.startswith("l_") or other not in jm or joint.endswith("wheel"):
             continue
-        pair = [(joint, index, sign), (other, *jm[other])]
+        pair = (joint, other)
         now = past(pair, 1)
         if now <= 0:
             continue
         if past(pair, -1) <= 0:
-            for name, i, s in pair:
-                jm[name] = (i, -s)
+            for name in pair:
+                index, sign = jm[name]
+                jm[name] = (index, -sign)
             notes.append(
                 f"{joint[2:]}: both signs turned: the project's motions go {now:.0f}° past its "
                 "mechanical limits with the kit's convention and stay inside them so"
