@@ -10,7 +10,7 @@ import pytest
 from rcb4hv import hth4
 from rcb4hv.cli.project_physics import physics_robot
 from rcb4hv.errors import NoRobotModelError, RobotModelError
-from rcb4hv.hth4.robotpick import project_model, servo_table
+from rcb4hv.hth4.robotpick import detect_project, project_model, servo_table
 from rcb4hv.project.relocate import project_image
 from rcb4hv.rom.default import DEFAULT_ICS
 from rcb4hv.ui.robots import choose_robot
@@ -92,6 +92,13 @@ def test_a_kit_code_the_names_contradict_is_said(
         "--robot kxr:L2L6A3G: the project's servo names make it kxr:L2L5A3G "
         "(--robot kxr:L2L6A3G says legs 6, the servo names 5: names win)"
     )
+    _, det = detect_project(project, "kxr:L2L6A3G")  # the same evidence, as data
+    assert det is not None
+    assert det.conflicts == ("--robot kxr:L2L6A3G says legs 6, the servo names 5: names win",)
+    assert det.as_dict()["conflicts"] == list(det.conflicts)
+    assert set(det.conflicts) <= set(det.notes)
+    _, det = detect_project(project, "kxr:L2L5A3")
+    assert det is not None and det.conflicts == ()
     # a code the names only complete (the grippers it does not spell) is said, quietly
     caplog.clear()
     with caplog.at_level("INFO", logger="rcb4hv.hth4.robotpick"):

@@ -109,13 +109,12 @@ def detect_project(
             return load_robot(name), None
         det = detect_kit(title, names, home, force=code, extremes=extremes)
         if det.model.name != code.name:  # never wrong in silence: say why it is not the code
-            conflicts = [n for n in det.notes if n.startswith("--robot")]
             log.log(
-                logging.WARNING if conflicts else logging.INFO,
+                logging.WARNING if det.conflicts else logging.INFO,
                 "--robot %s: the project's servo names make it %s (%s)",
                 code.name,
                 det.model.name,
-                "; ".join(conflicts) or "the names complete the code",
+                "; ".join(det.conflicts) or "the names complete the code",
             )
         return det.model, det
     if parse_kit_code(title) is not None:

@@ -55,6 +55,7 @@ class Detection:
     notes: tuple[str, ...] = ()
     checks: tuple[tuple[str, bool, str], ...] = ()
     candidates: tuple[str, ...] = field(default=())
+    conflicts: tuple[str, ...] = ()  # what the title or --robot's code says that the names do not
 
     def as_dict(self) -> dict[str, object]:
         return {
@@ -68,6 +69,7 @@ class Detection:
                 {"index": i, "name": n, "joint": j, "sign": s} for i, n, j, s in self.servos
             ],
             "notes": list(self.notes),
+            "conflicts": list(self.conflicts),
             "checks": [{"check": c, "ok": ok, "detail": d} for c, ok, d in self.checks],
         }
 
@@ -299,9 +301,6 @@ def _choose(
         )
     if family == "humanoid":
         effective = _humanoid_code(code, placement)
-        if code is not None and code.family == "humanoid":
-            said_by = f"--robot kxr:{force.code}" if force is not None else "the title"
-            notes += _conflicts(code, effective, said_by)
     else:
         effective = code if code is not None and code.family == family else KitCode(family, family)
     return effective, _joint_map(effective, placement), by_names
@@ -327,6 +326,11 @@ def detect_kit(
         notes.append(f"no joint in the name of servo(s) {sorted(spare)}: left out")
     cands = _candidates(roles, code)
     effective, jm, source = _choose(code, force, roles, cands, set(names), notes)
+    conflicts: list[str] = []
+    if code is not None and code.family == effective.family == "humanoid":
+        said_by = f"--robot kxr:{code.code}" if force is not None else "the title"
+        conflicts = _conflicts(code, effective, said_by)
+        notes += conflicts
     checks: list[tuple[str, bool, str]] = []
     if home:
         sym_notes, rows = _symmetry(effective, jm, home)
@@ -349,4 +353,6 @@ def detect_kit(
          model.servo(i).sign if i in model.indices else None)
         for i in sorted(names)
     )  # fmt: skip
-    return Detection(model, title or "", code, servos, tuple(notes), tuple(checks), ())
+    return Detection(
+        model, title or "", code, servos, tuple(notes), tuple(checks), (), tuple(conflicts)
+    )
