@@ -54,6 +54,10 @@ class PhysicsOptions:
     """x the accelerometer's counts per g (``SensorLayout.accel_counts_per_g``)."""
     mass: float = 1.0
     """x every link's mass and inertia (the models' masses are estimates)."""
+    impratio: float = 1.0
+    """x how hard the feet's friction is against their normal force (``mjcf.IMPRATIO``,
+    MuJoCo's 1): 100 stops the creep of a loaded foot below its friction limit, at 2-3 times
+    the physics time."""
     floor_tilt_deg: float = 0.0
     """The floor's slope (degrees, 0..45), by turning gravity: not a factor."""
     floor_tilt_dir_deg: float = 0.0

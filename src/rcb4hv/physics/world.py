@@ -24,7 +24,7 @@ from rcb4hv.robot.geometry import (
     lowest_z,
     quaternion_matrix,
 )
-from rcb4hv.robot.mjcf import FLOOR_FRICTION, TIMESTEP, to_mjcf
+from rcb4hv.robot.mjcf import FLOOR_FRICTION, IMPRATIO, TIMESTEP, to_mjcf
 from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import (
     DEFAULT_SERVO,
@@ -104,6 +104,7 @@ class PhysicsWorld:
             floor_friction=FLOOR_FRICTION * opts.friction,
             armature_scale=opts.armature,
             damping_scale=opts.servo_damping,
+            impratio=IMPRATIO * opts.impratio,
         )
         try:
             self.m = mj.MjModel.from_xml_string(mjcf)

@@ -78,18 +78,19 @@ its XML reference says "elliptic cones are a better model of the physical realit
 computation chapter names them the first cure for contact slip. With the pyramidal cone the
 KXR's feet crept: single steps turned it ~15° and the get-up from the back fell back."""
 
-IMPRATIO = 100.0
+IMPRATIO = 1.0
 """How much harder MuJoCo makes a contact's friction than its normal force (``impratio``, for
-elliptic cones). MuJoCo's contacts are soft: at its default of 1 a foot loaded below its
-friction limit still creeps, where dry friction holds. The XML reference: "settings larger
-than 1 cause friction forces to be 'harder' than normal forces, having the general effect of
-preventing slip, without increasing the actual friction coefficient". 100 is what MuJoCo
-Menagerie's legged robots set (``unitree_a1/a1.xml``, ``unitree_go2/go2.xml``:
-``cone="elliptic" impratio="100"``; Menagerie issue 45, its maintainer: "impratio helps limit
-slipping"). Measured (``tests/physics/test_static_friction.py``): the KXR-L2 with grippers
-holding its home pose on a 15° slope (tan 15° = 0.27, below the feet's 0.4) crept 6.1 mm in 5
-s at 1 and creeps 0.17 mm at 100 (0.63 mm at 10); at 20° it tips over either way. The
-sliding limit is unchanged: a foot pushed past it slides as before."""
+elliptic cones): MuJoCo's default. MuJoCo's contacts are soft, and at 1 a foot loaded below
+its friction limit still creeps where dry friction holds: the KXR-L2 with grippers holding
+its pose on a 15° slope (tan 15° = 0.27, below the feet's 0.4) creeps 6.1 mm in 5 s
+(``tests/physics/test_static_friction.py``). Larger values make the friction "harder ...
+having the general effect of preventing slip, without increasing the actual friction
+coefficient" (MuJoCo's XML reference); MuJoCo Menagerie's legged robots set 100
+(``unitree_go2/go2.xml``, ``unitree_a1/a1.xml``), with which the creep is 0.17 mm. Not
+adopted: it costs the Newton solver 2.5 iterations a step instead of 1.1, and physics runs 2-3
+times slower (the 30-axis KXR at 13.7x real time instead of 33x, under the 30x this package
+keeps; docs/physics.md, "Static friction"). ``--what-if impratio=100``
+(:class:`~rcb4hv.physics.PhysicsOptions`) plays a motion with it."""
 
 JACOBIAN = "sparse"
 """How MuJoCo stores the constraint Jacobian: a cost setting, not a physical one (the same
