@@ -33,7 +33,7 @@ from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions
 from rcb4hv.physics.options import NOT_FACTORS
 from rcb4hv.project.physicsresult import PhysicsOutcome
 from rcb4hv.project.run import run_motions
-from rcb4hv.robot.mjcf import FLOOR_FRICTION
+from rcb4hv.robot.mjcf import FLOOR_FRICTION, TORSIONAL_FRICTION
 from rcb4hv.robot.servos import FREE_DAMPING_FRACTION, FULL_TORQUE_ERROR_DEG, MOTOR_TIME_CONSTANT
 
 REPO = Path(__file__).resolve().parents[1]
@@ -47,6 +47,7 @@ FIGURES = {
     "armature": f"armature ({MOTOR_TIME_CONSTANT * 1000:g} ms motor time constant)",
     "servo_damping": "servo controller's braking (critically damped bare servo at stretch 127)",
     "friction": f"foot friction ({FLOOR_FRICTION:g})",
+    "torsional_friction": f"foot spin friction ({TORSIONAL_FRICTION:g} m, MuJoCo's default)",
     "gyro_scale": f"gyro scale ({DEFAULT_SENSORS.gyro_counts_per_dps:g} counts per °/s)",
     "mass": "link masses and inertias (the models' estimates)",
     "accel_scale": f"accelerometer scale ({DEFAULT_SENSORS.accel_counts_per_g:.0f} counts per g)",

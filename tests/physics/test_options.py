@@ -7,7 +7,7 @@ import pytest
 
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions, PhysicsWorld
 from rcb4hv.robot.builtin import load_builtin
-from rcb4hv.robot.mjcf import FLOOR_FRICTION
+from rcb4hv.robot.mjcf import FLOOR_FRICTION, TORSIONAL_FRICTION
 from rcb4hv.robot.servos import armature, stiffness
 
 KXR = load_builtin("kxr-l2")
@@ -15,7 +15,9 @@ KXR = load_builtin("kxr-l2")
 
 def test_each_factor_scales_its_figure_and_the_defaults_change_nothing() -> None:
     plain = PhysicsWorld(KXR)
-    opts = PhysicsOptions(stiffness=2.0, armature=0.5, friction=0.75, free_damping=3.0)
+    opts = PhysicsOptions(
+        stiffness=2.0, armature=0.5, friction=0.75, free_damping=3.0, torsional_friction=4.0
+    )
     scaled = PhysicsWorld(KXR, options=opts)
     index = next(iter(plain.servos))
     spec = plain.servos[index].spec
@@ -25,6 +27,8 @@ def test_each_factor_scales_its_figure_and_the_defaults_change_nothing() -> None
     assert plain.m.dof_armature[dof] == pytest.approx(armature(spec))
     assert scaled.m.dof_armature[dof] == pytest.approx(0.5 * armature(spec))
     assert scaled.m.geom_friction[0][0] == pytest.approx(0.75 * FLOOR_FRICTION)
+    assert plain.m.geom_friction[0][1] == pytest.approx(TORSIONAL_FRICTION)
+    assert scaled.m.geom_friction[0][1] == pytest.approx(4.0 * TORSIONAL_FRICTION)
     plain.release(index)
     scaled.release(index)
     assert scaled.m.dof_damping[dof] == pytest.approx(3.0 * plain.m.dof_damping[dof])

@@ -48,6 +48,8 @@ class PhysicsOptions:
     """x a powered servo controller's braking (``servos.controller_damping``)."""
     friction: float = 1.0
     """x the feet's sliding friction (``mjcf.FLOOR_FRICTION``)."""
+    torsional_friction: float = 1.0
+    """x each foot contact's spin friction (``mjcf.TORSIONAL_FRICTION``, MuJoCo's default)."""
     gyro_scale: float = 1.0
     """x the gyro's counts per °/s (``SensorLayout.gyro_counts_per_dps``)."""
     accel_scale: float = 1.0

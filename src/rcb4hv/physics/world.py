@@ -24,7 +24,13 @@ from rcb4hv.robot.geometry import (
     lowest_z,
     quaternion_matrix,
 )
-from rcb4hv.robot.mjcf import FLOOR_FRICTION, IMPRATIO, TIMESTEP, to_mjcf
+from rcb4hv.robot.mjcf import (
+    FLOOR_FRICTION,
+    IMPRATIO,
+    TIMESTEP,
+    TORSIONAL_FRICTION,
+    to_mjcf,
+)
 from rcb4hv.robot.model import GeomShape, RobotModel, ServoSpec, Vec3
 from rcb4hv.robot.servos import (
     DEFAULT_SERVO,
@@ -105,6 +111,7 @@ class PhysicsWorld:
             armature_scale=opts.armature,
             damping_scale=opts.servo_damping,
             impratio=IMPRATIO * opts.impratio,
+            torsional_friction=TORSIONAL_FRICTION * opts.torsional_friction,
         )
         try:
             self.m = mj.MjModel.from_xml_string(mjcf)

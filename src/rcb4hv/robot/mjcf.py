@@ -69,7 +69,13 @@ friction tables); chosen in the middle."""
 
 TORSIONAL_FRICTION = 0.005
 ROLLING_FRICTION = 0.0001
-"""Spin (m) and rolling (m) friction of a contact: MuJoCo's defaults."""
+"""Spin (m) and rolling (m) friction of a contact: MuJoCo's defaults, no measured figure.
+A sole touches the floor at the corners of its boxes, whose sliding friction already resists
+a spin with the corners' lever (a KXR-L2 sole: 62 mm, where a flat sole pressing evenly
+resists with its mean radius, 33 mm); each contact's spin friction adds to that. The turns
+depend on it: the fixture's fast turn left goes +137°, +127° and +65° with 0.0001, 0.005 and
+0.02 m (``PhysicsOptions.torsional_friction``; docs/physics.md, "How sensitive the verdicts
+are")."""
 
 FRICTION_CONE = "elliptic"
 """MuJoCo's friction cone: Coulomb's circle of ``|tangential| <= mu * normal``. MuJoCo's
@@ -199,6 +205,7 @@ def to_mjcf(
     armature_scale: float = 1.0,
     damping_scale: float = 1.0,
     impratio: float = IMPRATIO,
+    torsional_friction: float = TORSIONAL_FRICTION,
 ) -> str:
     """The MJCF document of ``model`` (see the module docstring).
 
@@ -208,7 +215,8 @@ def to_mjcf(
     default: the zero pose standing on the floor), ``armature_scale`` a factor on each
     servo's reflected inertia (1: :func:`armature`; for sensitivity studies),
     ``damping_scale`` one on each servo controller's braking (1: :func:`controller_damping`),
-    ``impratio`` the friction's hardness (:data:`IMPRATIO`; 1 is MuJoCo's default).
+    ``impratio`` the friction's hardness (:data:`IMPRATIO`; 1 is MuJoCo's default),
+    ``torsional_friction`` each contact's spin friction (m, :data:`TORSIONAL_FRICTION`).
     """
     if base_height is None:
         base_height = -lowest_point(model)
@@ -220,7 +228,7 @@ def to_mjcf(
     by_parent: dict[str, list[Joint]] = {}
     for j in joints:
         by_parent.setdefault(j.parent, []).append(j)
-    friction = f"{_f(floor_friction)} {_f(TORSIONAL_FRICTION)} {_f(ROLLING_FRICTION)}"
+    friction = f"{_f(floor_friction)} {_f(torsional_friction)} {_f(ROLLING_FRICTION)}"
     lines = [
         f"<mujoco model={quoteattr(model.name)}>",
         '  <compiler angle="radian" eulerseq="XYZ" autolimits="true"/>',
