@@ -93,7 +93,7 @@ its pose on a 15° slope (tan 15° = 0.27, below the feet's 0.4) creeps 6.1 mm i
 having the general effect of preventing slip, without increasing the actual friction
 coefficient" (MuJoCo's XML reference); MuJoCo Menagerie's legged robots set 100
 (``unitree_go2/go2.xml``, ``unitree_a1/a1.xml``), with which the creep is 0.17 mm. Not
-adopted: it costs the Newton solver 2.5 iterations a step instead of 1.1, and physics runs 2-3
+adopted: it costs the Newton solver 2.7 iterations a step instead of 1.1, and physics runs 2-3
 times slower (the 30-axis KXR at 13.7x real time instead of 33x, under the 30x this package
 keeps; docs/physics.md, "Static friction"). ``--what-if impratio=100``
 (:class:`~rcb4hv.physics.PhysicsOptions`) plays a motion with it."""
