@@ -95,7 +95,7 @@ def _humanoid_code(base: KitCode | None, p: Placement) -> KitCode:
     return replace(parsed, width=probe.width)
 
 
-def _conflicts(code: KitCode, names: KitCode, said_by: str = "the title") -> list[str]:
+def _conflicts(code: KitCode, names: KitCode, said_by: str) -> list[str]:
     """What ``code`` (from the title, or ``--robot``) claims that the servo names contradict."""
     out = []
     for what in ("legs", "arms", "head"):
@@ -354,5 +354,5 @@ def detect_kit(
         for i in sorted(names)
     )  # fmt: skip
     return Detection(
-        model, title or "", code, servos, tuple(notes), tuple(checks), (), tuple(conflicts)
+        model, title or "", code, servos, tuple(notes), tuple(checks), conflicts=tuple(conflicts)
     )
