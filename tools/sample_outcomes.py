@@ -58,6 +58,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -397,6 +398,37 @@ def summary(results: dict[str, list[Outcome]]) -> str:
     return "\n".join(lines)
 
 
+def family(robot: str) -> str:
+    """The family of model ``robot`` for :func:`breakdown`: the KHR-3HV, a KXR humanoid by its
+    legs' axes (and wheeled feet), or a KXR kit family (an L4R with arms apart from the L4R)."""
+    if robot.startswith("khr3hv"):
+        return "KHR-3HV"
+    code = "L2L5" if robot.startswith("kxr-l2") else robot.removeprefix("kxr:")
+    if m := re.match(r"L2(W2)?L(\d)", code):
+        return f"KXR humanoid, {m[2]}-axis legs" + (", wheeled feet" if m[1] else "")
+    m = re.match(r"(L4[DNRT]|L6|R4LL)(\d)?", code)
+    return f"KXR-{m[1]}" + (" with arms" if m[2] else "") if m else code
+
+
+def breakdown(results: dict[str, list[Outcome]]) -> str:
+    """The walks, steps, turns and greetings right by family (:func:`family`) and by label."""
+    groups: dict[str, dict[str, list[Outcome]]] = {"family": {}, "label": {}}
+    for rows in results.values():
+        for r in rows:
+            if r.label in NAMED and r.right is not None:
+                groups["family"].setdefault(family(r.robot), []).append(r)
+                groups["label"].setdefault(r.label, []).append(r)
+    out = []
+    for by, table in groups.items():
+        out += [f"| {by} | projects | walks, steps, turns, greetings |", "|---|---|---|"]
+        for k, rows in sorted(table.items()):
+            share = sum(1 for r in rows if r.right) / len(rows)
+            files = len({r.file for r in rows})
+            out.append(f"| {k} | {files} | {_count(rows, NAMED)} ({share:.0%}) |")
+        out.append("")
+    return "\n".join(out)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("paths", nargs="+", type=Path, help=".h4p files or directories of them")
@@ -446,7 +478,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         for f, rows in results.items():
             sys.stdout.write(f"## {f}\n\n{_table(rows)}\n\n")
-        sys.stdout.write(f"## Summary\n\n{summary(results)}\n")
+        sys.stdout.write(f"## Summary\n\n{summary(results)}\n\n{breakdown(results)}")
     return 0
 
 

@@ -215,3 +215,46 @@ def test_mirror_judges_each_walk_steps_and_turns_mirror_image() -> None:
 )
 def test_names_promise_these_outcomes(name: str, label: str) -> None:
     assert _tool().label_of(name) == label
+
+
+@pytest.mark.parametrize(
+    ("robot", "family"),
+    [
+        ("khr3hv-22", "KHR-3HV"),
+        ("kxr-l2-gripper", "KXR humanoid, 5-axis legs"),
+        ("kxr:L2L6A7H2G", "KXR humanoid, 6-axis legs"),
+        ("kxr:L2W2L5A3H2G", "KXR humanoid, 5-axis legs, wheeled feet"),
+        ("kxr:L2L2A6H2G", "KXR humanoid, 2-axis legs"),
+        ("kxr:L4R", "KXR-L4R"),
+        ("kxr:L4R2A3G", "KXR-L4R with arms"),
+        ("kxr:R4LL", "KXR-R4LL"),
+        ("kxr:L6", "KXR-L6"),
+    ],
+)
+def test_each_model_falls_in_a_family(robot: str, family: str) -> None:
+    assert _tool().family(robot) == family
+
+
+def test_the_breakdown_counts_named_outcomes_by_family_and_label() -> None:
+    """The summary's breakdown: only walks, steps, turns and greetings count, each once in its
+    family's row and once in its label's; projects are counted by file."""
+    tool = _tool()
+
+    def row(file: str, robot: str, label: str, right: bool | None) -> object:
+        return tool.Outcome(file, 1, "m", label, "completed", False, "upright", 0, 0, 0, right,
+                            robot=robot)  # fmt: skip
+
+    results = {
+        "a.h4p": [row("a.h4p", "kxr:L6", "walk forward", True),
+                  row("a.h4p", "kxr:L6", "turn left", False),
+                  row("a.h4p", "kxr:L6", "other", True)],
+        "b.h4p": [row("b.h4p", "kxr-l2", "walk forward", False),
+                  row("b.h4p", "kxr-l2", "get up back", True),
+                  row("b.h4p", "kxr-l2", "greeting", None)],
+    }  # fmt: skip
+    text = tool.breakdown(results)
+    assert "| KXR-L6 | 1 | 1 of 2 (50%) |" in text
+    assert "| KXR humanoid, 5-axis legs | 1 | 0 of 1 (0%) |" in text
+    assert "| walk forward | 2 | 1 of 2 (50%) |" in text
+    assert "| turn left | 1 | 0 of 1 (0%) |" in text
+    assert not any(f"| {label} |" in text for label in ("other", "get up back", "greeting"))
