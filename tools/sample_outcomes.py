@@ -411,7 +411,8 @@ def family(robot: str) -> str:
 
 
 def breakdown(results: dict[str, list[Outcome]]) -> str:
-    """The walks, steps, turns and greetings right by family (:func:`family`) and by label."""
+    """The walks, steps, turns and greetings right by family (:func:`family`) and by label,
+    and counting only the first (lowest-slot) motion of each label in each project."""
     groups: dict[str, dict[str, list[Outcome]]] = {"family": {}, "label": {}}
     for rows in results.values():
         for r in rows:
@@ -426,6 +427,12 @@ def breakdown(results: dict[str, list[Outcome]]) -> str:
             files = len({r.file for r in rows})
             out.append(f"| {k} | {files} | {_count(rows, NAMED)} ({share:.0%}) |")
         out.append("")
+    first = [  # one motion of each label a project has: its lowest slot
+        min((r for r in rows if r.label == label and r.right is not None), key=lambda r: r.slot)
+        for rows in results.values()
+        for label in {r.label for r in rows if r.label in NAMED and r.right is not None}
+    ]
+    out.append(f"The first motion of each label in each project: {_count(first, NAMED)}\n")
     return "\n".join(out)
 
 

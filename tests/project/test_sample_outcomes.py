@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import importlib.util
 import sys
+from dataclasses import replace
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 import pytest
 
@@ -240,7 +242,7 @@ def test_the_breakdown_counts_named_outcomes_by_family_and_label() -> None:
     family's row and once in its label's; projects are counted by file."""
     tool = _tool()
 
-    def row(file: str, robot: str, label: str, right: bool | None) -> object:
+    def row(file: str, robot: str, label: str, right: bool | None) -> Any:
         return tool.Outcome(file, 1, "m", label, "completed", False, "upright", 0, 0, 0, right,
                             robot=robot)  # fmt: skip
 
@@ -249,12 +251,15 @@ def test_the_breakdown_counts_named_outcomes_by_family_and_label() -> None:
                   row("a.h4p", "kxr:L6", "turn left", False),
                   row("a.h4p", "kxr:L6", "other", True)],
         "b.h4p": [row("b.h4p", "kxr-l2", "walk forward", False),
+                  replace(row("b.h4p", "kxr-l2", "walk forward", True), slot=2),
                   row("b.h4p", "kxr-l2", "get up back", True),
                   row("b.h4p", "kxr-l2", "greeting", None)],
     }  # fmt: skip
     text = tool.breakdown(results)
     assert "| KXR-L6 | 1 | 1 of 2 (50%) |" in text
-    assert "| KXR humanoid, 5-axis legs | 1 | 0 of 1 (0%) |" in text
-    assert "| walk forward | 2 | 1 of 2 (50%) |" in text
+    assert "| KXR humanoid, 5-axis legs | 1 | 1 of 2 (50%) |" in text
+    assert "| walk forward | 2 | 2 of 3 (67%) |" in text
     assert "| turn left | 1 | 0 of 1 (0%) |" in text
     assert not any(f"| {label} |" in text for label in ("other", "get up back", "greeting"))
+    # a's walk forward and turn left, b's walk forward in slot 1 (not the one in slot 2)
+    assert "first motion of each label in each project: 1 of 3" in text
