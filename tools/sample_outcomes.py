@@ -413,12 +413,16 @@ def family(robot: str) -> str:
 def breakdown(results: dict[str, list[Outcome]]) -> str:
     """The walks, steps, turns and greetings right by family (:func:`family`) and by label,
     and counting only the first (lowest-slot) motion of each label in each project."""
+    named = [
+        r for rows in results.values() for r in rows if r.label in NAMED and r.right is not None
+    ]
     groups: dict[str, dict[str, list[Outcome]]] = {"family": {}, "label": {}}
-    for rows in results.values():
-        for r in rows:
-            if r.label in NAMED and r.right is not None:
-                groups["family"].setdefault(family(r.robot), []).append(r)
-                groups["label"].setdefault(r.label, []).append(r)
+    first: dict[tuple[str, str], Outcome] = {}  # (project, label) -> its lowest-slot motion
+    for r in named:
+        groups["family"].setdefault(family(r.robot), []).append(r)
+        groups["label"].setdefault(r.label, []).append(r)
+        if r.slot < first.setdefault((r.file, r.label), r).slot:
+            first[r.file, r.label] = r
     out = []
     for by, table in groups.items():
         out += [f"| {by} | projects | walks, steps, turns, greetings |", "|---|---|---|"]
@@ -427,12 +431,9 @@ def breakdown(results: dict[str, list[Outcome]]) -> str:
             files = len({r.file for r in rows})
             out.append(f"| {k} | {files} | {_count(rows, NAMED)} ({share:.0%}) |")
         out.append("")
-    first = [  # one motion of each label a project has: its lowest slot
-        min((r for r in rows if r.label == label and r.right is not None), key=lambda r: r.slot)
-        for rows in results.values()
-        for label in {r.label for r in rows if r.label in NAMED and r.right is not None}
-    ]
-    out.append(f"The first motion of each label in each project: {_count(first, NAMED)}\n")
+    out.append(
+        f"The first motion of each label in each project: {_count(list(first.values()), NAMED)}\n"
+    )
     return "\n".join(out)
 
 

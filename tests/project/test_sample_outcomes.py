@@ -250,8 +250,8 @@ def test_the_breakdown_counts_named_outcomes_by_family_and_label() -> None:
         "a.h4p": [row("a.h4p", "kxr:L6", "walk forward", True),
                   row("a.h4p", "kxr:L6", "turn left", False),
                   row("a.h4p", "kxr:L6", "other", True)],
-        "b.h4p": [row("b.h4p", "kxr-l2", "walk forward", False),
-                  replace(row("b.h4p", "kxr-l2", "walk forward", True), slot=2),
+        "b.h4p": [replace(row("b.h4p", "kxr-l2", "walk forward", True), slot=2),
+                  row("b.h4p", "kxr-l2", "walk forward", False),
                   row("b.h4p", "kxr-l2", "get up back", True),
                   row("b.h4p", "kxr-l2", "greeting", None)],
     }  # fmt: skip
