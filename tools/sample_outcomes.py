@@ -2,8 +2,8 @@
 
 For each ``.h4p`` given (or found in a directory), every motion is labelled from its name
 (English or HeartToHeart4's Japanese) and played with ``rcb4hv project simulate --physics
---json`` (the public CLI, so this script depends on no internals); the outcome is then
-judged against what the name promises:
+--json`` (the public CLI: it plays whatever rcb4hv ``python -m rcb4hv`` imports); the
+outcome is then judged against what the name promises:
 
 - walk forward (前進, forward) / back (後退, 後進, バック, back): no fall, at least 2 cm the named
   way, more than sideways, turned less than 45°;
@@ -58,7 +58,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -400,14 +399,18 @@ def summary(results: dict[str, list[Outcome]]) -> str:
 
 def family(robot: str) -> str:
     """The family of model ``robot`` for :func:`breakdown`: the KHR-3HV, a KXR humanoid by its
-    legs' axes (and wheeled feet), or a KXR kit family (an L4R with arms apart from the L4R)."""
+    legs' axes (and wheeled feet), or a KXR kit family (an L4R with arms apart from the L4R),
+    read with rcb4hv's own kit-code grammar (:func:`rcb4hv.robot.kit.parse_kit_code`)."""
+    from rcb4hv.robot.kit import parse_kit_code
+
     if robot.startswith("khr3hv"):
         return "KHR-3HV"
-    code = "L2L5" if robot.startswith("kxr-l2") else robot.removeprefix("kxr:")
-    if m := re.match(r"L2(W2)?L(\d)", code):
-        return f"KXR humanoid, {m[2]}-axis legs" + (", wheeled feet" if m[1] else "")
-    m = re.match(r"(L4[DNRT]|L6|R4LL)(\d)?", code)
-    return f"KXR-{m[1]}" + (" with arms" if m[2] else "") if m else code
+    kit = parse_kit_code("kxr:L2L5" if robot.startswith("kxr-l2") else robot)
+    if kit is None:
+        return robot
+    if kit.family == "humanoid":
+        return f"KXR humanoid, {kit.legs}-axis legs" + (", wheeled feet" if kit.wheels else "")
+    return f"KXR-{kit.family}" + (" with arms" if kit.arms else "")
 
 
 def breakdown(results: dict[str, list[Outcome]]) -> str:
