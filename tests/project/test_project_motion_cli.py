@@ -61,10 +61,10 @@ def test_a_hand_edit_moves_the_branches_with_it(kxr_project_path: Path, tmp_path
     obj["blocks"].insert(at, {"kind": "wait", "timer": 1, "ms": 300})
     program.write_text(json.dumps(obj), encoding="utf-8")
     result = tmp_path / "out.h4p"
-    assert (
-        _run("project", "motion-import", kxr_project_path, program, "--motion", 70, "-o", result)[0]
-        == 0
+    code, out = _run(
+        "project", "motion-import", kxr_project_path, program, "--motion", 70, "-o", result
     )
+    assert code == 0 and "1 motion(s) imported, 1 changed" in out, out
     code, out = _run("project", "diff", kxr_project_path, result)
     assert code == 1 and "70" in out
     project = load_project(result)
@@ -74,6 +74,20 @@ def test_a_hand_edit_moves_the_branches_with_it(kxr_project_path: Path, tmp_path
     assert branch["to"] == "L1" and blocks[0]["label"] == "L1"
     jump = decode_command(project.motion(70).frames[at + 4])
     assert getattr(jump, "address", None) == project.motion(70).address  # relocated to slot 70
+
+
+def test_an_empty_program_empties_the_slot_and_says_so(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    program = tmp_path / "empty.json"
+    program.write_text(json.dumps({"blocks": []}), encoding="utf-8")
+    result = tmp_path / "out.h4p"
+    code, out = _run(
+        "project", "motion-import", kxr_project_path, program, "--motion", 1, "-o", result
+    )
+    assert code == 0, out
+    assert "1 changed (slot(s) 1 now empty)" in out
+    assert load_project(result).motion(1).is_empty
 
 
 def test_bad_program_names_the_field(kxr_project_path: Path, tmp_path: Path) -> None:

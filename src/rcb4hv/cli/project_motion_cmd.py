@@ -103,9 +103,11 @@ def import_command(file: Path, program: Path, slot: int | None, every: bool, out
             done.append(int(m[1]))
         if not done:
             raise EditError(f"{program}: no NNN.json or NNN.xml files")
+    changed = session.changed_slot_numbers  # against the file as loaded, so before saving
+    emptied = sorted(set(changed) - {m.slot for m in session.changed_motions})
     session.save(output)
-    changed = [m.slot for m in session.changed_motions]
-    click.echo(f"{output}: {len(done)} motion(s) imported, {len(changed)} changed")
+    gone = f" (slot(s) {', '.join(map(str, emptied))} now empty)" if emptied else ""
+    click.echo(f"{output}: {len(done)} motion(s) imported, {len(changed)} changed{gone}")
 
 
 @click.command("motion-xml")

@@ -123,10 +123,16 @@ class EditSession:
         return self.project != self._saved
 
     @property
+    def changed_slot_numbers(self) -> list[int]:
+        """The slots whose motion differs from the last loaded or saved project, emptied
+        slots included."""
+        assert self._saved is not None
+        return sorted(changed_slots(self._saved, self.project))
+
+    @property
     def changed_motions(self) -> list[Motion]:
         """The motions that differ from the last loaded or saved project (used ones)."""
-        assert self._saved is not None
-        slots = changed_slots(self._saved, self.project)
+        slots = set(self.changed_slot_numbers)
         return [m for m in self.project.motions if m.slot in slots and not m.is_empty]
 
     def dump(self) -> bytes:
