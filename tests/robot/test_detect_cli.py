@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -17,7 +18,14 @@ from rcb4hv.hth4.project import load_project
 from rcb4hv.hth4.trim import load_trim
 from rcb4hv.protocol.commands import decode_command
 from rcb4hv.protocol.servocmds import RunConstFrameServo
-from rcb4hv.robot.builtin import BUILTIN, check_indices, detect_robot, even_side, load_builtin
+from rcb4hv.robot.builtin import (
+    BUILTIN,
+    check_indices,
+    detect_robot,
+    even_side,
+    load_builtin,
+    load_robot,
+)
 from rcb4hv.robot.kinematics import apply, forward
 from rcb4hv.robot.model import side_of_name
 
@@ -185,3 +193,29 @@ def test_cli_mjcf_export(tmp_path: Path) -> None:
     else:
         assert out.exit_code == 0, out.output
         assert "<mujoco" in (tmp_path / "k.xml").read_text(encoding="utf-8")
+
+
+def test_cli_detect_refuses_a_named_model_that_does_not_fit(kxr_project_path: Path) -> None:
+    """``robot detect --robot NAME`` checks the model against the project's servos, as every
+    other command does: a KHR-3HV on the fixture's KXR-L2 says which servos are missing."""
+    runner = CliRunner()
+    r = runner.invoke(cli, ["robot", "detect", str(kxr_project_path), "--robot", "khr3hv"])
+    assert r.exit_code == 1
+    assert "no servo at index 0 (head_yaw)" in r.output
+    r = runner.invoke(
+        cli, ["robot", "detect", str(kxr_project_path), "--robot", "kxr-l2-gripper", "--json"]
+    )
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.output)["notes"] == ["chosen with --robot kxr-l2-gripper"]
+
+
+def test_detect_says_where_the_model_differs_from_its_stock_code() -> None:
+    """A kit model whose servo names give it more or fewer joints than the stock build of the
+    code printed says so (``robot show`` of that code is the stock build); the stock build
+    itself says nothing."""
+    from rcb4hv.cli.robot_cmd import _against_stock
+
+    assert _against_stock(load_robot("kxr:L2L6A4H2")) == []
+    wheeled = dataclasses.replace(load_robot("kxr:L2W2L6A4H2"), name="kxr:L2L6A4H2")
+    (note,) = _against_stock(wheeled)
+    assert "stock kxr:L2L6A4H2 has 22" in note and "add l_ankle_wheel, r_ankle_wheel" in note

@@ -157,10 +157,13 @@ def detect(file: Path, robot_name: str | None, as_json: bool) -> None:
     from rcb4hv.errors import AmbiguousRobotError
     from rcb4hv.hth4 import load_project
     from rcb4hv.hth4.robotpick import detect_project, servo_table
+    from rcb4hv.robot.builtin import check_indices
 
     project = load_project(file)
     try:
         model, det = detect_project(project, robot_name)
+        if servo_table(project):  # a named model must fit, as for every other command
+            check_indices(model, servo_table(project))
     except AmbiguousRobotError as exc:
         if as_json:
             print_json({"model": None, "error": str(exc), "candidates": list(exc.candidates)})
@@ -178,11 +181,17 @@ def detect(file: Path, robot_name: str | None, as_json: bool) -> None:
                 for j in model.servos
                 if j.index == i
             ],
-            "notes": ["--robot" if robot_name else "the built-in model matching the servos"],
+            "notes": [
+                f"chosen with --robot {robot_name}"
+                if robot_name
+                else "the built-in model matching the servos"
+            ],
             "checks": [],
         }
     )
     data["model"], data["title"] = model.name, model.title
+    if det is not None:
+        data["notes"] = [*data["notes"], *_against_stock(model)]
     if as_json:
         print_json(data)
         return
@@ -197,6 +206,27 @@ def detect(file: Path, robot_name: str | None, as_json: bool) -> None:
         click.echo(f"  note: {note}")
     for c in data["checks"]:
         click.echo(f"  check: {c['check']}: {'ok' if c['ok'] else 'FAILED'} ({c['detail']})")
+
+
+def _against_stock(model: RobotModel) -> list[str]:
+    """How a model built from a project's servo names differs from the stock build its kit
+    code names (``robot show`` of the same code), so that the printed code never hides it."""
+    try:
+        stock = load_robot(model.name)
+    except RobotModelError:
+        return []
+    have, kit = {s.joint for s in model.servos}, {s.joint for s in stock.servos}
+    if have == kit:
+        return []
+    parts = [
+        f"{word} {', '.join(sorted(joints))}"
+        for word, joints in (("add", have - kit), ("lack", kit - have))
+        if joints
+    ]
+    return [
+        f"{len(have)} servos where the stock {model.name} has {len(kit)}: the project's "
+        f"servo names {' and '.join(parts)}"
+    ]
 
 
 @robot.command()
