@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -104,6 +105,22 @@ def test_write_atomic_replaces(tmp_path: Path) -> None:
     write_atomic(target, b"one")
     write_atomic(target, b"two")
     assert target.read_bytes() == b"two" and len(list(tmp_path.iterdir())) == 1
+
+
+def test_diff_ignores_the_file_layout_and_names_a_priority_check(copy: Path) -> None:
+    """Line ends and a byte-order mark carry no data (no change); a priority motion check is
+    one readable change, not a dump of the whole collection."""
+    p = hth4.load_project(copy)
+    relaid = copy.with_name("lf.h4p")
+    relaid.write_bytes(b"\xef\xbb\xbf" + copy.read_bytes().replace(b"\r\n", b"\n"))
+    q = hth4.load_project(relaid)
+    assert q.layout != p.layout and diff_projects(p, q) == []
+    used = next(i for i, s in enumerate(p.priority_motions) if s.motion is not None)
+    slots = list(p.priority_motions)
+    slots[used] = dataclasses.replace(slots[used], motion=None)
+    (change,) = diff_projects(p, dataclasses.replace(p, priority_motions=tuple(slots)))
+    assert change.text.startswith(f"priority motion check {slots[used].key}: '")
+    assert change.text.endswith(" -> unused") and "PriorityMotion" not in change.text
 
 
 def test_diff_names_exactly_the_changes(copy: Path) -> None:

@@ -19,12 +19,14 @@ import difflib
 from dataclasses import dataclass, fields
 from typing import Any
 
-from rcb4hv.hth4.model import Motion, Project, ServoConfig
+from rcb4hv.hth4.model import Motion, PriorityMotionSlot, Project, ServoConfig
 from rcb4hv.hth4.poses import Block, Pose, motion_blocks
 
 __all__ = ["Change", "diff_projects"]
 
-_SKIP_PROJECT = {"motions", "servos"}
+#: compared on their own (motions, servos, priority checks) or carrying no data: the layout
+#: is how the file was written (line ends, byte-order mark, namespace order)
+_SKIP_PROJECT = {"motions", "servos", "priority_motions", "layout"}
 _SKIP_SERVO = {"key", "device_number"}
 _MOTION_FIELDS = ("key_code", "date", "address", "number", "key")
 
@@ -70,6 +72,7 @@ def diff_projects(a: Project, b: Project) -> list[Change]:
         if old != new:
             text = f"project setting {f.name}: {_short(old)} -> {_short(new)}"
             out.append(Change("setting", text, field=f.name, old=_text(old), new=_text(new)))
+    out.extend(_priority_changes(a.priority_motions, b.priority_motions))
     out.extend(_servo_changes(a.servos, b.servos))
     old_m = {m.slot: m for m in a.motions}
     new_m = {m.slot: m for m in b.motions}
@@ -81,6 +84,27 @@ def diff_projects(a: Project, b: Project) -> list[Change]:
 def _short(value: object, width: int = 60) -> str:
     text = str(_text(value))
     return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _priority_text(slot: PriorityMotionSlot | None) -> str:
+    m = None if slot is None else slot.motion
+    if m is None:
+        return "unused"
+    return f"{m.name or 'unnamed'!r} at {m.address:05X}h when {m.port} {m.compare_type} {m.value}"
+
+
+def _priority_changes(
+    a: tuple[PriorityMotionSlot, ...], b: tuple[PriorityMotionSlot, ...]
+) -> list[Change]:
+    """One change per priority check (``PriorityMotionCollection`` key) that differs."""
+    old, new = {p.key: p for p in a}, {p.key: p for p in b}
+    out: list[Change] = []
+    for key in sorted(old.keys() | new.keys(), key=lambda k: (len(k), k)):
+        was, now = _priority_text(old.get(key)), _priority_text(new.get(key))
+        if old.get(key) != new.get(key):
+            text = f"priority motion check {key}: {was} -> {now}"
+            out.append(Change("setting", text, field="priority_motions", old=was, new=now))
+    return out
 
 
 def _servo_changes(a: tuple[ServoConfig, ...], b: tuple[ServoConfig, ...]) -> list[Change]:
