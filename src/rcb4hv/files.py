@@ -62,7 +62,13 @@ def write_atomic(path: str | os.PathLike[str], data: bytes | str) -> None:
         mode: int | None = stat.S_IMODE(target.stat().st_mode)
     except FileNotFoundError:
         mode = None
-    fd, tmp = _create_temporary(target)
+    try:
+        fd, tmp = _create_temporary(target)
+    except OSError as exc:  # name the user's file, not the temporary one beside it
+        why = exc.strerror or str(exc)
+        if isinstance(exc, FileNotFoundError) and not target.parent.is_dir():
+            why = f"no directory {target.parent}"
+        raise type(exc)(exc.errno, f"cannot write {path}: {why}") from exc
     try:
         with os.fdopen(fd, "wb") as f:
             if mode is not None:

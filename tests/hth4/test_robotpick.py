@@ -47,7 +47,7 @@ def test_nothing_matching_is_a_clear_error(project: hth4.Project) -> None:
         project_model(None, indices=[2, 3])
 
 
-def test_every_caller_uses_the_same_rule(project: hth4.Project, kxr_project_path: Path) -> None:
+def test_every_caller_uses_the_same_rule(project: hth4.Project) -> None:
     # the dashboard: detected from the project, else the board's servos
     model, why = choose_robot(None, project, DEFAULT_ICS)
     assert (model.name, why) == ("kxr-l2-gripper", "detected from the project")
@@ -57,12 +57,12 @@ def test_every_caller_uses_the_same_rule(project: hth4.Project, kxr_project_path
     mute = replace(odd, servos=tuple(replace(s, name="") for s in odd.servos))
     model, why = choose_robot(None, mute, DEFAULT_ICS)
     assert (model.name, why) == ("khr3hv-22", "matches the board's servos")
-    # physics (`project simulate --physics`): a project file, or a bare ROM image (no names)
+    # physics (`project simulate --physics`): a project, or a bare ROM image (no names)
     rom, _ = project_image(project, None)
-    assert physics_robot(kxr_project_path, rom, None).name == "kxr-l2-gripper"
+    assert physics_robot(project, rom, None).name == "kxr-l2-gripper"
     with pytest.raises(NoRobotModelError, match="no project servo table"):
-        physics_robot(Path("robot.bin"), rom, None)
-    assert physics_robot(Path("robot.bin"), rom, "kxr-l2-gripper").name == "kxr-l2-gripper"
+        physics_robot(None, rom, None)
+    assert physics_robot(None, rom, "kxr-l2-gripper").name == "kxr-l2-gripper"
 
 
 def test_the_editor_refuses_a_named_model_the_project_cannot_drive(project: hth4.Project) -> None:

@@ -8,17 +8,28 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-__all__ = ["plot_to", "progress"]
+import click
+
+__all__ = ["PROGRESS_OPTION", "plot_to", "progress"]
+
+PROGRESS_OPTION = click.option(
+    "--progress/--no-progress",
+    default=None,
+    help="Draw a progress bar on stderr [default: when stderr is a terminal].",
+)
+"""``--progress/--no-progress`` (kwarg ``progress``: True, False or None) for :func:`progress`."""
 
 
 @contextmanager
-def progress(total: int, desc: str, enabled: bool) -> Iterator[Callable[[int, int], None]]:
+def progress(total: int, desc: str, enabled: bool | None) -> Iterator[Callable[[int, int], None]]:
     """A tqdm byte counter on stderr; yields ``update(done, total)`` (the client's progress
-    callback). A changed ``total`` resizes the bar (an upload learns its size as it goes)."""
+    callback). A changed ``total`` resizes the bar (an upload learns its size as it goes).
+    ``enabled`` None: only when stderr is a terminal (a log or a pipe gets no bar)."""
     from tqdm import tqdm
 
+    disable = None if enabled is None else not enabled  # tqdm: None = not on a non-TTY
     with tqdm(
-        total=total, desc=desc, unit="B", unit_scale=True, disable=not enabled, file=sys.stderr
+        total=total, desc=desc, unit="B", unit_scale=True, disable=disable, file=sys.stderr
     ) as bar:
 
         def update(done: int, new_total: int) -> None:

@@ -193,9 +193,11 @@ def rom_read(conn: Connection, address: int, size: int, output: Path | None) -> 
 @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @pass_connection
 @click.option("--verify/--no-verify", default=True, show_default=True)
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@_output.PROGRESS_OPTION
 @handle_errors
-def rom_write(conn: Connection, address: int, image: Path, verify: bool, progress: bool) -> None:
+def rom_write(
+    conn: Connection, address: int, image: Path, verify: bool, progress: bool | None
+) -> None:
     """Write the bytes of IMAGE to ROM at ADDRESS (64-byte chunks, read back)."""
     data = image.read_bytes()
     if not data:
@@ -211,9 +213,9 @@ def rom_write(conn: Connection, address: int, image: Path, verify: bool, progres
 @click.option("--start", type=ADDRESS, default=0, show_default=True)
 @click.option("--size", type=INTEGER, default=ROM_SIZE, show_default=True)
 @pass_connection
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@_output.PROGRESS_OPTION
 @handle_errors
-def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool) -> None:
+def rom_dump(conn: Connection, output: Path, start: int, size: int, progress: bool | None) -> None:
     """Save ROM (default: all 256 KB) to an image file."""
     with conn.open() as robot, _output.progress(size, "rom dump", progress) as bar:
         data = robot.read_rom(start, size, progress=bar)

@@ -10,6 +10,7 @@ import click
 from rcb4hv.cli._util import handle_errors, output_option, print_json
 from rcb4hv.hth4 import load_project
 from rcb4hv.hth4.robotpick import project_model
+from rcb4hv.hth4.session import EditSession
 
 __all__ = ["register"]
 
@@ -57,7 +58,6 @@ def mirror_command(
     """Mirror motion --motion of FILE left <-> right (into free slot --to) and write -o."""
     from rcb4hv.hth4.edit import mirror_motion
     from rcb4hv.hth4.poses import Checks
-    from rcb4hv.hth4.session import EditSession
 
     session = EditSession.open(file)
     model = project_model(session.project, robot_name)

@@ -4,16 +4,20 @@
 from __future__ import annotations
 
 import logging
+import os
 import signal
 import sys
 import threading
+from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING
 
 import click
 
+from rcb4hv.cli._util import handle_errors
+
 if TYPE_CHECKING:
-    from rcb4hv.emulator.server import Served
+    from rcb4hv.emulator.server import PtyServer, Served, TcpServer
 
 log = logging.getLogger(__name__)
 
@@ -45,7 +49,8 @@ def _parse_ad(value: str) -> tuple[int, int]:
     "--rom",
     "rom",
     type=click.Path(dir_okay=False),
-    help="Persistent ROM image file (created from the default board if missing).",
+    help="Persistent 256 KB ROM image file (created from the default board if missing); a "
+    "HeartToHeart4 project's image is made with `rcb4hv project build`.",
 )
 @click.option(
     "--layout",
@@ -86,6 +91,7 @@ def _parse_ad(value: str) -> tuple[int, int]:
     "measured register reads the input minus the channel's reference (e.g. a gyro at rest "
     "reads its reference: measured 0).",
 )
+@handle_errors
 def emulate(
     use_pty: bool,
     tcp: str | None,
@@ -123,6 +129,14 @@ def emulate(
         config = EmulatorConfig(**kwargs)  # type: ignore[arg-type]
     except ValueError as exc:
         raise click.UsageError(str(exc)) from exc
+    if rom is not None and Path(rom).exists():
+        from rcb4hv.cli.project_common import read_rom_image
+
+        read_rom_image(  # a file of another size is refused before the board starts
+            Path(rom),
+            f"--rom takes a ROM image; build the project's with `rcb4hv project build {rom} "
+            "-o IMAGE.bin`",
+        )
     image, lay = None, None
     if layout is not None:
         from rcb4hv.rom.default import default_image
@@ -142,29 +156,18 @@ def _serve(
     device: Served, use_pty: bool, tcp: str | None, what: str, reply_gate_s: float = 0.0
 ) -> None:
     """Serve ``device`` on a pty or TCP until SIGINT/SIGTERM; print ``PTY``/``TCP`` first."""
-    from rcb4hv.emulator.ptywatch import WatchingPtyServer
-    from rcb4hv.emulator.server import PtyServer, TcpServer
-
     stop = threading.Event()
 
     def handler(signum: int, frame: FrameType | None) -> None:
         stop.set()
 
-    signal.signal(signal.SIGINT, handler)
+    try:
+        server, line = _open_server(device, use_pty, tcp, reply_gate_s)
+    except BaseException:
+        _close(device)
+        raise
+    signal.signal(signal.SIGINT, handler)  # once serving: a failed start exits as errors do
     signal.signal(signal.SIGTERM, handler)
-    server: PtyServer | TcpServer
-    if use_pty:
-        server = (
-            WatchingPtyServer(device, reply_gate_s=reply_gate_s)
-            if reply_gate_s > 0
-            else PtyServer(device)
-        )
-        line = f"PTY {server.path}"
-    else:
-        assert tcp is not None
-        host, port = _parse_hostport(tcp)
-        server = TcpServer(device, host, port)
-        line = f"TCP {server.address[0]}:{server.address[1]}"
     server.start()
     print(line, flush=True)
     log.info("emulator serving (%s), %s", line, what)
@@ -174,11 +177,39 @@ def _serve(
                 break
     finally:
         server.stop()
-        close = getattr(device, "close", None)
-        if close is not None:
-            close()
+        _close(device)
     if server.error is not None:
         sys.exit(1)
+
+
+def _open_server(
+    device: Served, use_pty: bool, tcp: str | None, reply_gate_s: float
+) -> tuple[PtyServer | TcpServer, str]:
+    """The (not yet started) server of ``device`` and the line that announces it."""
+    from rcb4hv.emulator.ptywatch import WatchingPtyServer
+    from rcb4hv.emulator.server import PtyServer, TcpServer
+
+    if use_pty:
+        pty = (
+            WatchingPtyServer(device, reply_gate_s=reply_gate_s)
+            if reply_gate_s > 0
+            else PtyServer(device)
+        )
+        return pty, f"PTY {pty.path}"
+    assert tcp is not None
+    host, port = _parse_hostport(tcp)
+    try:
+        server = TcpServer(device, host, port)
+    except OSError as exc:  # an address not of this host, a port in use: one line, no trace
+        why = os.strerror(exc.errno) if exc.errno else str(exc)
+        raise OSError(f"cannot listen on TCP {host}:{port}: {why}") from None
+    return server, f"TCP {server.address[0]}:{server.address[1]}"
+
+
+def _close(device: Served) -> None:
+    close = getattr(device, "close", None)
+    if close is not None:
+        close()
 
 
 @click.command("emulate-ics")
@@ -203,6 +234,7 @@ def _serve(
     help="3.5: the servos do not answer the ICS 3.6 position read (sc 5).",
 )
 @click.option("--pace", is_flag=True, help="Pace replies at the baud rate (11 bits a byte).")
+@handle_errors
 def emulate_ics(
     use_pty: bool,
     tcp: str | None,

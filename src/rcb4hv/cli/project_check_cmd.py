@@ -51,14 +51,15 @@ def _short(text: str, width: int) -> str:
     return text if len(text) <= width else text[: width - 3] + "..."
 
 
-def _physics_findings(file: Path, robot: str | None) -> list[Finding]:
-    from rcb4hv.cli.project_common import load_image
+def _physics_findings(project: Project, robot: str | None) -> list[Finding]:
+    from rcb4hv.cli.project_common import LoadedFile
     from rcb4hv.cli.project_physics import physics_robot
     from rcb4hv.project.physics_sim import physics_findings
     from rcb4hv.project.run import run_motions
 
-    image, lay, names = load_image(file)
-    model = physics_robot(file, image, robot)
+    loaded = LoadedFile.of_project(project)
+    image, lay, names = loaded.image, loaded.layout, loaded.names
+    model = physics_robot(project, image, robot)
     run = run_motions(image, sorted(names), names=names, motion_layout=lay, robot=model)
     return physics_findings(run.motions)
 
@@ -111,7 +112,7 @@ def check(file: Path, as_json: bool, physics: bool, balance: bool, robot: str | 
         model = None
     findings = check_project(project, model)
     if physics:
-        findings += _physics_findings(file, robot)
+        findings += _physics_findings(project, robot)
     if balance:
         from rcb4hv.project.posebalance import balance_findings
 

@@ -25,10 +25,12 @@ from rcb4hv.cli._util import (
     print_table,
 )
 from rcb4hv.cli.project_common import (
+    IMAGE_LAYOUT_OPTION,
     LAYOUT_OPTION,
     build_options,
     current_build_options,
     load_image,
+    read_rom_image,
 )
 from rcb4hv.files import write_atomic
 
@@ -182,14 +184,16 @@ def info(file: Path, as_json: bool) -> None:
 @project.command("image")
 @click.argument("image", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-@LAYOUT_OPTION
+@IMAGE_LAYOUT_OPTION
 @handle_errors
 def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
     """The motions and settings a HeartToHeart4 ROM IMAGE holds."""
     from rcb4hv.project.image import read_image
     from rcb4hv.project.relocate import image_layout
 
-    data = image.read_bytes()
+    data = read_rom_image(
+        image, "use `rcb4hv project info` to read it, `rcb4hv project build` for its image"
+    )
     c = read_image(data, image_layout(data, layout_name))
     motions: list[dict[str, Any]] = [
         {
@@ -261,7 +265,7 @@ def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
     show_default=True,
     help="Restart the ROM program from 000000h afterwards.",
 )
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@_output.PROGRESS_OPTION
 @build_options
 @handle_errors
 def upload(
@@ -270,7 +274,7 @@ def upload(
     only_changed: bool,
     verify: bool,
     restart: bool,
-    progress: bool,
+    progress: bool | None,
 ) -> None:
     """Write the ROM image of FILE (.h4p or a 256 KB image) to the board at --port."""
     from rcb4hv.project.upload import upload_image

@@ -17,6 +17,7 @@ from rcb4hv.cli._util import print_json, print_table
 from rcb4hv.robot.geometry import convex_hull
 
 if TYPE_CHECKING:
+    from rcb4hv.hth4 import Project
     from rcb4hv.project.physicsresult import ShapeFrame
     from rcb4hv.project.runresult import SimulationRun
     from rcb4hv.robot.model import RobotModel
@@ -47,19 +48,15 @@ def parse_sequence(text: str, lay: MotionLayout) -> list[int]:
     return slots
 
 
-def physics_robot(file: Path, image: bytes, robot: str | None) -> RobotModel:
-    """The robot model for ``file``: ``--robot`` or detected from the project's servo table."""
+def physics_robot(project: Project | None, image: bytes, robot: str | None) -> RobotModel:
+    """The robot model of ``image`` (built from ``project``, None for a raw image):
+    ``--robot``, or detected from the project's servo table, title and home pose (else from
+    the servo slots the image uses)."""
     from rcb4hv.hth4.robotpick import project_model, servo_table
     from rcb4hv.protocol.memory import NO_BLOCK, read_alloc
     from rcb4hv.rom import layout
 
-    names = None
-    project = None
-    if file.suffix.lower() == ".h4p":
-        from rcb4hv.hth4 import load_project
-
-        project = load_project(file)  # its title and home pose are evidence too
-        names = servo_table(project)
+    names = None if project is None else servo_table(project)
     used = [
         n
         for n in range(layout.SERVO_BLOCK_COPY_COUNT)

@@ -10,6 +10,8 @@ import click
 
 from rcb4hv.cli._util import handle_errors, print_json, print_table
 from rcb4hv.cli.edit_cmd import ROBOT_OPTION
+from rcb4hv.hth4 import load_project
+from rcb4hv.hth4.session import EditSession
 
 __all__ = ["register"]
 
@@ -26,7 +28,6 @@ def poses_command(file: Path, slot: int, robot_name: str | None, as_json: bool) 
     For each pose: whether it stands still (``balanced``: the centre of mass inside the
     support polygon of whatever touches the floor), the margin to the polygon's edge in
     metres, and each servo's static torque as a fraction of its stall torque."""
-    from rcb4hv.hth4 import load_project
     from rcb4hv.hth4.edit import used_motion
     from rcb4hv.hth4.robotpick import project_model
     from rcb4hv.project.posebalance import motion_balance
@@ -99,7 +100,6 @@ def ease_command(
     from rcb4hv.hth4.ease import ease_pose
     from rcb4hv.hth4.poses import Checks
     from rcb4hv.hth4.robotpick import project_model
-    from rcb4hv.hth4.session import EditSession
 
     session = EditSession.open(file)
     try:

@@ -37,14 +37,17 @@ def robust_command(
     interval) and the quartiles of displacement and turn per motion."""
     from tqdm import tqdm
 
-    from rcb4hv.cli.project_common import image_slots, load_image
+    from rcb4hv.cli.project_common import image_slots, load_file
     from rcb4hv.cli.project_physics import physics_robot
     from rcb4hv.project.robust import robust
 
-    image, layout, _names = load_image(file)
+    loaded = load_file(file)
+    image, layout = loaded.image, loaded.layout
+    loaded.check_slots(motions)
     slots = list(motions) or image_slots(image, layout)
-    model = physics_robot(file, image, robot)
-    with tqdm(total=trials, unit="trial", disable=as_json, leave=False) as bar:
+    model = physics_robot(loaded.project, image, robot)
+    # no bar for --json, nor on a stderr that is no terminal (tqdm's disable=None)
+    with tqdm(total=trials, unit="trial", disable=True if as_json else None, leave=False) as bar:
         rows = robust(
             image, slots, layout=layout, robot=model, trials=trials, seed=seed, workers=workers,
             use_ray=ray_address is not None, ray_address=ray_address or None, progress=bar.update,

@@ -16,7 +16,7 @@ from rcb4hv.cli.project_common import (
     STATUS_EXIT,
     build_options,
     image_slots,
-    load_image,
+    load_file,
     parse_buttons,
 )
 from rcb4hv.cli.project_physics import (
@@ -150,7 +150,7 @@ def simulate(
     no_slip: bool,
     layout_name: str | None,
 ) -> None:
-    """Boot FILE (.h4p or image) in the emulator and play its motions in virtual time.
+    """Boot FILE (.h4p or 256 KB image) in the emulator and play its motions in virtual time.
 
     Each motion is played as a host does (suspend, PC to the main loop, CALL, resume); one
     that reads the remote plays with the button it loops on held for --for seconds
@@ -183,7 +183,8 @@ def simulate(
     from rcb4hv.emulator import Board
     from rcb4hv.project.run import Hold, run_motions
 
-    image, lay, names = load_image(file, layout_name)
+    loaded = load_file(file, layout_name)
+    image, lay, names = loaded.image, loaded.layout, loaded.names
     hold: Hold = "bound"
     if hold_button.lower() != "bound":
         hold = 0 if hold_button.lower() == "none" else parse_buttons(hold_button)
@@ -194,6 +195,7 @@ def simulate(
         if slots:
             raise click.UsageError("give either --motion or --sequence")
         slots = parse_sequence(sequence, lay)
+    loaded.check_slots(slots)  # an empty slot fails as in `project poses`, not with a ROMERR
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
     if not physics and (start != "upright" or what_if):
@@ -203,10 +205,10 @@ def simulate(
     options = _what_if(what_if)
     model = None
     if physics or robot is not None:
-        model = physics_robot(file, image, robot)
+        model = physics_robot(loaded.project, image, robot)
     elif no_slip:
         with contextlib.suppress(RobotModelError):  # no model fits: no stride
-            model = physics_robot(file, image, None)
+            model = physics_robot(loaded.project, image, None)
     follow = no_slip and model is not None and has_stride(model)
     samples: list[tuple[float, dict[int, int | None]]] = []
 

@@ -11,7 +11,7 @@ import click
 
 from rcb4hv.cli._util import MOTION_SLOT, OUTPUT_FILE, handle_errors, output_option
 from rcb4hv.files import write_atomic
-from rcb4hv.hth4 import dump_motion_xml, dump_project, load_project, parse_project
+from rcb4hv.hth4 import dump_motion_xml, dump_project, parse_project
 from rcb4hv.hth4.keyframes import (
     Keyframe,
     add_motion,
@@ -78,6 +78,7 @@ def add_motion_command(
     """Save KEYFRAMES (JSON: time in seconds and ICS -> position per pose) as a new motion of
     project FILE, in a free slot, as HeartToHeart4 compiles a chain of Pos boxes."""
     from rcb4hv.cli.project_common import parse_buttons
+    from rcb4hv.hth4 import load_project
 
     project = load_project(file)
     frames = parse_keyframes(json.loads(keyframes.read_text(encoding="utf-8")))

@@ -33,16 +33,35 @@ from rcb4hv.hth4.model import (
     Project,
     ServoConfig,
 )
+from rcb4hv.rom.layout import ROM_SIZE
 
-__all__ = ["dump_project", "load_project", "parse_project", "save_project"]
+__all__ = ["dump_project", "load_project", "parse_project", "read_project_file", "save_project"]
 
 ROOT = "Rcb4"
 _U16 = (0, 0xFFFF)
 
 
 def load_project(path: str | os.PathLike[str]) -> Project:
-    """Read a ``.h4p`` file."""
-    return parse_project(Path(path).read_bytes())
+    """Read a ``.h4p`` file (however it is named); errors name the file
+    (:func:`read_project_file`)."""
+    return read_project_file(path)[0]
+
+
+def read_project_file(path: str | os.PathLike[str]) -> tuple[Project, bytes]:
+    """The project in file ``path`` and the bytes it was read from. A malformed file raises
+    :class:`~rcb4hv.errors.Hth4FormatError` starting with the file's name (``project diff A
+    B``: which one), and a 256 KB ROM image says that it is one."""
+    data = Path(path).read_bytes()
+    if len(data) == ROM_SIZE:
+        raise Hth4FormatError(
+            str(path),
+            "looks like a 256 KB ROM image, not a HeartToHeart4 project "
+            "(`rcb4hv project image` reads images)",
+        )
+    try:
+        return parse_project(data), data
+    except Hth4FormatError as exc:
+        raise Hth4FormatError(str(path), str(exc)) from None
 
 
 def parse_project(data: bytes | str) -> Project:

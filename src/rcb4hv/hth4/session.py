@@ -21,7 +21,7 @@ from typing import Concatenate, ParamSpec
 from rcb4hv.errors import EditError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4.model import Motion, Project
-from rcb4hv.hth4.project import dump_project, parse_project
+from rcb4hv.hth4.project import dump_project, parse_project, read_project_file
 
 __all__ = ["EditSession", "HistoryEntry", "changed_slots"]
 
@@ -61,9 +61,9 @@ class EditSession:
 
     @classmethod
     def open(cls, path: str | os.PathLike[str]) -> EditSession:
-        """A session on the project file ``path``."""
-        data = Path(path).read_bytes()
-        return cls(parse_project(data), Path(path), data)
+        """A session on the project file ``path`` (errors name it: :func:`read_project_file`)."""
+        project, data = read_project_file(path)
+        return cls(project, Path(path), data)
 
     # ------------------------------------------------------------------ editing
 
