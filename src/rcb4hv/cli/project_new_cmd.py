@@ -45,8 +45,9 @@ def register(project: click.Group) -> None:
 @_OUT
 @handle_errors
 def new_command(robot_name: str, title: str | None, output: Path) -> None:
-    """Write a new project for robot model NAME: its servo table (trims 0, home positions),
-    slot 1 "home position" and the start-up program calling it."""
+    """Write a new project for robot model NAME: its servo table (trims 0, home positions:
+    the model's home pose; a multi-legged KXR kit's, Kondo's home position for it), slot 1
+    "home position" and the start-up program calling it."""
     from rcb4hv.robot.builtin import load_robot
 
     model = load_robot(robot_name)

@@ -2,9 +2,11 @@
 
 :func:`new_project` writes what HeartToHeart4's "new project" gives, for any
 :class:`~rcb4hv.robot.RobotModel`: the 35-slot servo table (the model's servos in use, named
-after their joints, trims 0, home positions from the model's home pose), 120 empty motion
-slots at the HeartToHeart4 2.2 addresses, slot 1 a "home position" motion (the home pose,
-then HeartToHeart4's closing ``03 0D 10 FF``) and the start-up program calling it.
+after their joints, trims 0, home positions from the model's home pose; a multi-legged kit
+model without one takes its kit's stock home pose, :mod:`rcb4hv.robot.kit.stockhome`, as its
+zero pose lies on the torso), 120 empty motion slots at the HeartToHeart4 2.2 addresses, slot
+1 a "home position" motion (the home pose, then HeartToHeart4's closing ``03 0D 10 FF``) and
+the start-up program calling it.
 
 Settings (pure functions from a project to a new one, as :mod:`rcb4hv.hth4.edit`):
 :func:`set_startup`, :func:`set_low_power`, :func:`set_priority`, :func:`set_mixing`,
@@ -34,6 +36,7 @@ from rcb4hv.hth4.model import (
     motion_rom_address,
 )
 from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS, SystemRegister
+from rcb4hv.robot.kit.stockhome import with_stock_home
 from rcb4hv.robot.model import RobotModel
 
 __all__ = [
@@ -86,6 +89,7 @@ def _servo(model: RobotModel, ics: int) -> ServoConfig:
 def new_project(model: RobotModel, *, title: str | None = None, date: str | None = None) -> Project:
     """A project for ``model`` (module docstring); ``date`` (HeartToHeart4 text) for every
     motion slot, default now."""
+    model = with_stock_home(model)
     when = date or now_text()
     servos = tuple(_servo(model, n) for n in range(SERVO_SLOTS))
     motions = tuple(

@@ -104,7 +104,7 @@ def detect_project(
     else:
         names, home = dict(project), {}
     if name is not None:
-        code = parse_kit_code(name) if name.lower().startswith("kxr:") else None
+        code = parse_kit_code(name, strict=True) if name.lower().startswith("kxr:") else None
         if code is None or not names:
             return load_robot(name), None
         det = detect_kit(title, names, home, force=code, extremes=extremes)

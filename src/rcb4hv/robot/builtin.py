@@ -37,18 +37,20 @@ _FACTORIES: dict[str, Callable[[], RobotModel]] = {
 }
 
 
-@cache
 def load_builtin(name: str) -> RobotModel:
-    """The built-in model ``name`` (one of :data:`BUILTIN`); models are immutable, so each
-    is built once."""
-    try:
-        factory = _FACTORIES[name]
-    except KeyError:
+    """The built-in model ``name`` (one of :data:`BUILTIN`, in any case: ``KHR3HV``, ``KXR-L2``);
+    models are immutable, so each is built once."""
+    if name.lower() not in _FACTORIES:
         raise RobotModelError(
-            f"unknown robot {name!r}: choose one of {', '.join(BUILTIN)}, or give a "
-            "URDF file with its joint map"
-        ) from None
-    return factory()
+            f"unknown robot {name!r}: choose one of {', '.join(BUILTIN)}, a KXR kit code "
+            "(kxr:CODE, e.g. kxr:L2L5A3), or give a URDF file with its joint map"
+        )
+    return _builtin(name.lower())
+
+
+@cache
+def _builtin(name: str) -> RobotModel:
+    return _FACTORIES[name]()
 
 
 @cache
@@ -56,10 +58,7 @@ def _kit(text: str) -> RobotModel:
     """The stock build of a kit code ``kxr:CODE`` (:mod:`rcb4hv.robot.kit`)."""
     from rcb4hv.robot.kit import kit_model, parse_kit_code
 
-    code = parse_kit_code(text)
-    if code is None:
-        raise RobotModelError(f"{text}: not a KXR kit code (e.g. kxr:L2W2L6A4H2, kxr:L6)")
-    return kit_model(code)
+    return kit_model(parse_kit_code(text, strict=True))  # a typed code: every part read
 
 
 def load_robot(name_or_path: str | os.PathLike[str], joint_map: str | None = None) -> RobotModel:

@@ -3,8 +3,10 @@
 Kondo's sample projects name each servo slot in Japanese (``右肩（ピッチ）`` right shoulder
 pitch, ``左膝`` left knee, ``首ヨー`` neck yaw, ``右前脚（ロール）`` right front leg roll,
 ``右後足車輪`` right rear wheel, ``右中脚（先）`` right middle leg tip); users also write
-English (``R shoulder pitch``, ``left knee``, ``right middle leg tip``). Unused slots are
-spares (``右拡張3``, "right spare 3") and carry no joint.
+English (``R shoulder pitch``, ``left knee``, ``right middle leg tip``); ``rcb4hv project new``
+names them after the model's joints (``r_front_knee``, ``l_shoulder_pitch``, ``neck_pitch2``),
+read as the words they stand for. Unused slots are spares (``右拡張3``, "right spare 3") and
+carry no joint.
 """
 
 from __future__ import annotations
@@ -79,8 +81,36 @@ _POSITION_JA = re.compile(r"(前|中|後)(?=脚|足|\(|車輪|輪|腕)|^[右左]
 _POSITION_EN = re.compile(r"\b(front|fore|middle|mid|rear|back|hind)\b\W*(?:leg|wheel|arm)?", re.I)
 
 
+# rcb4hv's own joint names (snake case, the side an r_/l_ prefix): the kit's joint slots
+# (:data:`rcb4hv.robot.kit.convention.LIMBS`) name a limb by position and then its joint; the
+# L6 leg's "lift" is its middle joint (yaw, lift, knee), and the L4R's "arm_roll" the roll of
+# its arm at the shoulder (Kondo's 右肩ロール)
+_JOINT_NAME = re.compile(r"(?:[lr]_)?[a-z]+[0-9]*(?:_[a-z]+[0-9]*)*", re.I)
+_AXIS_WORDS = frozenset({"pitch", "roll", "yaw"})
+
+
+def _joint_words(name: str) -> str:
+    """An rcb4hv joint name as the words it stands for (``r_front_lift`` -> ``right front leg
+    mid``); any other name as it is."""
+    if _JOINT_NAME.fullmatch(name) is None or "_" not in name:
+        return name
+    words = name.lower().split("_")
+    out = []
+    for i, word in enumerate(words):
+        after = words[i + 1] if i + 1 < len(words) else ""
+        if i == 0 and word in ("r", "l"):
+            out.append("right" if word == "r" else "left")
+        elif word == "lift":
+            out.append("leg mid")
+        elif word == "arm" and after in _AXIS_WORDS:
+            out.append("shoulder")
+        else:
+            out.append(word)
+    return " ".join(out)
+
+
 def _norm(text: str) -> str:
-    return unicodedata.normalize("NFKC", text).strip()
+    return _joint_words(unicodedata.normalize("NFKC", text).strip())
 
 
 def parse_servo_name(name: str | None) -> Role | None:
@@ -95,9 +125,9 @@ def parse_servo_name(name: str | None) -> Role | None:
         if re.search(pattern, n, re.I):
             part = p
             break
-    if part is None and _POSITION_JA.search(n) is None:
+    if part is None and _POSITION_JA.search(n) is None and _POSITION_EN.search(n) is None:
         return None
-    part = part or "leg"  # 右前（ヨー）: a limb position and an axis name a leg joint
+    part = part or "leg"  # 右前（ヨー）, front yaw: a limb position and an axis name a leg joint
     side: Side = side_of_name(n) or "centre"
     axis: Axis | None = None
     for pattern, a in _AXES:
