@@ -213,7 +213,7 @@ class Checks:
         each) and return them."""
         problems = self.problems(positions, speed)
         if problems and not self.force:
-            text = f"{what}: " + "; ".join(problems) + " (force to keep them)"
+            text = f"{what}: " + "; ".join(problems) + " (force keeps them: --force)"
             if any("hard (mechanical) limits" in p for p in problems):
                 raise JointLimitError(text)
             raise EditError(text)
