@@ -149,6 +149,19 @@ def test_the_fixture_keeps_its_builtin_model_with_a_kit_title(kxr_project_path: 
     assert [c for c, ok, _ in det.checks if not ok] == []
 
 
+def test_home_pose_is_where_the_home_motion_leaves_the_servos(kxr_project_path: Path) -> None:
+    """A home motion whose last pose moves only two servos (as Kondo's Hello_kxrl4nh4 does):
+    the others stay where its earlier poses put them."""
+    project = load_project(kxr_project_path)
+    poses = [
+        Keyframe(0.3, {10: 7650, 11: 7350, 12: 7800, 13: 7200}),
+        Keyframe(0.6, {12: 7900, 13: 7100}),
+    ]
+    motion = motion_from_keyframes(poses, slot=1, name="ホームポジション", changed_only=True)
+    home = home_pose(add_motion(project, motion, replace_used=True))
+    assert home == {10: 7650, 11: 7350, 12: 7900, 13: 7100}
+
+
 def test_home_pose_symmetry_turns_a_reversed_left_sign(kxr_project_path: Path) -> None:
     """A project whose left knee is mounted the other way: its home pose bends the left knee
     with the opposite value, so detection turns the left sign and says so."""

@@ -53,17 +53,21 @@ def servo_table(project: Project) -> dict[int, str]:
 
 
 def home_pose(project: Project) -> dict[int, int]:
-    """The motion values of the project's home pose: the last pose of its first used motion
-    named home position (``ホームポジション``, ``home``); {} when it has none."""
+    """The motion values of the project's home pose: where its first used motion named home
+    position (``ホームポジション``, ``home``) leaves the servos, each at the last value a pose
+    gave it (a pose that moves a few servos keeps the others where the earlier poses put
+    them; hold keeps a value, free drops it); {} when it has none."""
     for motion in project.used_motions:
         if motion.name and _HOME.search(motion.name):
-            poses = motion_poses(motion)
-            if poses:
-                return {
-                    i: v
-                    for i, v in poses[-1].values.items()
-                    if v not in (POSITION_HOLD, POSITION_FREE)
-                }
+            state: dict[int, int] = {}
+            for pose in motion_poses(motion):
+                for i, v in pose.values.items():
+                    if v == POSITION_FREE:
+                        state.pop(i, None)
+                    elif v != POSITION_HOLD:
+                        state[i] = v
+            if state:
+                return state
     return {}
 
 
