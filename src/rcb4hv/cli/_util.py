@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import json
 import sys
+import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -218,20 +219,33 @@ def print_json(data: object) -> None:
     click.echo(json.dumps(data, indent=2))
 
 
+def display_width(text: str) -> int:
+    """Columns ``text`` takes in a terminal: East Asian wide and full-width characters
+    (Japanese servo and motion names) take two, combining marks none."""
+    return sum(
+        0 if unicodedata.combining(c) else 2 if unicodedata.east_asian_width(c) in "WF" else 1
+        for c in text
+    )
+
+
 def print_table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> None:
-    """A plain aligned table (numbers right-aligned)."""
+    """A plain aligned table (numbers right-aligned), aligned by :func:`display_width`."""
     cells = [[str(c) for c in r] for r in rows]
-    widths = [max([len(h)] + [len(r[i]) for r in cells]) for i, h in enumerate(headers)]
+    widths = [
+        max([display_width(h)] + [display_width(r[i]) for r in cells])
+        for i, h in enumerate(headers)
+    ]
     numeric = [
         all(isinstance(r[i], (int, float)) for r in rows) if rows else False
         for i in range(len(headers))
     ]
 
     def fmt(row: Sequence[str]) -> str:
-        return "  ".join(
-            c.rjust(w) if num else c.ljust(w)
-            for c, w, num in zip(row, widths, numeric, strict=True)
-        ).rstrip()
+        out = []
+        for c, w, num in zip(row, widths, numeric, strict=True):
+            pad = " " * (w - display_width(c))
+            out.append(pad + c if num else c + pad)
+        return "  ".join(out).rstrip()
 
     click.echo(fmt(list(headers)))
     click.echo("  ".join("-" * w for w in widths))
