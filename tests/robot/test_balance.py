@@ -142,3 +142,45 @@ def test_cli_check_balance_reports_poses_that_cannot_stand(kxr_project_path: Pat
     found = [f for f in json.loads(out.output)["findings"] if f["code"] == "pose-cannot-stand"]
     assert any(f["slot"] == 11 and "pose 2 cannot stand" in f["reason"] for f in found)
     assert not any(f["slot"] == 39 for f in found)  # the home position stands
+
+
+@pytest.mark.parametrize("build", ["R4LL", "L6", "L4T", "L4N", "L4D"])
+def test_the_view_places_a_pose_as_the_balance_line_does(build: str) -> None:
+    """The 3D view's placement (:func:`placed`) is the balance line's (:func:`rigid_balance`):
+    the same centre of mass, support and ground frame, so the view's mark is over the support
+    exactly when the margin is positive. Kondo's home poses of the multi-legged kits, where
+    levelling the soles' mean normal (``geometry.stance``) stood the KXR-R4LL on two diagonal
+    wheels with its centre of mass outside, while the balance line said 4 wheels, inside."""
+    from rcb4hv.robot.balance import placed, rigid_balance
+    from rcb4hv.robot.builtin import load_robot
+    from rcb4hv.robot.kit.stockhome import with_stock_home
+
+    model = with_stock_home(load_robot(f"kxr:{build}"))
+    angles = {j.name: 0.0 for j in model.joints} | dict(model.home)
+    st, b = placed(model, angles), rigid_balance(model, angles)
+    assert st.com == pytest.approx(b.com) and st.support == list(b.support)
+    assert b.margin_m > 0 and st.com_inside  # Kondo's home stands, and the view says so
+
+
+def test_the_view_and_the_balance_line_agree_on_every_fixture_pose(kxr_project_path: Path) -> None:
+    """Every pose of the fixture's motions: the view's mark is over the support exactly when
+    the balance line's margin is positive. The view levelled the soles' mean normal instead
+    (``geometry.stance``) and disagreed on 192 of the 472 poses (slot 1's eighth: 50 mm
+    inside by the line, outside in the view)."""
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.hth4.poses import motion_poses
+    from rcb4hv.hth4.robotpick import project_model
+    from rcb4hv.robot.balance import placed, rigid_balance
+    from rcb4hv.robot.geometry import stance
+
+    project = load_project(kxr_project_path)
+    model = project_model(project)
+    was = 0
+    for motion in project.used_motions:
+        for pose in motion_poses(motion):
+            values = {i: v for i, v in pose.values.items() if 3500 <= v <= 11500}
+            angles = {j.name: 0.0 for j in model.joints} | model.motion_angles(values)
+            inside = rigid_balance(model, angles).margin_m > 0
+            assert placed(model, angles).com_inside == inside
+            was += stance(model, angles).com_inside != inside
+    assert was == 192

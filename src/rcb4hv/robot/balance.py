@@ -27,7 +27,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
-from rcb4hv.robot.geometry import convex_hull, geom_points
+from rcb4hv.robot.geometry import Stance, convex_hull, geom_points
 from rcb4hv.robot.ik import effectors, solve_linear
 from rcb4hv.robot.kinematics import (
     IDENTITY,
@@ -50,6 +50,7 @@ __all__ = [
     "SetDown",
     "floor_forces",
     "ground_frame",
+    "placed",
     "pose_balance",
     "rigid_balance",
     "set_down",
@@ -397,7 +398,9 @@ def set_down(
     return SetDown(ground, touching, every, com, support, margin, tipped)
 
 
-def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance:
+def rigid_balance(
+    model: RobotModel, angles: Mapping[str, float], feet: Sequence[str] | None = None
+) -> PoseBalance:
     """Balance and static servo loads of ``model`` at joint ``angles`` (rad by name), the
     joints rigid.
 
@@ -405,7 +408,8 @@ def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance
     support it tips over the nearest edge until something else touches, as a rigid body
     settles: a pose that settles within :data:`MAX_TIP_DEG` of tipping stands (its margin is
     the settled one), one that needs more, or has nothing to tip onto, does not (its margin
-    is the one before tipping)."""
+    is the one before tipping). ``feet``: the soles it stands on (default the model's feet,
+    :func:`ground_frame`)."""
     frames = forward(model, angles)
     total = model.mass
     com_root = [0.0, 0.0, 0.0]
@@ -413,7 +417,7 @@ def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance
         c = apply(frames[link.name], link.inertial.com)
         for k in range(3):
             com_root[k] += link.inertial.mass * c[k] / total
-    down = set_down(model, frames, (com_root[0], com_root[1], com_root[2]))
+    down = set_down(model, frames, (com_root[0], com_root[1], com_root[2]), feet=feet)
     ground, touching, com, support = down.ground, down.touching, down.com, down.support
     margin, tipped = down.margin, down.tipped
     world = {name: compose(ground, t) for name, t in frames.items()}
@@ -428,6 +432,21 @@ def rigid_balance(model: RobotModel, angles: Mapping[str, float]) -> PoseBalance
     return PoseBalance(
         com, support, tuple(names), margin, torque, ratio, ground, math.degrees(tipped)
     )
+
+
+def placed(
+    model: RobotModel, angles: Mapping[str, float], feet: Sequence[str] | None = None
+) -> Stance:
+    """Joint ``angles`` (rad by name; missing joints at 0) placed on the floor as
+    :func:`rigid_balance` sets the robot down: the link transforms in the ground frame, the
+    centre of mass and the support polygon (the 3D view draws these; its mark is over the
+    support exactly when the balance margin is positive)."""
+    full = {j.name: 0.0 for j in model.joints}
+    full.update(angles)
+    b = rigid_balance(model, full, feet)
+    assert b.ground is not None
+    frames = {name: compose(b.ground, t) for name, t in forward(model, full).items()}
+    return Stance(frames, b.com, list(b.support))
 
 
 def _joint_torques(

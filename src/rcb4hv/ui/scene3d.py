@@ -24,6 +24,7 @@ from nicegui import ui
 from nicegui.elements.scene.scene_object3d import Object3D
 
 from rcb4hv.robot import RobotModel, Transform
+from rcb4hv.robot.balance import placed
 from rcb4hv.robot.geometry import Soles, Stance, stance
 from rcb4hv.robot.kinematics import from_xyz_rpy
 
@@ -87,12 +88,16 @@ class RobotScene:
         self.model = model
         self.link_names = [link.name for link in model.links]
         self.soles = Soles.of(model, foot_links)
+        self.foot_links = foot_links
         self.fallen = False
         self.updates = 0
         """Poses sent to the browser (unchanged poses are not sent)."""
-        self.stance = stance(model, {}, None, self.soles)
-        top = max(t[2][3] for t in self.stance.frames.values())
-        h = max(top, self.stance.com[2] * 2, 0.1)
+        self.stance = self._stance({}, None)
+        # the camera frames the robot's size: its height, or for a flat robot (a hexapod, a
+        # car) its spread over the floor
+        spots = [(t[0][3], t[1][3], t[2][3]) for t in self.stance.frames.values()]
+        spread = max(max(p[k] for p in spots) - min(p[k] for p in spots) for k in (0, 1))
+        h = max(max(p[2] for p in spots), self.stance.com[2] * 2, 0.7 * spread, 0.1)
         self.scene = ui.scene(
             width,
             height,
@@ -137,13 +142,21 @@ class RobotScene:
         """Show joint ``angles`` (radians by joint name; missing joints at 0) with the base at
         ``base`` (None: feet on the ground); ``fallen`` marks a fall."""
         self.fallen = fallen
-        self.stance = stance(self.model, angles, base, self.soles)
+        self.stance = self._stance(angles, base)
         payload = self._payload(self.stance)
         if payload != self._sent:
             self._sent = payload
             self.body.set_pose(payload)
             self.updates += 1
         return self.stance
+
+    def _stance(self, angles: Mapping[str, float], base: Transform | None) -> Stance:
+        """The pose placed in the world: at ``base``, or set down on the floor as the balance
+        line under the view sets it (:func:`rcb4hv.robot.balance.placed`), so the view's
+        centre-of-mass mark and support polygon and that line never disagree."""
+        if base is not None:
+            return stance(self.model, angles, base, self.soles)
+        return placed(self.model, angles, self.foot_links)
 
     def update_servos(self, values: Mapping[int, int]) -> Stance:
         """Show the pose of motion-space servo ``values`` by ICS number (a motion's pose, the
