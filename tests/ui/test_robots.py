@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
 from rcb4hv.errors import RobotModelError
+from rcb4hv.hth4 import Project
 from rcb4hv.robot.builtin import load_builtin
 from rcb4hv.rom.default import DEFAULT_ICS
+from rcb4hv.ui.context import UiContext
 from rcb4hv.ui.robots import DEFAULT_ROBOT, board_robot, choose_robot
 
 
@@ -43,3 +47,40 @@ def test_ui_refuses_an_unknown_robot_before_serving() -> None:
     result = CliRunner().invoke(cli, ["ui", "--robot", "nao", "--bind", "127.0.0.1:0"])
     assert result.exit_code == 2
     assert "unknown robot 'nao'" in result.output and "khr3hv" in result.output
+
+
+def _ambiguous_turtle() -> Project:
+    """A KXR-L4T project without its head and a title with no kit code: its servo names fit
+    the KXR-L4T and the KXR-L4N (tests/robot/test_kit.py), so detection must ask."""
+    from rcb4hv.hth4.newproject import new_project
+    from tests.robot.kit_names import names_for, stock
+
+    _, l4t = stock("kxr:L4T")
+    names = {i: n for i, n in names_for(l4t).items() if "首" not in n}
+    project = new_project(l4t, title="my turtle")
+    servos = tuple(
+        replace(s, name=names[s.device_number])
+        if s.device_number in names
+        else replace(s, mode="None")
+        for s in project.servos
+    )
+    return replace(project, servos=servos)
+
+
+def test_an_ambiguous_project_is_not_played_on_a_model_nobody_picked() -> None:
+    """The dashboard's model for an ambiguous project: the board's fallback with the
+    candidates kept (the Project page refuses to play on it); picking one on the Editor page
+    makes it every page's model, and opening another project forgets the pick."""
+    ctx = UiContext(SimpleNamespace(state=SimpleNamespace(servos=[])), auto_robot=True)  # type: ignore[arg-type]
+    ctx.set_project(_ambiguous_turtle(), "turtle.h4p")
+    assert set(ctx.robot_candidates) == {"kxr:L4T", "kxr:L4N"}
+    assert "pick one on the Editor page" in ctx.robot_source
+    heard: list[str] = []
+    ctx.on_project(lambda: heard.append(ctx.robot_source))
+    with pytest.raises(RobotModelError, match="not one of the models"):
+        ctx.pick_robot("khr3hv")
+    ctx.pick_robot("kxr:L4N")
+    assert ctx.robot is not None and ctx.robot.name == "kxr:L4N"
+    assert ctx.robot_candidates == () and heard == ["picked for the project: kxr:L4N"]
+    ctx.set_project(_ambiguous_turtle(), "again.h4p")
+    assert ctx.robot_candidates and ctx.robot is not None and ctx.robot.name != "kxr:L4N"

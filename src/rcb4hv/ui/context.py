@@ -12,10 +12,12 @@ from typing import TypeVar
 from nicegui import ui
 from nicegui.element import Element
 
+from rcb4hv.errors import RobotModelError
 from rcb4hv.hth4 import Project
+from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
-from rcb4hv.ui.robots import choose_robot
+from rcb4hv.ui.robots import choose_robot, project_candidates
 
 __all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
 
@@ -71,6 +73,9 @@ class UiContext:
     robot: RobotModel | None = None
     robot_source: str = ""
     auto_robot: bool = False
+    robot_candidates: tuple[str, ...] = ()
+    """The models the open project fits when detection must ask (none picked yet): the
+    dashboard does not play the project on a model it did not pick (:meth:`pick_robot`)."""
     max_upload: int = MAX_UPLOAD
     _listeners: list[Callable[[], None]] = field(default_factory=list)
 
@@ -78,6 +83,19 @@ class UiContext:
         """Choose the model from ``spec`` (``--robot``), the open project or the board."""
         indices = [s.ics for s in self.session.state.servos]
         self.robot, self.robot_source = choose_robot(spec, self.project, indices)
+        self.robot_candidates = () if spec is not None else project_candidates(self.project)
+
+    def pick_robot(self, name: str) -> None:
+        """The user picked ``name``, one of :attr:`robot_candidates` (on the Editor page): every
+        page draws, names joints and plays the project with it, as ``--robot`` would."""
+        if name not in self.robot_candidates:
+            raise RobotModelError(
+                f"{name}: not one of the models the project fits "
+                f"({', '.join(self.robot_candidates) or 'none to pick'})"
+            )
+        self.robot = project_model(self.project, name)
+        self.robot_source, self.robot_candidates = f"picked for the project: {name}", ()
+        self._notify()
 
     def recheck_robot(self) -> None:
         """Choose again once the board's servos are known, if the model is the fallback

@@ -353,6 +353,8 @@ class EditorPage:
             return
         try:
             self.ed.pick_robot(name)
+            if name in self.ctx.robot_candidates:  # the same question on the Project page
+                self.ctx.pick_robot(name)
         except Rcb4Error as exc:
             self.fail(exc)
             return
@@ -366,7 +368,12 @@ class EditorPage:
         self.pick.set_options(list(ed.model_candidates), value=None)
         self.pick.set_visibility(bool(ed.model_candidates))
         if ed.model is None:
-            self.caption.text = f"no 3D view: {ed.model_error or 'no robot model'}"
+            why = (
+                f"the project fits {', '.join(ed.model_candidates)}: pick one here"
+                if ed.model_candidates
+                else ed.model_error or "no robot model"
+            )
+            self.caption.text = f"no 3D view: {why}"
             self.player.show(None)
             self.aids.attach(None)
             return

@@ -206,6 +206,12 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         if project is None or model is None or player.player is None:
             ui.notify("open a project (and give a robot model) first", type="warning")
             return
+        if ctx.robot_candidates:  # never the wrong robot in silence
+            info.text = (
+                f"the project fits {', '.join(ctx.robot_candidates)}: pick one on the Editor "
+                "page (or rcb4hv ui --robot NAME)"
+            )
+            return
         slot = int(motions.selected[0]["slot"]) if motions.selected else None
         if slot is None:
             used = project.used_motions

@@ -24,7 +24,7 @@ from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 
-__all__ = ["DEFAULT_ROBOT", "board_robot", "choose_robot"]
+__all__ = ["DEFAULT_ROBOT", "board_robot", "choose_robot", "project_candidates"]
 
 log = logging.getLogger(__name__)
 
@@ -68,3 +68,17 @@ def choose_robot(
         return load_builtin(name), "matches the board's servos" + asks
     log.info("no robot detected: drawing the default %s", DEFAULT_ROBOT)
     return load_builtin(DEFAULT_ROBOT), "default" + asks
+
+
+def project_candidates(project: Project | None) -> tuple[str, ...]:
+    """The models an open ``project`` fits when its evidence fits several (detection asks:
+    the dashboard offers them), else ()."""
+    if project is None:
+        return ()
+    try:
+        project_model(project)
+    except AmbiguousRobotError as exc:
+        return tuple(exc.candidates)
+    except NoRobotModelError:
+        return ()
+    return ()
