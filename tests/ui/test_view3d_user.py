@@ -84,6 +84,8 @@ def test_the_preview_plays_pauses_and_scrubs_a_project_motion(kxr_project_path: 
         ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
         table = one(user, "project-motions")
         await until(lambda: len(table.rows) == 65)
+        assert ctx.robot is not None  # the Project page names the model it plays on
+        assert one(user, "preview-3d-caption").text == f"{ctx.robot.title} ({ctx.robot_source})"
         table.selected = [r for r in table.rows if r["slot"] == 21]
         user.find(marker="preview-run").click()
         await until(lambda: "completed" in one(user, "preview-info").text, 30)

@@ -175,6 +175,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
     scrubber = tid(ui.slider(min=0, max=1, step=0.001, value=0), "preview-scrubber")
     scrubber.classes("w-full")
     status = tid(ui.label(""), "preview-status")
+    caption = tid(ui.label(""), "preview-3d-caption").classes("text-sm text-slate-600")
     holder = ui.column()
     player = PreviewPlayer(play, scrubber, status)
     shown: list[RobotModel | None] = [None]
@@ -182,6 +183,8 @@ def build(ctx: UiContext, motions: ui.table) -> None:
     def make_view() -> None:
         holder.clear()
         shown[0] = ctx.robot
+        # the model named, and where it came from (detected, picked, --robot, the board's)
+        caption.text = f"{ctx.robot.title} ({ctx.robot_source})" if ctx.robot else ""
         if ctx.robot is None:
             player.show(None)
             with holder:
@@ -197,6 +200,8 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             ctx.off_project(model_changed)
         elif ctx.robot is not shown[0]:
             make_view()
+        elif ctx.robot is not None:  # the same model, from another source (a new project)
+            caption.text = f"{ctx.robot.title} ({ctx.robot_source})"
 
     make_view()
     ctx.on_project(model_changed)
