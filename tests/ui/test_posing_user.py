@@ -63,5 +63,13 @@ def test_posing_aids_in_the_editor(kxr_project_path: Path, tmp_path: Path) -> No
         user.find(marker="editor-ease").click()
         await until(lambda: "2 edits" in one(user, "editor-status").text)
         assert len(one(user, "editor-pose").options) == 8
+        # a preview plays: the handles, which belong to the edited pose, leave the view
+        handles = [o for o in scene.objects.values() if (o.name or "").startswith("ik:")]
+        assert handles and all(h.visible_ for h in handles)
+        one(user, "editor-physics").set_value(False)
+        user.find(marker="editor-preview").click()
+        await until(lambda: not any(h.visible_ for h in handles), 30)
+        one(user, "editor-pose").set_value(1)  # a pose picked again: they are back
+        await until(lambda: all(h.visible_ for h in handles))
 
     run(scenario)

@@ -343,6 +343,7 @@ class EditorPage:
         except (Rcb4Error, ValueError) as exc:
             self.preview_status.text = f"cannot simulate motion {ed.slot}: {exc}"
             return
+        self.aids.playing()
         self.player.load(pb)
 
     # ------------------------------------------------------------------ drawing

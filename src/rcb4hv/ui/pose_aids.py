@@ -100,6 +100,13 @@ class PoseHandles:
         self.angles = {j.name: 0.0 for j in self.model.joints} | dict(angles)
         for link, sphere in self.spheres.items():
             sphere.move(*self.handle_position(link))
+            sphere.visible(True)
+
+    def hide(self) -> None:
+        """Take the handles off while the view plays something else (a preview): they
+        belong to the edited pose, not to a moving robot."""
+        for sphere in self.spheres.values():
+            sphere.visible(False)
 
     def drop(self, link: str, world: tuple[float, float, float]) -> IKResult:
         """The pose with ``link``'s handle moved to ``world`` (the view's frame): its point
@@ -185,6 +192,11 @@ class EditorAids:
         self.balance.classes(
             replace="text-xs w-96 " + ("text-red-700" if warn else "text-green-700")
         )
+
+    def playing(self) -> None:
+        """A preview plays in the view: hide the handles until a pose is picked again."""
+        if self.handles is not None:
+            self.handles.hide()
 
     def _on_pose(self, angles: dict[str, float], result: IKResult) -> None:
         ed, handles = self.ed, self.handles
