@@ -139,6 +139,18 @@ def test_project_opens_shows_a_motion_and_simulates(page: Any, kxr_project_path:
     shot(page, "simulate")
 
 
+def test_a_file_that_is_no_project_is_refused_aloud(page: Any, tmp_path: Any) -> None:
+    """The project box takes .h4p only, and says so when given another file (a flowchart
+    .xml has its own box); the open project stays."""
+    notes = tmp_path / "notes.txt"
+    notes.write_text("not a project", encoding="utf-8")
+    page.get_by_test_id("tab-project").click()
+    before = page.get_by_test_id("project-summary").inner_text()
+    page.get_by_test_id("project-upload").locator("input[type=file]").set_input_files(str(notes))
+    _wait(lambda: page.get_by_text("not opened: a project is a .h4p file").count() > 0)
+    assert page.get_by_test_id("project-summary").inner_text() == before
+
+
 def test_upload_writes_the_emulator_rom_with_progress(
     page: Any, board: tuple[Board, str], kxr_project_path: Any
 ) -> None:

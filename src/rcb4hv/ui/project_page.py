@@ -87,7 +87,11 @@ def build(ctx: UiContext) -> None:
                 auto_upload=True,
                 max_file_size=ctx.max_upload,
                 on_upload=uploaded,
-            ).props('accept=".h4p,.xml"'),
+                on_rejected=lambda: ui.notify(
+                    "not opened: a project is a .h4p file (a flowchart .xml goes to the next box)",
+                    type="warning",
+                ),
+            ).props('accept=".h4p"'),
             "project-upload",
         )
         tid(
@@ -96,6 +100,9 @@ def build(ctx: UiContext) -> None:
                 auto_upload=True,
                 max_file_size=ctx.max_upload,
                 on_upload=flowchart_uploaded,
+                on_rejected=lambda: ui.notify(
+                    "not shown: a flowchart is an .xml file", type="warning"
+                ),
             ).props('accept=".xml"'),
             "flowchart-upload",
         )
