@@ -123,7 +123,7 @@ def test_diff_names_the_bad_file(kxr_project_path: Path, tmp_path: Path) -> None
     bad.write_text("<Rcb4><Config>", encoding="utf-8")
     for args in ([kxr_project_path, bad], [bad, kxr_project_path]):
         line = _error(_run("project", "diff", *args))
-        assert line.startswith(f"error: {bad}: not well-formed XML"), line
+        assert line.startswith(f"error: {bad}: not a HeartToHeart4 project: not well-formed"), line
 
 
 @pytest.mark.parametrize("command", ["info", "diff", "build", "check", "poses", "mirror"])

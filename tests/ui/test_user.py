@@ -159,7 +159,9 @@ def test_project_page_shows_the_project(kxr_project_path: Path) -> None:
         await until(lambda: len(one(user, "motion-table").rows) == 65)
         up = one(user, "project-upload")
         await up.handle_uploads([SmallFileUpload("junk.h4p", "application/octet-stream", b"<nope")])
-        await user.should_see("cannot open junk.h4p")
+        await user.should_see("cannot open junk.h4p: not a HeartToHeart4 project")
+        await up.handle_uploads([SmallFileUpload("empty.h4p", "application/octet-stream", b"")])
+        await user.should_see("empty.h4p: an empty file, not a HeartToHeart4 project")
         assert ctx.project_name == "kxr.h4p"  # a bad file loses nothing
         with pytest.raises(ValueError, match="limit"):
             load_upload(ctx, "big.h4p", b"x" * (ctx.max_upload + 1))

@@ -35,7 +35,14 @@ from rcb4hv.hth4.model import (
 )
 from rcb4hv.rom.layout import ROM_SIZE
 
-__all__ = ["dump_project", "load_project", "parse_project", "read_project_file", "save_project"]
+__all__ = [
+    "dump_project",
+    "load_project",
+    "parse_named_project",
+    "parse_project",
+    "read_project_file",
+    "save_project",
+]
 
 ROOT = "Rcb4"
 _U16 = (0, 0xFFFF)
@@ -52,16 +59,24 @@ def read_project_file(path: str | os.PathLike[str]) -> tuple[Project, bytes]:
     :class:`~rcb4hv.errors.Hth4FormatError` starting with the file's name (``project diff A
     B``: which one), and a 256 KB ROM image says that it is one."""
     data = Path(path).read_bytes()
+    return parse_named_project(data, str(path)), data
+
+
+def parse_named_project(data: bytes, name: str) -> Project:
+    """The project in ``data``, read from the file called ``name`` (a path, an uploaded
+    file's name): errors start with the name, and a 256 KB ROM image says that it is one."""
     if len(data) == ROM_SIZE:
         raise Hth4FormatError(
-            str(path),
+            name,
             "looks like a 256 KB ROM image, not a HeartToHeart4 project "
             "(`rcb4hv project image` reads images)",
         )
+    if not data.strip():
+        raise Hth4FormatError(name, "an empty file, not a HeartToHeart4 project")
     try:
-        return parse_project(data), data
+        return parse_project(data)
     except Hth4FormatError as exc:
-        raise Hth4FormatError(str(path), str(exc)) from None
+        raise Hth4FormatError(name, f"not a HeartToHeart4 project: {exc}") from None
 
 
 def parse_project(data: bytes | str) -> Project:

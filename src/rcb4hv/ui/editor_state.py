@@ -16,9 +16,10 @@ from pathlib import Path
 from typing import Concatenate, ParamSpec
 
 from rcb4hv.errors import AmbiguousRobotError, EditError, Rcb4Error
-from rcb4hv.hth4 import Project, parse_project
+from rcb4hv.hth4 import Project
 from rcb4hv.hth4.blocks.flowxml import motion_xml
 from rcb4hv.hth4.poses import Block, Checks, Pose, motion_blocks, motion_poses
+from rcb4hv.hth4.project import parse_named_project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.hth4.session import EditSession
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
@@ -64,7 +65,8 @@ class Editor:
         """Edit the project file ``data`` (read from ``path``, where Save writes) with
         ``model`` (``--robot``), else the model detected from it: the rule of
         :mod:`rcb4hv.hth4.robotpick` (a model needing servos the project lacks is refused)."""
-        self.session = EditSession(parse_project(data), path, data)
+        name = str(path) if path is not None else "the project"
+        self.session = EditSession(parse_named_project(data, name), path, data)
         self.model, self.model_error, self.model_candidates = None, "", ()
         try:
             self.model = project_model(self.session.project, model)

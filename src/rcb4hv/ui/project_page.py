@@ -9,7 +9,8 @@ from nicegui import events, ui
 
 from rcb4hv.asm import disassemble_frames
 from rcb4hv.errors import Rcb4Error
-from rcb4hv.hth4 import Project, button_label, parse_motion_xml, parse_project
+from rcb4hv.hth4 import Project, button_label, parse_motion_xml
+from rcb4hv.hth4.project import parse_named_project
 from rcb4hv.ui import preview, project_actions
 from rcb4hv.ui.checks import check_rows
 from rcb4hv.ui.context import UiContext, tid
@@ -51,7 +52,7 @@ def load_upload(ctx: UiContext, name: str, data: bytes) -> Project:
     """Parse an uploaded file (size-checked) and make it the open project."""
     if len(data) > ctx.max_upload:
         raise ValueError(f"{name}: {len(data):,} bytes; the limit is {ctx.max_upload:,}")
-    project = parse_project(data)
+    project = parse_named_project(data, name)
     ctx.set_project(project, name)
     return project
 
@@ -67,8 +68,8 @@ def build(ctx: UiContext) -> None:
             return
         try:
             load_upload(ctx, e.file.name, await e.file.read())
-        except (Rcb4Error, ValueError) as exc:
-            ui.notify(f"cannot open {e.file.name}: {exc}", type="negative", multi_line=True)
+        except (Rcb4Error, ValueError) as exc:  # the message starts with the file's name
+            ui.notify(f"cannot open {exc}", type="negative", multi_line=True)
             return
         ui.notify(f"opened {e.file.name}")
 
