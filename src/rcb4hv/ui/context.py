@@ -85,6 +85,11 @@ class UiContext:
         self.robot, self.robot_source = choose_robot(spec, self.project, indices)
         self.robot_candidates = () if spec is not None else project_candidates(self.project)
 
+    @property
+    def robot_caption(self) -> str:
+        """The model's title and where it came from, as the 3D views caption it."""
+        return f"{self.robot.title} ({self.robot_source})" if self.robot is not None else ""
+
     def pick_robot(self, name: str) -> None:
         """The user picked ``name``, one of :attr:`robot_candidates` (on the Editor page): every
         page draws, names joints and plays the project with it, as ``--robot`` would."""

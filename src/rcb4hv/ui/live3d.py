@@ -62,7 +62,7 @@ class LiveView:
                 return
             self.view = RobotScene(self._model, width=self.size[0], height=self.size[1])
             tid(self.view.scene, f"{self.name}-3d")
-        self.caption.text = f"{self._model.title} ({self.ctx.robot_source})"
+        self.caption.text = self.ctx.robot_caption
 
     def _model_changed(self) -> None:
         if self.holder.is_deleted:  # its browser tab is gone

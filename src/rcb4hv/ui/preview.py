@@ -184,7 +184,7 @@ def build(ctx: UiContext, motions: ui.table) -> None:
         holder.clear()
         shown[0] = ctx.robot
         # the model named, and where it came from (detected, picked, --robot, the board's)
-        caption.text = f"{ctx.robot.title} ({ctx.robot_source})" if ctx.robot else ""
+        caption.text = ctx.robot_caption
         if ctx.robot is None:
             player.show(None)
             with holder:
@@ -200,8 +200,8 @@ def build(ctx: UiContext, motions: ui.table) -> None:
             ctx.off_project(model_changed)
         elif ctx.robot is not shown[0]:
             make_view()
-        elif ctx.robot is not None:  # the same model, from another source (a new project)
-            caption.text = f"{ctx.robot.title} ({ctx.robot_source})"
+        else:  # the same model, perhaps from another source (a new project)
+            caption.text = ctx.robot_caption
 
     make_view()
     ctx.on_project(model_changed)
