@@ -115,6 +115,20 @@ def test_image_still_reads_an_image(image_file: Path) -> None:
     assert "65 motions" in r.output
 
 
+def test_info_and_image_count_a_motions_bytes_alike(
+    kxr_project_path: Path, image_file: Path
+) -> None:
+    """One answer to "how many bytes is this motion": the frames, not HeartToHeart4's FF end
+    marker after them (``project info`` counted it, ``project image`` cannot see it)."""
+    import json
+
+    info = json.loads(_run("project", "info", kxr_project_path, "--json").output)
+    image = json.loads(_run("project", "image", image_file, "--json").output)
+    sizes = {m["slot"]: m["bytes"] for m in info["motions"]}
+    assert sizes == {m["slot"]: m["bytes"] for m in image["motions"]}
+    assert sizes[1] == 591  # XL2G_101: 592 bytes in the project with its end marker
+
+
 # --------------------------------------------------------------- errors name the file
 
 

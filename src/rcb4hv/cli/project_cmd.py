@@ -86,7 +86,7 @@ def info(file: Path, as_json: bool) -> None:
                 "address": f"{m.address:05X}",
                 "name": m.name or "",
                 "frames": len(m.frames),
-                "bytes": len(m.rom_bytes()),
+                "bytes": m.code_size,
                 "button": m.button_data,
                 "button_names": _button_text(m.button_data, m.compare_type)
                 if m.button_data

@@ -196,6 +196,14 @@ class Motion:
         """The motion's bytes as they go into ROM (frames concatenated)."""
         return b"".join(self.frames)
 
+    @property
+    def code_size(self) -> int:
+        """The bytes of the motion's frames, without what follows the last one (HeartToHeart4's
+        FF end marker, which is not a frame): what ``project image`` reads back from ROM."""
+        from rcb4hv.hth4.motioncode import split_frames  # it imports this module
+
+        return sum(map(len, split_frames(self.rom_bytes())[0]))
+
     def expected_address(self, version: str = "2.2") -> int:
         """Where HeartToHeart4 ``version`` puts this slot (compare with :attr:`address`)."""
         return motion_rom_address(self.slot, version)

@@ -26,7 +26,7 @@ def motion_table(project: Project) -> list[dict[str, object]]:
             "address": f"{m.address:05X}",
             "name": m.name or "",
             "frames": len(m.frames),
-            "bytes": len(m.rom_bytes()),
+            "bytes": m.code_size,
             "button": button_label(m.button_data) if m.button_data else "",
         }
         for m in project.used_motions
