@@ -49,13 +49,13 @@ def test_nothing_matching_is_a_clear_error(project: hth4.Project) -> None:
 
 def test_every_caller_uses_the_same_rule(project: hth4.Project) -> None:
     # the dashboard: detected from the project, else the board's servos
-    model, why = choose_robot(None, project, DEFAULT_ICS)
+    model, why, _ = choose_robot(None, project, DEFAULT_ICS)
     assert (model.name, why) == ("kxr-l2-gripper", "detected from the project")
     odd = replace(project, servos=tuple(s for s in project.servos if s.device_number != 19))
-    model, why = choose_robot(None, odd, DEFAULT_ICS)  # the servo names describe a KXR kit
+    model, why, _ = choose_robot(None, odd, DEFAULT_ICS)  # the servo names describe a KXR kit
     assert (model.name, why) == ("kxr:L2L5A3G", "detected from the project")
     mute = replace(odd, servos=tuple(replace(s, name="") for s in odd.servos))
-    model, why = choose_robot(None, mute, DEFAULT_ICS)
+    model, why, _ = choose_robot(None, mute, DEFAULT_ICS)
     assert (model.name, why) == ("khr3hv-22", "matches the board's servos")
     # physics (`project simulate --physics`): a project, or a bare ROM image (no names)
     rom, _ = project_image(project, None)

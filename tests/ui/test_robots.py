@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
+from typing import Any
 
 import pytest
 from click.testing import CliRunner
@@ -31,13 +32,13 @@ def test_the_choice_order(kxr_project_path: Path) -> None:
     from rcb4hv.hth4 import load_project
 
     project = load_project(kxr_project_path)
-    model, why = choose_robot("kxr-l2", project, DEFAULT_ICS)
+    model, why, _ = choose_robot("kxr-l2", project, DEFAULT_ICS)
     assert model.name == "kxr-l2" and why == "--robot kxr-l2"
-    model, why = choose_robot(None, project, DEFAULT_ICS)
+    model, why, _ = choose_robot(None, project, DEFAULT_ICS)
     assert model.name == "kxr-l2-gripper" and why == "detected from the project"
-    model, why = choose_robot(None, None, DEFAULT_ICS)
+    model, why, _ = choose_robot(None, None, DEFAULT_ICS)
     assert model.name == "khr3hv-22" and why == "matches the board's servos"
-    model, why = choose_robot(None, None, [])
+    model, why, _ = choose_robot(None, None, [])
     assert model.name == DEFAULT_ROBOT and why == "default"
     with pytest.raises(RobotModelError, match="unknown robot 'nao'"):
         choose_robot("nao", None, [])
@@ -84,3 +85,21 @@ def test_an_ambiguous_project_is_not_played_on_a_model_nobody_picked() -> None:
     assert ctx.robot_candidates == () and heard == ["picked for the project: kxr:L4N"]
     ctx.set_project(_ambiguous_turtle(), "again.h4p")
     assert ctx.robot_candidates and ctx.robot is not None and ctx.robot.name != "kxr:L4N"
+
+
+def test_opening_a_project_detects_its_robot_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The model and the candidates come from one detection (they were two, each detecting
+    the project again)."""
+    from rcb4hv.ui import robots
+
+    calls: list[object] = []
+    real = robots.project_model
+
+    def counted(*args: Any, **kwargs: Any) -> Any:
+        calls.append(args[0])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(robots, "project_model", counted)
+    ctx = UiContext(SimpleNamespace(state=SimpleNamespace(servos=[])), auto_robot=True)  # type: ignore[arg-type]
+    ctx.set_project(_ambiguous_turtle(), "turtle.h4p")
+    assert set(ctx.robot_candidates) == {"kxr:L4T", "kxr:L4N"} and len(calls) == 1

@@ -17,7 +17,7 @@ from rcb4hv.hth4 import Project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
-from rcb4hv.ui.robots import choose_robot, project_candidates
+from rcb4hv.ui.robots import choose_robot
 
 __all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
 
@@ -82,8 +82,9 @@ class UiContext:
     def choose_robot(self, spec: str | None = None) -> None:
         """Choose the model from ``spec`` (``--robot``), the open project or the board."""
         indices = [s.ics for s in self.session.state.servos]
-        self.robot, self.robot_source = choose_robot(spec, self.project, indices)
-        self.robot_candidates = () if spec is not None else project_candidates(self.project)
+        self.robot, self.robot_source, self.robot_candidates = choose_robot(
+            spec, self.project, indices
+        )
 
     @property
     def robot_caption(self) -> str:

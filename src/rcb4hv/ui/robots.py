@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Iterable
+from typing import NamedTuple
 
 from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
 from rcb4hv.hth4 import Project
@@ -24,7 +25,7 @@ from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 
-__all__ = ["DEFAULT_ROBOT", "board_robot", "choose_robot", "project_candidates"]
+__all__ = ["DEFAULT_ROBOT", "RobotChoice", "board_robot", "choose_robot"]
 
 log = logging.getLogger(__name__)
 
@@ -48,37 +49,34 @@ def board_robot(indices: Iterable[int]) -> str | None:
     return fits[0][1]
 
 
+class RobotChoice(NamedTuple):
+    """The model the dashboard uses, where it came from, and the models the open project fits
+    when its evidence fits several (none picked yet: the dashboard offers them)."""
+
+    model: RobotModel
+    source: str
+    candidates: tuple[str, ...] = ()
+
+
 def choose_robot(
     spec: str | None, project: Project | None, board_indices: Iterable[int]
-) -> tuple[RobotModel, str]:
-    """(model, where it came from) by the rules of this module; ``spec`` is ``--robot``
-    (raises :class:`~rcb4hv.errors.RobotModelError` when it names no robot)."""
+) -> RobotChoice:
+    """The model by the rules of this module, from one detection of the project; ``spec`` is
+    ``--robot`` (raises :class:`~rcb4hv.errors.RobotModelError` when it names no robot)."""
     if spec is not None:
-        return project_model(None, spec), f"--robot {spec}"
+        return RobotChoice(project_model(None, spec), f"--robot {spec}")
     asks = ""
+    candidates: tuple[str, ...] = ()
     if project is not None:
         try:
-            return project_model(project), "detected from the project"
+            return RobotChoice(project_model(project), "detected from the project")
         except AmbiguousRobotError as exc:  # the Editor page offers the candidates
-            asks = f"; the project fits {', '.join(exc.candidates)}: pick one on the Editor page"
+            candidates = tuple(exc.candidates)
+            asks = f"; the project fits {', '.join(candidates)}: pick one on the Editor page"
         except NoRobotModelError:
             log.info("the open project names no built-in robot")
     name = board_robot(board_indices)
     if name is not None:
-        return load_builtin(name), "matches the board's servos" + asks
+        return RobotChoice(load_builtin(name), "matches the board's servos" + asks, candidates)
     log.info("no robot detected: drawing the default %s", DEFAULT_ROBOT)
-    return load_builtin(DEFAULT_ROBOT), "default" + asks
-
-
-def project_candidates(project: Project | None) -> tuple[str, ...]:
-    """The models an open ``project`` fits when its evidence fits several (detection asks:
-    the dashboard offers them), else ()."""
-    if project is None:
-        return ()
-    try:
-        project_model(project)
-    except AmbiguousRobotError as exc:
-        return tuple(exc.candidates)
-    except NoRobotModelError:
-        return ()
-    return ()
+    return RobotChoice(load_builtin(DEFAULT_ROBOT), "default" + asks, candidates)
