@@ -8,6 +8,8 @@
     │   ├── ChecksumError          a frame whose last byte is not the sum of the others
     │   └── VerifyError            memory read back after a write differs
     ├── NakError                   the board answered NAK (``04 CMD 15 SUM``)
+    ├── ProgramStoppedError        the board's ROM program stopped with an error (ROMERR)
+    │                              while a host waited for its motion to end
     ├── TransportError             the port failed, closed or disconnected
     ├── Rcb4TimeoutError           no (complete) reply in time; also a builtin TimeoutError
     ├── CommandNotAllowedError     a command the client refuses unless enabled (0Eh); also
@@ -30,9 +32,10 @@
     ├── PhysicsError               the physics simulation cannot run
     │   └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
     │                              ImportError
-    └── IcsError                   an ICS servo answered wrongly, or a write did not verify
-        └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
-                                   also a builtin TimeoutError
+    ├── IcsError                   an ICS servo answered wrongly, or a write did not verify
+    │   └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
+    │                              also a builtin TimeoutError
+    └── ScaleError                 the distributed back end (Ray) is missing or unreachable
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -59,10 +62,12 @@ __all__ = [
     "NoRobotModelError",
     "PhysicsError",
     "PhysicsUnavailableError",
+    "ProgramStoppedError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
     "RobotModelError",
+    "ScaleError",
     "SimulationError",
     "TransportError",
     "VerifyError",
@@ -95,6 +100,17 @@ class NakError(Rcb4Error):
     def __init__(self, message: str, command: int | None = None) -> None:
         super().__init__(message)
         self.command = command
+
+
+class ProgramStoppedError(Rcb4Error):
+    """The board's ROM program stopped with a ROM error (ROMERR: an instruction it cannot
+    execute, e.g. a motion slot that holds no motion) while a host waited for a motion to end.
+    ``pc`` is where it stopped, ``motion`` the slot it was in (None outside the motions)."""
+
+    def __init__(self, message: str, pc: int, motion: int | None) -> None:
+        super().__init__(message)
+        self.pc = pc
+        self.motion = motion
 
 
 class TransportError(Rcb4Error):

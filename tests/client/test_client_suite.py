@@ -13,7 +13,13 @@ from rcb4hv.client import (
     plan_cheapest,
     plan_reads,
 )
-from rcb4hv.errors import CommandNotAllowedError, NakError, Rcb4TimeoutError, VerifyError
+from rcb4hv.errors import (
+    CommandNotAllowedError,
+    NakError,
+    ProgramStoppedError,
+    Rcb4TimeoutError,
+    VerifyError,
+)
 from rcb4hv.protocol import (
     ADDR,
     POSITION_FREE,
@@ -291,6 +297,36 @@ def test_stop_and_resume_motion(rig: Rig) -> None:
     r.stop_motion()
     assert r.current_motion() is None
     assert r.motion_status().pc == r.board_layout().main_loop or r.system_register().rom_run
+
+
+def test_a_motion_that_stops_the_program_is_reported_at_once(rig: Rig) -> None:
+    """Playing a slot that holds no motion stops the board's program with a ROM error: the
+    wait says so at once (it waited out its timeout for a motion "still playing")."""
+    r = rig.robot
+    empty = 50
+    assert r.read_rom(r.board_layout().address(empty), 1) == b"\xff"
+    t0 = time.monotonic()
+    with pytest.raises(ProgramStoppedError, match=r"motion 50: .*ROM error") as info:
+        r.play_motion(empty, wait=True, timeout=30.0)
+    assert time.monotonic() - t0 < 10.0  # real time: far below the timeout
+    assert info.value.motion == empty
+    status = r.motion_status()
+    assert status.rom_error and not status.running
+    assert status.state == "stopped by a ROM error" and r.current_motion() is None
+
+
+def test_a_move_to_a_servo_the_board_lacks_sends_nothing(rig: Rig) -> None:
+    """A servo the board has not allocated is refused before the frame goes out: the servo
+    that is there does not move either."""
+    r = rig.robot
+    k = r.servo_ids()[0]
+    missing = r.allocation_table().index(None)
+    with pytest.raises(ValueError, match=rf"no servo at ICS \[{missing}\]"):
+        r.move({k: 9000, missing: 7500})
+    with pytest.raises(ValueError, match=rf"no servo at ICS \[{missing}\]"):
+        r.set_stretch({missing: 60})
+    assert r.positions([k], kind="output")[k] != 9000
+    assert k not in r.interpolating()
 
 
 def test_wait_motion_times_out(rig: Rig) -> None:

@@ -353,7 +353,8 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
     ) -> None:
         """Move servos (ICS number -> raw position) linearly over ``duration`` seconds.
 
-        One RunConstFrameServo frame; ``wait`` waits for the interpolation to end.
+        One RunConstFrameServo frame; ``wait`` waits for the interpolation to end. A servo the
+        board has not allocated is a ValueError before anything is sent.
         """
         if not positions:
             raise ValueError("no servo to move")
@@ -362,6 +363,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
                 self.check_position(k, p)
             elif not 0 <= p <= 0xFFFF:
                 raise ValueError(f"ICS {k}: position {p} is not 16 bits")
+        await self._select(positions)
         speed = await self.frames_for(duration)
         await self.client.run_const_frame_servo(speed, dict(positions))
         if wait:
@@ -440,6 +442,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
             check_documented_ics(k)
             if check_range:
                 check_documented_stretch(what, k, v)
+        await self._select(vals)
         return vals
 
     async def set_stretch(

@@ -393,12 +393,13 @@ def motion_status(conn: Connection, layout: str, as_json: bool) -> None:
                 "call_depth": st.call_depth,
                 "update_flags": st.update_flags.hex(),
                 "running": st.running,
+                "state": st.state,
             }
         )
     else:
         what = f"motion {st.motion}" if st.motion is not None else "no motion"
         click.echo(
-            f"{what}; PC {st.pc:06X}, call depth {st.call_depth}, "
+            f"{what} ({st.state}); PC {st.pc:06X}, call depth {st.call_depth}, "
             f"update flags {st.update_flags.hex(' ')}"
         )
 

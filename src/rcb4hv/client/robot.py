@@ -355,7 +355,8 @@ class Robot(RobotMotions, RobotIO):
     ) -> None:
         """Move servos (ICS number -> raw position) linearly over ``duration`` seconds.
 
-        One RunConstFrameServo frame; ``wait`` waits for the interpolation to end.
+        One RunConstFrameServo frame; ``wait`` waits for the interpolation to end. A servo the
+        board has not allocated is a ValueError before anything is sent.
         """
         if not positions:
             raise ValueError("no servo to move")
@@ -364,6 +365,7 @@ class Robot(RobotMotions, RobotIO):
                 self.check_position(k, p)
             elif not 0 <= p <= 0xFFFF:
                 raise ValueError(f"ICS {k}: position {p} is not 16 bits")
+        self._select(positions)
         speed = self.frames_for(duration)
         self.client.run_const_frame_servo(speed, dict(positions))
         if wait:
@@ -442,6 +444,7 @@ class Robot(RobotMotions, RobotIO):
             check_documented_ics(k)
             if check_range:
                 check_documented_stretch(what, k, v)
+        self._select(vals)
         return vals
 
     def set_stretch(

@@ -18,10 +18,10 @@ from time import sleep
 
 from rcb4hv.client.core import Rcb4Client
 from rcb4hv.client.robot_types import MotionStatus
-from rcb4hv.errors import NakError, Rcb4TimeoutError
+from rcb4hv.errors import NakError, ProgramStoppedError, Rcb4TimeoutError
 from rcb4hv.protocol import Command
 from rcb4hv.protocol import sequences as seq
-from rcb4hv.protocol.memory import ADDR, RUN_STATE_SIZE, read_run_state, read_system
+from rcb4hv.protocol.memory import ADDR, RUN_STATE_SIZE, SYS, read_run_state, read_system
 from rcb4hv.rom.layout import HTH4_22, OLDER_MAIN_LOOP, MotionLayout
 from rcb4hv.rom.older import main_loop_layout
 
@@ -70,15 +70,23 @@ class RobotMotions:
     # ------------------------------------------------------------------ motions
 
     def motion_status(self) -> MotionStatus:
-        """PC, call depth and update flags (one frame), and the motion being played."""
-        pc, depth, flags = read_run_state(self.client.read_ram(ADDR.PC, RUN_STATE_SIZE), 0)
+        """The system register, PC, call depth and update flags (one frame), the motion the
+        program is in and whether it is being played (also while a host pauses it; not once
+        a ROM error stopped it)."""
+        raw = self.client.read_ram(ADDR.SYSTEM, ADDR.PC - ADDR.SYSTEM + RUN_STATE_SIZE)
+        system = read_system(raw, 0)
+        pc, depth, flags = read_run_state(raw, ADDR.PC - ADDR.SYSTEM)
         motion = (self.board_layout()).motion_at(pc)
-        running = motion is not None and (depth != 0 or any(flags))
-        return MotionStatus(pc, depth, flags, motion if running else None, running)
+        if motion is not None and depth == 0 and not any(flags):
+            motion = None  # the PC rests in a motion's slot outside any call
+        running = motion is not None and not system & SYS.ROM_ERROR
+        return MotionStatus(pc, depth, flags, motion, running, system)
 
     def current_motion(self) -> int | None:
-        """The motion (1-based) being played, or None."""
-        return (self.motion_status()).motion
+        """The motion (1-based) being played or paused, or None (also when a ROM error stopped
+        the program in a motion: :meth:`motion_status` tells that)."""
+        status = self.motion_status()
+        return status.motion if status.running else None
 
     def play_motion(self, motion: int, *, wait: bool = False, timeout: float = 60.0) -> None:
         """Play ``motion`` as HeartToHeart4 does (spec 11.4): suspend the ROM program, reset
@@ -109,12 +117,24 @@ class RobotMotions:
         poll: float = 0.02,
         on_poll: Callable[[MotionStatus], None] | None = None,
     ) -> None:
-        """Wait until no motion plays; Rcb4TimeoutError after ``timeout`` seconds."""
+        """Wait until no motion plays (a paused one is still waited for);
+        :class:`~rcb4hv.errors.ProgramStoppedError` at once when the program stops with a ROM
+        error (a motion slot that holds no motion), Rcb4TimeoutError after ``timeout``
+        seconds."""
         deadline = time.monotonic() + timeout
         while True:
             status = self.motion_status()
             if on_poll is not None:
                 on_poll(status)
+            if status.rom_error:
+                where = "" if status.motion is None else f"motion {status.motion}: "
+                raise ProgramStoppedError(
+                    f"{where}the board's program stopped with a ROM error at PC "
+                    f"{status.pc:06X} (an instruction it cannot execute; a slot with no "
+                    "motion in it stops it so)",
+                    status.pc,
+                    status.motion,
+                )
             if not status.running:
                 return
             if time.monotonic() >= deadline:

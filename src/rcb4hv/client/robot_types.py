@@ -12,7 +12,7 @@ from rcb4hv.protocol import (
     SystemRegister,
     ics_to_id_port,
 )
-from rcb4hv.protocol.memory import CENTER, TimerState
+from rcb4hv.protocol.memory import CENTER, SYS, TimerState
 from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.rom.layout import LAYOUTS
 
@@ -104,13 +104,35 @@ class ServoInfo:
 
 @dataclass(frozen=True, slots=True)
 class MotionStatus:
-    """The ROM program's state: PC, call depth, update flags, and the motion it is in."""
+    """The ROM program's state: PC, call depth, update flags, the motion it is in (playing,
+    paused or stopped by a ROM error), whether that motion is being played (or paused), and
+    the system register."""
 
     pc: int
     call_depth: int
     update_flags: bytes
     motion: int | None
     running: bool
+    system: int = SYS.ROM_RUN
+
+    @property
+    def paused(self) -> bool:
+        """The ROM program does not run (ROM_F clear): paused by a host, or stopped by an error."""
+        return not self.system & SYS.ROM_RUN
+
+    @property
+    def rom_error(self) -> bool:
+        """The ROM program stopped with a ROM error (ROMERR)."""
+        return bool(self.system & SYS.ROM_ERROR)
+
+    @property
+    def state(self) -> str:
+        """``stopped by a ROM error``, ``paused``, ``playing`` or ``idle`` (no motion plays)."""
+        if self.rom_error:
+            return "stopped by a ROM error"
+        if self.paused:
+            return "paused"
+        return "playing" if self.running else "idle"
 
 
 @dataclass(frozen=True, slots=True)
