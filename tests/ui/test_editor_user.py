@@ -20,6 +20,12 @@ from tests.ui.test_user import one, output, run, until
 WALK, TURN_LEFT, TURN_RIGHT, FREE = 66, 69, 70, 73
 
 
+def commit(user: User, marker: str, value: object) -> None:
+    """Type ``value`` into the field and press Enter, then leave it, as a user does."""
+    one(user, marker).set_value(value)
+    user.find(marker=marker).trigger("keydown.enter").trigger("blur")
+
+
 def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) -> None:
     src = tmp_path / "kxr.h4p"
     src.write_bytes(kxr_project_path.read_bytes())
@@ -34,11 +40,17 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         one(user, "editor-motion").set_value(WALK)
         one(user, "editor-pose").set_value(1)
         await until(lambda: one(user, "editor-raw-10").value == 7900)
-        one(user, "editor-raw-10").set_value(7700)
+        # typed digit by digit: nothing applies until Enter (8, 77 and 770 were each an edit,
+        # or refused as past the joint's limit, and reset the field under the user's fingers)
+        for partial in (7, 77, 770):
+            one(user, "editor-raw-10").set_value(partial)
+        await user.should_not_see("outside the joint's hard (mechanical) limits")
+        assert "no edits" in one(user, "editor-status").text
+        commit(user, "editor-raw-10", 7700)
         await until(lambda: "1 edits" in one(user, "editor-status").text)
         assert "unsaved" in one(user, "editor-status").text
         # past the hip's mechanical limit: refused with the reason, nothing changes
-        one(user, "editor-raw-10").set_value(12000)
+        commit(user, "editor-raw-10", 12000)
         await user.should_see("outside the joint's hard (mechanical) limits")
         assert "1 edits" in one(user, "editor-status").text
         # undo / redo
@@ -132,7 +144,7 @@ def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_pa
         user.find(marker="editor-open").click()
         await until(lambda: len(one(user, "editor-motion").options) == 65)
         one(user, "editor-motion").set_value(39)  # the home position: one pose
-        one(user, "editor-raw-10").set_value(7700)
+        commit(user, "editor-raw-10", 7700)
         await until(lambda: "1 edits" in one(user, "editor-status").text)
         user.find(marker="editor-play-board").click()
         await user.should_see(marker="editor-play-confirm")
@@ -140,5 +152,29 @@ def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_pa
         await until(lambda: output(board, 10) == 7700, 120)
         edited = set_pose(hth4.load_project(src), 39, 0, {10: 7700})
         assert bytes(board.rom) == project_image(edited)[0]  # the edit is in the board's ROM
+
+    run(scenario)
+
+
+def test_typing_frames_is_one_edit(kxr_project_path: Path, tmp_path: Path) -> None:
+    """Typing 120 into the frames box is one edit when the user presses Enter (1, 12 and 120
+    were three undo steps)."""
+    src = tmp_path / "kxr.h4p"
+    src.write_bytes(kxr_project_path.read_bytes())
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        one(user, "editor-path").set_value(str(src))
+        user.find(marker="editor-open").click()
+        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        one(user, "editor-motion").set_value(WALK)
+        one(user, "editor-pose").set_value(1)
+        await until(lambda: one(user, "editor-raw-10").value == 7900)
+        for partial in (1, 12):
+            one(user, "editor-frames").set_value(partial)
+        commit(user, "editor-frames", 120)
+        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        commit(user, "editor-frames", 120)  # the same value again: no edit
+        assert "1 edits" in one(user, "editor-status").text
+        assert one(user, "editor-frames").value == 120
 
     run(scenario)

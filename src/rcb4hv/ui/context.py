@@ -7,10 +7,11 @@ import logging
 from collections.abc import Callable
 from concurrent.futures import Future
 from dataclasses import dataclass, field
-from typing import TypeVar
+from typing import Any, TypeVar
 
 from nicegui import ui
 from nicegui.element import Element
+from nicegui.elements.mixins.value_element import ValueElement
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.hth4 import Project
@@ -19,7 +20,7 @@ from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
 from rcb4hv.ui.robots import choose_robot
 
-__all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "tid"]
+__all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "on_commit", "tid"]
 
 log = logging.getLogger(__name__)
 
@@ -35,6 +36,15 @@ def tid(element: E, name: str) -> E:
     element.mark(name)
     element.props(f"data-testid={name}")
     return element
+
+
+def on_commit(element: ValueElement[Any], fn: Callable[[Any], None]) -> None:
+    """Call ``fn(value)`` when the user is done with a field (Enter, or leaving it), not at
+    every keystroke: typing 8200 must not apply 8, 82 and 820 on the way (each refused or an
+    undo step of its own). ``fn`` sees the same value twice (Enter, then leaving): it must
+    do nothing for a value that changes nothing."""
+    element.on("keydown.enter", lambda: fn(element.value))
+    element.on("blur", lambda: fn(element.value))
 
 
 async def guarded(future: Future[T], what: str) -> T | None:

@@ -19,6 +19,7 @@ Project page (:class:`~rcb4hv.ui.preview.PreviewPlayer`).
 from __future__ import annotations
 
 import asyncio
+import functools
 import logging
 import math
 from collections.abc import Callable
@@ -40,7 +41,7 @@ from rcb4hv.hth4.edit import (
 )
 from rcb4hv.robot import RobotModel
 from rcb4hv.ui import flow_editor, trim_panel
-from rcb4hv.ui.context import UiContext, attempt, tid
+from rcb4hv.ui.context import UiContext, attempt, on_commit, tid
 from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
@@ -145,7 +146,7 @@ class EditorPage:
                 self.frames_in = tid(
                     ui.number("Frames (output periods)", min=1, max=255), "editor-frames"
                 )
-                self.frames_in.on_value_change(lambda e: self.set_frames(e.value))
+                on_commit(self.frames_in, self.set_frames)
                 self.joints = ui.column().classes("w-full gap-0")
         with ui.row().classes("items-center"):
             self.to_sel = tid(
@@ -265,6 +266,9 @@ class EditorPage:
         if self.loading or value is None or ed.slot is None or ed.pose_index is None:
             return
         values = {ics: int(float(str(value)))}
+        pose = ed.pose
+        if pose is not None and pose.values.get(ics) == values[ics]:
+            return  # the value it has: no edit (Enter and then leaving the field both commit)
         self.edit(set_pose, ed.slot, ed.pose_index, values, None, ed.checks)
 
     def set_degrees(self, ics: int, degrees: object) -> None:
@@ -275,7 +279,10 @@ class EditorPage:
         ed = self.ed
         if self.loading or value is None or ed.slot is None or ed.pose_index is None:
             return
-        self.edit(set_pose, ed.slot, ed.pose_index, None, int(float(str(value))), ed.checks)
+        frames = int(float(str(value)))
+        if ed.pose is not None and ed.pose.speed == frames:
+            return
+        self.edit(set_pose, ed.slot, ed.pose_index, None, frames, ed.checks)
 
     # ------------------------------------------------------------------ board, files, preview
 
@@ -406,7 +413,7 @@ class EditorPage:
                         ui.number(value=row.value, format="%d").props("dense").classes("w-24"),
                         f"editor-raw-{row.ics}",
                     )
-                    raw.on_value_change(lambda e, ics=row.ics: self.set_value(ics, e.value))
+                    on_commit(raw, functools.partial(self.set_value, row.ics))
 
     def redraw(self) -> None:
         """Show the edit state: every widget, the flowchart, the joints, the 3D pose."""
