@@ -15,7 +15,7 @@ from rcb4hv.hth4.poses import motion_poses
 from rcb4hv.project.relocate import project_image
 from rcb4hv.ui.context import UiContext
 from rcb4hv.ui.trim_panel import new_trim
-from tests.ui.test_user import one, output, run, until
+from tests.ui.test_user import one, open_in_editor, output, run, until
 
 WALK, TURN_LEFT, TURN_RIGHT, FREE = 66, 69, 70, 73
 
@@ -33,9 +33,7 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
         await user.should_see(marker="tab-editor")
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         assert "kxr-l2" in one(user, "editor-3d-caption").text.lower()
         one(user, "editor-motion").set_value(WALK)
         one(user, "editor-pose").set_value(1)
@@ -112,9 +110,7 @@ def test_trim_panel_stores_a_trim(kxr_project_path: Path, tmp_path: Path) -> Non
     src.write_bytes(kxr_project_path.read_bytes())
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         one(user, "trim-ics").set_value(10)
         user.find(marker="trim-free").click()
         await until(lambda: output(board, 10) == 0x8000)
@@ -140,9 +136,7 @@ def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_pa
     src.write_bytes(kxr_project_path.read_bytes())
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         one(user, "editor-motion").set_value(39)  # the home position: one pose
         commit(user, "editor-raw-10", 7700)
         await until(lambda: "1 edits" in one(user, "editor-status").text)
@@ -163,9 +157,7 @@ def test_typing_frames_is_one_edit(kxr_project_path: Path, tmp_path: Path) -> No
     src.write_bytes(kxr_project_path.read_bytes())
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         one(user, "editor-motion").set_value(WALK)
         one(user, "editor-pose").set_value(1)
         await until(lambda: one(user, "editor-raw-10").value == 7900)

@@ -12,7 +12,7 @@ from rcb4hv.emulator import Board
 from rcb4hv.hth4.blocks import motion_program
 from rcb4hv.hth4.diff import diff_projects
 from rcb4hv.ui.context import UiContext
-from tests.ui.test_user import one, run, until
+from tests.ui.test_user import one, open_in_editor, run, until
 
 TURN_LEFT = 69
 
@@ -23,9 +23,7 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
     out = tmp_path / "edited.h4p"
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         one(user, "editor-motion").set_value(TURN_LEFT)
         await until(lambda: 'data-block="7"' in one(user, "flow-chart").content)
         user.find(marker="flow-chart").trigger("click", "1")  # select block 1 (a pose)
@@ -87,9 +85,7 @@ def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_p
     src.write_bytes(kxr_project_path.read_bytes())
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         assert one(user, "settings-startup").value == 39  # the fixture starts with M039
         assert one(user, "settings-ad-1").value == 273
         one(user, "settings-startup").set_value(0)

@@ -12,7 +12,7 @@ from nicegui.testing.user import User
 
 from rcb4hv.emulator import Board
 from rcb4hv.ui.context import UiContext
-from tests.ui.test_user import one, run, until
+from tests.ui.test_user import one, open_in_editor, run, until
 
 HOME, BOW = 39, 21
 
@@ -37,9 +37,7 @@ def test_posing_aids_in_the_editor(kxr_project_path: Path, tmp_path: Path) -> No
 
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
         await user.should_see(marker="tab-editor")
-        one(user, "editor-path").set_value(str(src))
-        user.find(marker="editor-open").click()
-        await until(lambda: len(one(user, "editor-motion").options) == 65)
+        await open_in_editor(user, src)
         one(user, "editor-motion").set_value(HOME)
         one(user, "editor-pose").set_value(0)
         await until(lambda: one(user, "editor-balance").text.startswith("stands"))

@@ -59,6 +59,13 @@ async def until(cond: Callable[[], bool], timeout: float = 10.0) -> None:
         await asyncio.sleep(0.05)
 
 
+async def open_in_editor(user: User, path: Path, motions: int = 65) -> None:
+    """Open ``path`` on the Editor page and wait for its ``motions`` motions to be listed."""
+    one(user, "editor-path").set_value(str(path))
+    user.find(marker="editor-open").click()
+    await until(lambda: len(one(user, "editor-motion").options) == motions)
+
+
 def word(board: Board, address: int) -> int:
     return int(board.ram[address]) | int(board.ram[address + 1]) << 8
 
