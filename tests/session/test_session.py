@@ -9,6 +9,7 @@ from collections.abc import Iterator
 import pytest
 
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, emulator_url
+from rcb4hv.errors import TransportError
 from rcb4hv.protocol.memory import ADDR, SERVO
 from rcb4hv.rom.default import DEFAULT_ICS, default_image
 from rcb4hv.session import BoardSession, MeteredTransport, wire_seconds
@@ -129,6 +130,43 @@ def test_unreachable_board_reports_and_retries() -> None:
         with pytest.raises(TimeoutError, match="no board"):
             s.wait_connected(timeout=0.2)
     assert threading.active_count() >= 1
+
+
+def test_nothing_clicked_while_the_link_is_down_runs_when_it_comes_back(board: Board) -> None:
+    """A link failure fails the queued jobs and drops pending moves; while the link is down new
+    jobs and moves are refused at once (a "free all" queued then ran on reconnect and dropped
+    the robot)."""
+    with BoardSession(emulator_url(board), poll_hz=20, retry=30) as s:
+        s.wait_connected()
+        k = DEFAULT_ICS[0]
+        started, release = threading.Event(), threading.Event()
+
+        def link_breaks(_robot: object) -> None:
+            started.set()
+            release.wait(5)
+            raise OSError("the cable came out")
+
+        broken = s.submit(link_breaks)
+        assert started.wait(5)
+        queued = s.submit(lambda r: r.free())
+        s.set_target(k, 9000)
+        release.set()
+        with pytest.raises(OSError, match="cable"):
+            broken.result(timeout=5)
+        with pytest.raises(TransportError, match=r"failed .*not sent"):
+            queued.result(timeout=5)
+        assert not s.state.connected and s.state.error is not None
+        with pytest.raises(TransportError, match="no board connected"):
+            s.submit(lambda r: r.free()).result(timeout=1)
+        with pytest.raises(TransportError, match="no board connected"):
+            s.set_target(k, 9000)
+        with pytest.raises(TransportError):
+            s.stop().result(timeout=1)
+        s.reconnect()
+        s.wait_connected(timeout=10)
+        time.sleep(0.2)  # a move left over would be sent now
+        assert output_of(board, k) != 9000
+        assert {st.state for st in s.submit(lambda r: r.servo_states()).result(5)} != {"free"}
 
 
 def test_close_fails_pending_jobs() -> None:

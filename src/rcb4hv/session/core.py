@@ -13,8 +13,11 @@ queue, so nothing ever talks to the link concurrently and no caller's event loop
   frame at most once per servo output period, so a dragged slider cannot flood the link.
 * :meth:`BoardSession.stop` jumps the queue: stop the motion, then hold every servo.
 
-A link failure marks the state disconnected with the error text; the worker reopens the link
-every ``retry`` seconds until it answers again.
+A link failure marks the state disconnected with the error text and fails every queued job
+and pending move (:class:`~rcb4hv.errors.TransportError`): nothing clicked while the board
+was away runs when it comes back (a "free all" would drop the robot then). While the link is
+down, new jobs and moves are refused at once; the worker reopens the link every ``retry``
+seconds until it answers again. Before the first attempt to connect, jobs wait for it.
 """
 
 from __future__ import annotations
@@ -30,7 +33,7 @@ from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
 from rcb4hv.client import HTH4_22, MotionLayout, Rcb4Client, Robot
-from rcb4hv.errors import Rcb4Error
+from rcb4hv.errors import Rcb4Error, TransportError
 from rcb4hv.session.meter import MeteredTransport
 from rcb4hv.session.state import AngleHistory, BoardState, poll_state
 from rcb4hv.transport import DEFAULT_BAUD, EMULATOR_URL, open_transport
@@ -172,6 +175,10 @@ class BoardSession:
             if self._closed:
                 fut.set_exception(RuntimeError("the board session is closed"))
                 return fut
+            down = self._link_down()
+            if down is not None:
+                fut.set_exception(down)
+                return fut
             job = _Job(fn, fut, label)
             if urgent:
                 self._jobs.appendleft(job)
@@ -206,6 +213,9 @@ class BoardSession:
         """Move servo ``ics`` to raw ``position`` at the next output period (coalesced)."""
         Robot.check_position(ics, position)
         with self._cond:
+            down = self._link_down()
+            if down is not None:
+                raise down
             self._targets[ics] = position
             if self._target_t is None:
                 self._target_t = time.perf_counter()
@@ -215,7 +225,7 @@ class BoardSession:
         """Like :meth:`set_target` in degrees (the robot's host calibration applied)."""
         robot = self.robot
         if robot is None:
-            raise RuntimeError(f"no board connected at {self.url}")
+            raise self._link_down() or TransportError(f"no board connected at {self.url} yet")
         self.set_target(ics, robot.to_position(ics, degrees))
 
     def stop(self) -> Future[None]:
@@ -247,11 +257,21 @@ class BoardSession:
 
     # ------------------------------------------------------------------ worker
 
+    def _link_down(self) -> TransportError | None:
+        """The error to refuse a command with while the link is known to be down, else None
+        (connected, or not tried yet)."""
+        state = self.state
+        if state.connected or state.error is None:
+            return None
+        return TransportError(f"no board connected at {self.url} ({state.error}): not sent")
+
     def _fail_pending(self, exc: BaseException) -> None:
         with self._cond:
             jobs, steps = list(self._jobs), list(self._steps)
             self._jobs.clear()
             self._steps.clear()
+            self._targets.clear()
+            self._target_t = None
         for j in jobs:
             if not j.future.done():
                 j.future.set_exception(exc)
@@ -299,6 +319,7 @@ class BoardSession:
         msg = f"{type(exc).__name__}: {exc}"
         log.warning("link to %s failed: %s", self.url, msg)
         self._disconnect(msg)
+        self._fail_pending(TransportError(f"the link to {self.url} failed ({msg}): not sent"))
 
     def _worker(self) -> None:
         next_poll = 0.0

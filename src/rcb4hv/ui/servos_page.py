@@ -9,6 +9,7 @@ import time
 
 from nicegui import ui
 
+from rcb4hv.errors import Rcb4Error
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD
 from rcb4hv.robot import RobotModel
 from rcb4hv.robot.servos import TRAVEL_DEG
@@ -121,7 +122,7 @@ def _servo_controls(
             return
         try:
             session.set_angle(ics, float(value))
-        except (ValueError, RuntimeError) as exc:
+        except (ValueError, Rcb4Error) as exc:
             ui.notify(str(exc), type="negative")
 
     with ui.row().classes("w-full items-center no-wrap"):

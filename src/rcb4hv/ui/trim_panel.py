@@ -101,7 +101,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             return
         try:
             ctx.session.set_target(int(ics_sel.value), int(float(str(value))))
-        except (RuntimeError, ValueError) as exc:
+        except (Rcb4Error, ValueError) as exc:
             ui.notify(str(exc), type="negative")
         refresh()
 
