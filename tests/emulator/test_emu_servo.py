@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -215,7 +217,7 @@ def test_rcb4_style_probe_sees_exactly_the_virtual_servos() -> None:
     b.ram[0x44 : 0x44 + 70] = table
     b.run_for(0.1)
     alive = [n for n in range(35) if w(b, 0x90 + 20 * n + 4) > 0]
-    assert alive == list(b.config.virtual_servos)
+    assert alive == list(b.virtual_servos)
 
 
 def test_stretch_kept_per_servo(idle: Board) -> None:
@@ -259,3 +261,30 @@ def test_update_flag_wait_counts_the_periods_left() -> None:
     x(b, RunSingleServo(0, 1, 0x7FFF, set_update_flag=False))  # a hold stops the move
     b.ram[UPDATE_FLAGS] |= 1
     assert b.update_flag_wait() is None  # a flag no move will ever clear
+
+
+def test_the_virtual_servos_are_the_images_robot(kxr_project_path: Path) -> None:
+    """With no ``virtual_servos`` the board has the servos its image's allocation table
+    configures (the KXR-L2's ICS 8 and 9 too, which the default humanoid lacks), as
+    ``project simulate`` has; an erased image, which configures none, the default humanoid's;
+    an image uploaded for another robot, from then on."""
+    from rcb4hv.emulator.config import DEFAULT_SERVOS
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.project.relocate import project_image
+    from rcb4hv.rom.calibration import image_servos
+
+    image, _ = project_image(load_project(kxr_project_path))
+    kxr = image_servos(image)
+    assert {8, 9} <= set(kxr) and not {8, 9} & set(DEFAULT_SERVOS)
+    board = Board(EmulatorConfig(), clock=VirtualClock(), rom_image=image)
+    board.run_for(3.0)  # the start-up program allocates the blocks and homes the robot
+    assert board.virtual_servos == kxr
+    assert all(w(board, board.alloc(k) + 4) > 0 for k in kxr)  # every servo reports
+    assert Board(clock=VirtualClock(), rom_image=b"\xff" * 0x40000).virtual_servos == (
+        DEFAULT_SERVOS
+    )
+    assert Board(EmulatorConfig(virtual_servos=(2, 3)), rom_image=image).virtual_servos == (2, 3)
+    board.load_rom(0, bytes(Board(clock=VirtualClock()).rom))  # the default image, uploaded
+    assert board.virtual_servos == DEFAULT_SERVOS
+    board.load_rom(0, image)
+    assert board.virtual_servos == kxr

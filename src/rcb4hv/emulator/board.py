@@ -50,8 +50,8 @@ from rcb4hv.emulator.memmap import (
     read_u16,
     write_u16,
 )
-from rcb4hv.emulator.romstore import RomStore
-from rcb4hv.emulator.servos import Servos, ServoState
+from rcb4hv.emulator.romstore import RomStore, initial_rom
+from rcb4hv.emulator.servos import Servos, ServoState, servo_slots
 from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, timers_idle
 from rcb4hv.emulator.vectors import Vectors
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
@@ -92,21 +92,9 @@ class Board:
         self.clock: Clock = clock if clock is not None else VirtualClock()
         self.accelerate = accelerate
         self._store: RomStore | None = None
-        image: bytes | None = None
         if rom_path is not None:
             self._store = RomStore(rom_path, ROM_SIZE, self.config.rom_flush_delay_s)
-            image = self._store.load()
-        if image is None and rom_image is not None:
-            if len(rom_image) > ROM_SIZE:
-                raise ValueError(f"ROM image of {len(rom_image)} bytes exceeds {ROM_SIZE}")
-            image = bytes(rom_image).ljust(ROM_SIZE, b"\xff")
-        if image is None:
-            from rcb4hv.rom.default import default_image
-
-            image = default_image()
-        self.rom = bytearray(image)
-        if self._store is not None and not self._store.path.exists():
-            self._store.flush(self.rom)
+        self.rom = initial_rom(self._store, rom_image)
         self.ram = bytearray(RAM_SIZE)
         self._link = Link(self.config, self.clock)
         self._listeners: list[OutputListener] = []
@@ -124,9 +112,6 @@ class Board:
             accelerate=accelerate,
         )
         self.ics_lines: IcsLines | None = None  # the SIO lines' ICS servos, for 0Eh
-        if self.config.ics_comm:
-            self.ics_lines = IcsLines(self._servos, self.config, self.clock)
-            self._interp.ics_comm = self.ics_lines.exchange
         self.frames_handled = 0
         self._closed = False
         # what the AD pins see: the world outside the board, which a reset leaves alone
@@ -151,7 +136,11 @@ class Board:
         self._interp.reset(t)
         self._next_period = t + self._period_us()
         self._next_timer = t + TIMER_PERIOD_US
-        self._servos.reset()
+        slots = servo_slots(self.config, self.rom)  # the image's robot
+        self._servos.reset(slots)
+        if cfg.ics_comm and (self.ics_lines is None or slots != self.ics_lines.slots):
+            self.ics_lines = IcsLines(self._servos, self.config, self.clock)
+            self._interp.ics_comm = self.ics_lines.exchange
         self._link.reset()
 
     def close(self) -> None:
@@ -173,6 +162,7 @@ class Board:
     def _rom_written(self) -> None:
         if self._store is not None:
             self._store.mark_dirty()
+        self._servos.follow(servo_slots(self.config, self.rom))  # an upload for another robot
 
     # ------------------------------------------------------------------ time
 
@@ -356,6 +346,11 @@ class Board:
     def speed_parameter(self) -> dict[int, int]:
         """SetSpeed values per ICS, as sent."""
         return self._servos.speed_parameter
+
+    @property
+    def virtual_servos(self) -> tuple[int, ...]:
+        """The ICS numbers with a virtual servo (:func:`~rcb4hv.emulator.servos.servo_slots`)."""
+        return self._servos.ics
 
     def alloc(self, ics: int) -> int:
         """``alloc[ics]``: RAM address of the device block of ICS ``ics`` (FFFF = none)."""

@@ -43,10 +43,12 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final, Literal
 
-__all__ = ["DEFAULT_VERSION", "EmulatorConfig", "ad_inputs_from"]
+__all__ = ["DEFAULT_SERVOS", "DEFAULT_VERSION", "EmulatorConfig", "ad_inputs_from"]
 
 DEFAULT_VERSION: Final = b"CB-4 V1.0      090715          \xc7"
-_DEFAULT_SERVOS: Final = (0, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19)
+DEFAULT_SERVOS: Final = (0, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19)
+"""The default humanoid's servos (:data:`rcb4hv.rom.default.DEFAULT_ICS`): the board's when its
+image configures none."""
 
 
 def _choice(name: str, value: object, allowed: tuple[str, ...]) -> None:
@@ -86,7 +88,9 @@ class EmulatorConfig:
     # --- board model
     power_on_system_register: int = 0x0002
     instructions_per_ms: float = 5.0
-    virtual_servos: tuple[int, ...] = _DEFAULT_SERVOS
+    # None: the servos the ROM image's allocation table configures at power-on (the robot the
+    # project was made for), or the default humanoid's when the image configures none
+    virtual_servos: tuple[int, ...] | None = None
     servo_initial_position: int = 7500
     supply_voltage: float = 11.1
     # AD1-AD10 inputs (counts of 0-5 V); the measured registers read input - reference (10.4)
@@ -128,12 +132,13 @@ class EmulatorConfig:
             0 <= self.power_on_system_register <= 0xFFFF
         ):
             raise ValueError("power_on_system_register must be 0..FFFF")
-        servos = tuple(self.virtual_servos)
-        if any(not isinstance(k, int) or not 0 <= k <= 35 for k in servos):
-            raise ValueError("virtual_servos are ICS numbers 0..35")
-        if len(set(servos)) != len(servos):
-            raise ValueError("virtual_servos lists an ICS number twice")
-        object.__setattr__(self, "virtual_servos", tuple(sorted(servos)))
+        if self.virtual_servos is not None:
+            servos = tuple(self.virtual_servos)
+            if any(not isinstance(k, int) or not 0 <= k <= 35 for k in servos):
+                raise ValueError("virtual_servos are ICS numbers 0..35")
+            if len(set(servos)) != len(servos):
+                raise ValueError("virtual_servos lists an ICS number twice")
+            object.__setattr__(self, "virtual_servos", tuple(sorted(servos)))
         if not isinstance(self.servo_initial_position, int) or not (
             0 <= self.servo_initial_position <= 0xFFFF
         ):

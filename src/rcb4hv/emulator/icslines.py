@@ -77,7 +77,9 @@ class IcsLines:
             EmulatedBus(clock=clock, settings=s),
             EmulatedBus(clock=clock, settings=s),
         )
-        for ics in config.virtual_servos:
+        self.slots = servos.ics
+        """The ICS numbers with a servo on the lines."""
+        for ics in servos.ics:
             servo = EmulatedServo(
                 ics // 2,
                 settings=s,

@@ -15,8 +15,9 @@ import time
 from pathlib import Path
 
 from rcb4hv.files import write_atomic
+from rcb4hv.rom.layout import ROM_SIZE
 
-__all__ = ["RomStore"]
+__all__ = ["RomStore", "initial_rom"]
 
 log = logging.getLogger(__name__)
 
@@ -80,3 +81,22 @@ class RomStore:
         self._dirty_since = None
         self.flushes += 1
         log.debug("flushed ROM image to %s", self.path)
+
+
+def initial_rom(store: RomStore | None, rom_image: bytes | bytearray | None) -> bytearray:
+    """A board's ROM at construction: the persistent image ``store`` holds, else
+    ``rom_image`` (padded with erased bytes), else the default image; a new persistent image
+    is written at once."""
+    image = store.load() if store is not None else None
+    if image is None and rom_image is not None:
+        if len(rom_image) > ROM_SIZE:
+            raise ValueError(f"ROM image of {len(rom_image)} bytes exceeds {ROM_SIZE}")
+        image = bytes(rom_image).ljust(ROM_SIZE, b"\xff")
+    if image is None:
+        from rcb4hv.rom.default import default_image
+
+        image = default_image()
+    rom = bytearray(image)
+    if store is not None and not store.path.exists():
+        store.flush(rom)
+    return rom

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import pairwise
 
-from rcb4hv.emulator.config import EmulatorConfig
+from rcb4hv.emulator.config import DEFAULT_SERVOS, EmulatorConfig
 from rcb4hv.emulator.memmap import (
     ALLOC,
     ALLOC_END,
@@ -85,6 +85,17 @@ def set_update_flags(ram: bytearray, flags: int) -> None:
     ram[UPDATE_FLAGS:UPDATE_FLAGS_END] = flags.to_bytes(5, "little")
 
 
+def servo_slots(config: EmulatorConfig, rom: bytes | bytearray) -> tuple[int, ...]:
+    """The ICS numbers with a virtual servo: ``config.virtual_servos``, else the servos the ROM
+    image's allocation table configures (the robot its project was made for; the board reads
+    it at power-on), else the default humanoid's."""
+    if config.virtual_servos is not None:
+        return config.virtual_servos
+    from rcb4hv.rom.calibration import image_servos
+
+    return image_servos(rom) or DEFAULT_SERVOS
+
+
 class Servos:
     """The servo unit over the board's RAM."""
 
@@ -98,10 +109,12 @@ class Servos:
         # a servo backend (physics) measures the positions: report() never makes a powered
         # servo follow its sent value, it reports ``physical`` as the backend set it
         self.external = False
-        self.reset()
+        self.reset(config.virtual_servos or DEFAULT_SERVOS)
 
-    def reset(self) -> None:
+    def reset(self, ics: tuple[int, ...]) -> None:
+        """Power-on state with virtual servos at ICS numbers ``ics``."""
         cfg = self.config
+        self.ics = ics
         self.active: set[int] = set()
         self.dirty = True
         # block-address cache (see rescan): valid while the layout is "safe" and not dirty
@@ -112,8 +125,16 @@ class Servos:
         self.out_blocks: list[tuple[int, int, bool]] = []
         self.dirty_lo = ALLOC
         self.dirty_hi = RAM_SIZE + 1
-        self.physical = dict.fromkeys(cfg.virtual_servos, cfg.servo_initial_position)
+        self.physical = dict.fromkeys(ics, cfg.servo_initial_position)
         self.torque = dict.fromkeys(range(ICS_COUNT), False)
+
+    def follow(self, ics: tuple[int, ...]) -> None:
+        """The virtual servos become ``ics`` (an image for another robot was written): the new
+        ones stand at the initial position, the others keep theirs."""
+        if ics != self.ics:
+            self.ics, old = ics, self.physical
+            self.physical = {k: old.get(k, self.config.servo_initial_position) for k in ics}
+            self.dirty = True
 
     # ------------------------------------------------------------------ write tracking
 
@@ -163,9 +184,7 @@ class Servos:
             and all(y - x >= BLOCK_SIZE for x, y in pairwise(spans))
         )
         self.blocks = blocks
-        self.vs_blocks = [
-            (ics, blk) for ics in self.config.virtual_servos if (blk := blocks[ics]) is not None
-        ]
+        self.vs_blocks = [(ics, blk) for ics in self.ics if (blk := blocks[ics]) is not None]
         self.vs_mixing = any(self.mixes(b) for _, b in self.vs_blocks)
         # (ics, block, mixes) of every type-0 block: outputs() reads only these while the
         # cache holds (a write into a block, its mixing words included, makes it dirty)
@@ -325,7 +344,7 @@ class Servos:
         if self.safe:
             pairs = self.vs_blocks
         else:
-            pairs = [(k, b) for k in self.config.virtual_servos if (b := self.block(k)) is not None]
+            pairs = [(k, b) for k in self.ics if (b := self.block(k)) is not None]
         if external:  # the backend set every position: report it, powered unless freed
             for ics, blk in pairs:
                 torque[ics] = output_mode(_u16(r, blk + B_OUTPUT)[0], hold_is_free) != "free"

@@ -69,6 +69,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 
 from rcb4hv.hth4._xml import PROJECT_LAYOUT, ExtraElement, XmlLayout, XmlNode
+from rcb4hv.protocol.frame import split_frames
 from rcb4hv.protocol.memory import ADDR, read_system, read_u16
 from rcb4hv.rom.layout import LAYOUTS
 
@@ -200,8 +201,6 @@ class Motion:
     def code_size(self) -> int:
         """The bytes of the motion's frames, without what follows the last one (HeartToHeart4's
         FF end marker, which is not a frame): what ``project image`` reads back from ROM."""
-        from rcb4hv.hth4.motioncode import split_frames  # it imports this module
-
         return sum(map(len, split_frames(self.rom_bytes())[0]))
 
     def expected_address(self, version: str = "2.2") -> int:

@@ -16,9 +16,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 
-from rcb4hv.errors import FrameError
 from rcb4hv.hth4.model import Motion, PriorityMotionSlot, Project
-from rcb4hv.protocol import Op, frame_at
+from rcb4hv.protocol import Op
+from rcb4hv.protocol.frame import split_frames
 from rcb4hv.rom.layout import LAYOUTS
 
 __all__ = [
@@ -37,25 +37,6 @@ BRANCH_FRAME_SIZE = 7
 
 AddressMap = Callable[[int], int]
 """Where a ROM address goes after an edit (identity for addresses the edit does not move)."""
-
-
-def split_frames(data: bytes) -> tuple[list[bytes], bytes]:
-    """Cut ``data`` into frames by their SIZE bytes; return (frames, trailing bytes).
-
-    Stops at an erased byte (FF), a SIZE below 3 or a frame that runs past the end; what is
-    left (HeartToHeart4's FF end marker, erased space) is returned as the tail. Checksums are
-    checked (:class:`~rcb4hv.errors.ChecksumError` for a damaged frame).
-    """
-    frames: list[bytes] = []
-    i = 0
-    while i < len(data):
-        try:
-            frame = frame_at(data, i)
-        except FrameError:  # erased (FF), a SIZE below 3 or a frame past the end: the tail
-            break
-        frames.append(frame)
-        i += len(frame)
-    return frames, bytes(data[i:])
 
 
 def branch_target(frame: bytes) -> int | None:

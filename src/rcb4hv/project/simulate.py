@@ -76,14 +76,13 @@ from rcb4hv.protocol import (
 from rcb4hv.protocol import sequences as seq
 from rcb4hv.protocol.memory import (
     ADDR,
-    NO_BLOCK,
     SYS,
-    read_alloc,
     read_system,
     read_u16,
     read_update_flags,
 )
 from rcb4hv.rom import layout
+from rcb4hv.rom.calibration import image_servos
 from rcb4hv.rom.layout import MotionLayout
 from rcb4hv.rom.older import play_layout
 
@@ -142,11 +141,7 @@ class Simulator:
             raise ValueError(f"a ROM image is {layout.ROM_SIZE} bytes, not {len(image)}")
         self.layout = play_layout(image, motion_layout)
         if ics is None:
-            ics = [
-                n
-                for n in range(layout.SERVO_BLOCK_COPY_COUNT)
-                if read_alloc(image, n, at=layout.ALLOC_IMAGE) != NO_BLOCK
-            ]
+            ics = image_servos(image)
         if config is None:
             config = EmulatorConfig(virtual_servos=tuple(ics))
         self.clock = VirtualClock()

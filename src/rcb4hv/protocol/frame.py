@@ -43,6 +43,7 @@ __all__ = [
     "checksum",
     "frame_at",
     "seal",
+    "split_frames",
     "sum_ok",
 ]
 
@@ -191,3 +192,22 @@ class FrameDecoder:
             raise ChecksumError(f"bad checksum in frame {frame.hex(' ')}", frame)
         del buf[:size]
         return frame
+
+
+def split_frames(data: bytes) -> tuple[list[bytes], bytes]:
+    """Cut ``data`` into frames by their SIZE bytes; return (frames, trailing bytes).
+
+    Stops at an erased byte (FF), a SIZE below 3 or a frame that runs past the end; what is
+    left (HeartToHeart4's FF end marker, erased space) is returned as the tail. Checksums are
+    checked (:class:`~rcb4hv.errors.ChecksumError` for a damaged frame).
+    """
+    frames: list[bytes] = []
+    i = 0
+    while i < len(data):
+        try:
+            frame = frame_at(data, i)
+        except FrameError:  # erased (FF), a SIZE below 3 or a frame past the end: the tail
+            break
+        frames.append(frame)
+        i += len(frame)
+    return frames, bytes(data[i:])

@@ -1,12 +1,23 @@
-"""The image's analog calibration: the AD references (spec 10.4, 11.2) and what they say
-about the sensors at rest."""
+"""What an image's start-up tables say about the robot: the analog calibration (the AD
+references, spec 10.4, 11.2, and what they say about the sensors at rest) and the servos its
+allocation table configures."""
 
 from __future__ import annotations
 
-from rcb4hv.protocol.memory import AD_CHANNELS
+from rcb4hv.protocol.memory import AD_CHANNELS, NO_BLOCK, read_alloc
 from rcb4hv.rom import layout as L
 
-__all__ = ["ad_references", "calibrated_ad_inputs"]
+__all__ = ["ad_references", "calibrated_ad_inputs", "image_servos"]
+
+
+def image_servos(rom: bytes | bytearray) -> tuple[int, ...]:
+    """The ICS numbers the image's allocation table gives a servo block (the start-up program
+    copies it to RAM): the servos of the robot the project was made for."""
+    return tuple(
+        n
+        for n in range(L.SERVO_BLOCK_COPY_COUNT)
+        if read_alloc(rom, n, at=L.ALLOC_IMAGE) != NO_BLOCK
+    )
 
 
 def ad_references(rom: bytes | bytearray) -> tuple[int, ...]:
