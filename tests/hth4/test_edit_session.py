@@ -60,6 +60,27 @@ def test_undo_redo_and_dirty(copy: Path) -> None:
     assert hth4.load_project(copy) == s.project
 
 
+def test_two_editors_of_one_file_do_not_undo_each_others_save(copy: Path, tmp_path: Path) -> None:
+    """The second of two sessions on one file refuses to save over the first one's save (it
+    wrote its own project over it, losing the first one's edit, with no word)."""
+    first, second = EditSession.open(copy), EditSession.open(copy)
+    first.apply(rename_motion, 69, "first")
+    first.save()
+    second.apply(rename_motion, 70, "second")
+    with pytest.raises(EditError, match="changed on disk since it was opened"):
+        second.save()
+    assert hth4.load_project(copy).motion(69).name == "first"  # nothing written
+    second.save(tmp_path / "other.h4p")  # under another name: fine
+    assert hth4.load_project(tmp_path / "other.h4p").motion(70).name == "second"
+    third = EditSession.open(copy)
+    first.apply(rename_motion, 71, "again")
+    first.save()  # its own last save is what the file holds: no conflict
+    with pytest.raises(EditError, match="changed on disk"):
+        third.save()
+    third.save(overwrite=True)  # on purpose
+    assert hth4.load_project(copy).motion(71).name != "again"
+
+
 def test_save_is_atomic_when_the_rename_fails(copy: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     before = copy.read_bytes()
     s = EditSession.open(copy)

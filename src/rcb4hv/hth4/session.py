@@ -117,6 +117,17 @@ class EditSession:
 
     # ------------------------------------------------------------------ saving
 
+    def _changed_on_disk(self, target: Path) -> bool:
+        """True if ``target`` is the file last read or written here and now holds other bytes."""
+        if self.path is None or self.loaded is None:
+            return False
+        try:
+            if target.resolve() != self.path.resolve():
+                return False
+            return target.read_bytes() != self.loaded
+        except FileNotFoundError:  # deleted meanwhile: writing it again loses nothing
+            return False
+
     @property
     def dirty(self) -> bool:
         """True if the project differs from the one last loaded or saved."""
@@ -144,11 +155,20 @@ class EditSession:
             raise EditError("the edited project does not read back the same; nothing written")
         return data
 
-    def save(self, path: str | os.PathLike[str] | None = None) -> Path:
-        """Write the project atomically to ``path`` (default: where it was opened)."""
+    def save(self, path: str | os.PathLike[str] | None = None, *, overwrite: bool = False) -> Path:
+        """Write the project atomically to ``path`` (default: where it was opened).
+
+        Saving over the file it was read from refuses (:class:`~rcb4hv.errors.EditError`,
+        nothing written) when that file changed since (another window or program saved it),
+        unless ``overwrite``: two editors of one file do not undo each other's work."""
         target = Path(path) if path is not None else self.path
         if target is None:
             raise EditError("no file to save to: give a path")
+        if not overwrite and self._changed_on_disk(target):
+            raise EditError(
+                f"{target}: changed on disk since it was opened here (another window or "
+                "program saved it): nothing written; open it again, or save under another name"
+            )
         data = self.dump()
         write_atomic(target, data)
         self.path = target
