@@ -119,11 +119,17 @@ def test_trim_panel_stores_a_trim(kxr_project_path: Path, tmp_path: Path) -> Non
         await until(lambda: output(board, 10) == 7560)
         user.find(marker="trim-store").click()
         await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await user.should_see("set on the board")
+        blk = int(board.ram[0x44 + 20]) | int(board.ram[0x45 + 20]) << 8
+
+        def base() -> int:
+            return int.from_bytes(bytes(board.ram[blk + 2 : blk + 4]), "little", signed=True)
+
+        # the new trim with the output 7500: the servo is sent what it was (7560 - 250)
+        assert base() == new_trim(-250, 7560) == -190 and output(board, 10) == 7500
         user.find(marker="trim-write").click()
         await user.should_see("trims written to the board")
-        blk = int(board.ram[0x44 + 20]) | int(board.ram[0x45 + 20]) << 8
-        base = int.from_bytes(bytes(board.ram[blk + 2 : blk + 4]), "little", signed=True)
-        assert base == new_trim(-250, 7560) == -190
+        assert base() == -190 and output(board, 10) == 7500  # not offset a second time
         user.find(marker="editor-save").click()
         await until(lambda: one(user, "editor-status").text.endswith(" - saved"))
 

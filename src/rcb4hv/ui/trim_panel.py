@@ -4,9 +4,10 @@ Pick a servo, free it if you want to feel it, then move it with the slider (outp
 to which the board adds its trim) until the joint sits at its true zero. "Store trim" makes
 that the zero: the new trim is ``old trim + (value - 7500)``, so the output 7500 now sends the
 servo where the joint is at zero (spec 9: value sent = output + base). The trim goes into the
-project (an undoable edit) and the servo returns to 7500. "Write trims to board" copies every
-trim of the project into the board's RAM servo blocks (base value, +2), where it acts at once;
-uploading the project makes it permanent.
+project (an undoable edit) and onto the board, where the servo's output returns to 7500 in
+the same job, so the joint stays where it was put. "Write trims to board" copies every trim
+of the project into the board's RAM servo blocks (base value, +2), where it acts at once
+(after an undo, say); uploading the project makes it permanent.
 """
 
 from __future__ import annotations
@@ -40,6 +41,12 @@ def write_trims(robot: Robot, trims: dict[int, int]) -> list[int]:
             robot.write_ram(address, trims[info.ics].to_bytes(size, "little", signed=True))
             done.append(info.ics)
     return done
+
+
+def _recentre(robot: Robot, ics: int, trim: int) -> None:
+    """Give servo ``ics`` the trim ``trim`` and the output 7500 (its new zero)."""
+    write_trims(robot, {ics: trim})
+    robot.client.run_const_frame_servo(1, {ics: CENTER})
 
 
 def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable[[], None]:
@@ -105,7 +112,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             ui.notify(str(exc), type="negative")
         refresh()
 
-    def store() -> None:
+    async def store() -> None:
         if ics_sel.value is None or ed.session is None:
             return
         ics = int(ics_sel.value)
@@ -116,9 +123,14 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             ui.notify(str(exc), type="negative")
             return
         position.value = CENTER
-        ui.notify(f"ICS {ics}: trim {trim} stored in the project (write it to the board next)")
         refresh()
         on_change()
+        # the servo takes the new trim with the output 7500 in one job: the joint stays where
+        # the user put it (output 7500 with the old trim would send it back to the old zero,
+        # the old output with the new trim past the new one by the same amount)
+        fut = ctx.session.submit(lambda r: _recentre(r, ics, trim), label="store trim")
+        if await attempt(fut, "store trim"):  # type: ignore[arg-type]
+            ui.notify(f"ICS {ics}: trim {trim} stored in the project and set on the board")
 
     async def write() -> None:
         if ed.session is None:
