@@ -159,3 +159,18 @@ def test_diff_names_exactly_the_changes(copy: Path) -> None:
     ]
     assert changes[1]["old"] == 7900 and changes[1]["new"] == 7700
     assert "motion 73 (mirror): new motion, 4 poses" in changes[3]["text"]
+
+
+def test_a_mixing_rate_is_what_the_block_can_hold(copy: Path) -> None:
+    """A mixing rate is a sign and a multiplier 0-127 (spec: the method byte): -8 (a reversed
+    gyro) is set and builds; 200 is refused at the edit (it was taken, and the build then
+    failed with "cannot build")."""
+    from rcb4hv.hth4.newproject import set_mixing
+    from rcb4hv.project.relocate import project_image
+
+    project = hth4.load_project(copy)
+    mixed = set_mixing(project, 14, 1, 0x0024, -8)
+    assert mixed.servo(14).mixing1_rate == -8
+    project_image(mixed)  # builds
+    with pytest.raises(EditError, match=r"outside -127\.\.127"):
+        set_mixing(project, 14, 1, 0x0024, 200)

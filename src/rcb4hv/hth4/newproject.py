@@ -175,13 +175,14 @@ def set_mixing(
     project: Project, ics: int, which: int, source: int | None, rate: int = 1
 ) -> Project:
     """Mixing input ``which`` (1 or 2) of servo ``ics``: RAM word ``source`` (e.g. AD1 at 0024h;
-    None: off) times ``rate``."""
+    None: off) times ``rate``, -127..127 (the block's method byte: a sign bit and a multiplier
+    of 0-127; a negative rate turns a reversed sensor round)."""
     if which not in (1, 2):
         raise EditError(f"a servo has mixing inputs 1 and 2, not {which}")
     if source is not None and not 0 <= source < NO_MIXING:
         raise EditError(f"mixing source {source} is not a RAM address")
-    if not 0 <= rate <= 0xFF:
-        raise EditError(f"mixing rate {rate} outside 0..255")
+    if not -127 <= rate <= 127:
+        raise EditError(f"mixing rate {rate} outside -127..127 (a sign and a multiplier 0-127)")
     try:
         servo = project.servo(ics)
     except KeyError:

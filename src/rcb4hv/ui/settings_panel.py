@@ -86,7 +86,7 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             servo = tid(ui.select({}, label="Mixing: servo"), "settings-mix-servo").classes("w-56")
             which = tid(ui.select({1: "input 1", 2: "input 2"}, value=1), "settings-mix-input")
             source = tid(ui.input("source (AD1, 0024h, none)"), "settings-mix-source")
-            rate = tid(ui.number("rate", value=1, min=0, max=255), "settings-mix-rate")
+            rate = tid(ui.number("rate", value=1, min=-127, max=127), "settings-mix-rate")
 
             def mix() -> None:
                 if servo.value is None:
