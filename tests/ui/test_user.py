@@ -141,6 +141,15 @@ def test_motion_play_and_wait_then_pause_resume() -> None:
         await until(lambda: all(output(board, k) == 0x7FFF for k in DEFAULT_ICS))
         user.find(marker="motion-scan").click()
         await until(lambda: [r["slot"] for r in one(user, "motion-table").rows] == [1, 2], 20)
+        # a slot with no motion stops the board's program: said at once, not "started"
+        one(user, "motion-slot").set_value(50)
+        user.find(marker="motion-play").click()
+        await user.should_see("stopped with a ROM error")
+        assert "stopped (ROM error)" in one(user, "motion-status").text
+        for bad in (None, 2.5):  # an empty box or a fraction plays nothing
+            one(user, "motion-slot").set_value(bad)
+            user.find(marker="motion-play").click()
+            await user.should_see("a motion is a whole number")
 
     run(scenario)
 

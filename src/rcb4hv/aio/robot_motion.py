@@ -13,13 +13,14 @@ import logging
 import time
 from asyncio import sleep
 from collections.abc import Callable, Iterable
+from dataclasses import replace
 
 from rcb4hv.aio.client import AsyncRcb4Client
 from rcb4hv.client.robot_types import MotionStatus
 from rcb4hv.errors import NakError, ProgramStoppedError, Rcb4TimeoutError
 from rcb4hv.protocol import Command
 from rcb4hv.protocol import sequences as seq
-from rcb4hv.protocol.memory import ADDR, RUN_STATE_SIZE, SYS, read_run_state, read_system
+from rcb4hv.protocol.memory import ADDR, RUN_STATE_SIZE, read_run_state, read_system
 from rcb4hv.rom.layout import HTH4_22, OLDER_MAIN_LOOP, MotionLayout
 from rcb4hv.rom.older import main_loop_layout
 
@@ -77,8 +78,8 @@ class AsyncRobotMotions:
         motion = (await self.board_layout()).motion_at(pc)
         if motion is not None and depth == 0 and not any(flags):
             motion = None  # the PC rests in a motion's slot outside any call
-        running = motion is not None and not system & SYS.ROM_ERROR
-        return MotionStatus(pc, depth, flags, motion, running, system)
+        status = MotionStatus(pc, depth, flags, motion, False, system)
+        return replace(status, running=motion is not None and not status.rom_error)
 
     async def current_motion(self) -> int | None:
         """The motion (1-based) being played or paused, or None (also when a ROM error stopped

@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Iterable
+from dataclasses import replace
 from time import sleep
 
 from rcb4hv.client.core import Rcb4Client
@@ -21,7 +22,7 @@ from rcb4hv.client.robot_types import MotionStatus
 from rcb4hv.errors import NakError, ProgramStoppedError, Rcb4TimeoutError
 from rcb4hv.protocol import Command
 from rcb4hv.protocol import sequences as seq
-from rcb4hv.protocol.memory import ADDR, RUN_STATE_SIZE, SYS, read_run_state, read_system
+from rcb4hv.protocol.memory import ADDR, RUN_STATE_SIZE, read_run_state, read_system
 from rcb4hv.rom.layout import HTH4_22, OLDER_MAIN_LOOP, MotionLayout
 from rcb4hv.rom.older import main_loop_layout
 
@@ -79,8 +80,8 @@ class RobotMotions:
         motion = (self.board_layout()).motion_at(pc)
         if motion is not None and depth == 0 and not any(flags):
             motion = None  # the PC rests in a motion's slot outside any call
-        running = motion is not None and not system & SYS.ROM_ERROR
-        return MotionStatus(pc, depth, flags, motion, running, system)
+        status = MotionStatus(pc, depth, flags, motion, False, system)
+        return replace(status, running=motion is not None and not status.rom_error)
 
     def current_motion(self) -> int | None:
         """The motion (1-based) being played or paused, or None (also when a ROM error stopped

@@ -122,8 +122,9 @@ class MotionStatus:
 
     @property
     def rom_error(self) -> bool:
-        """The ROM program stopped with a ROM error (ROMERR)."""
-        return bool(self.system & SYS.ROM_ERROR)
+        """The ROM program stopped with a ROM error: ROMERR set and ROM_F clear (ROMERR alone
+        stays set once the program runs again: HeartToHeart4's play sequence keeps it)."""
+        return bool(self.system & SYS.ROM_ERROR) and not self.system & SYS.ROM_RUN
 
     @property
     def state(self) -> str:

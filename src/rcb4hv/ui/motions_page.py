@@ -9,9 +9,10 @@ import time
 from nicegui import ui
 
 from rcb4hv.client import Robot
+from rcb4hv.client.robot_types import MotionStatus
 from rcb4hv.hth4 import button_label
 from rcb4hv.session import StepJob
-from rcb4hv.ui.context import UiContext, attempt, guarded, tid
+from rcb4hv.ui.context import UiContext, guarded, tid
 
 __all__ = ["build", "motion_rows", "scan_slots"]
 
@@ -60,10 +61,10 @@ def build(ctx: UiContext) -> None:
             ui.number("Motion", value=1, min=1, max=count, step=1).classes("w-24"), "motion-slot"
         )
         tid(ui.button("Play", icon="play_arrow"), "motion-play").on_click(
-            lambda: _play(ctx, int(slot.value or 1), status, wait=False)
+            lambda: _play(ctx, slot.value, status, wait=False)
         )
         tid(ui.button("Play and wait", icon="playlist_play"), "motion-play-wait").on_click(
-            lambda: _play(ctx, int(slot.value or 1), status, wait=True)
+            lambda: _play(ctx, slot.value, status, wait=True)
         )
         tid(ui.button("Stop", icon="stop"), "motion-stop").on_click(
             lambda: guarded(session.submit(lambda r: r.stop_motion(reset=True)), "stop")
@@ -112,12 +113,31 @@ def build(ctx: UiContext) -> None:
     ui.timer(0.2, refresh)
 
 
-async def _play(ctx: UiContext, slot: int, status: ui.label, *, wait: bool) -> None:
+def _played(robot: Robot, slot: int) -> MotionStatus:
+    """Play ``slot``; the program's state just after (a slot with no motion in it stops the
+    program with a ROM error at once)."""
+    robot.play_motion(slot)
+    return robot.motion_status()
+
+
+async def _play(ctx: UiContext, value: object, status: ui.label, *, wait: bool) -> None:
     session = ctx.session
-    if not 1 <= slot <= session.layout.motion_count:
-        ui.notify(f"motion slots are 1..{session.layout.motion_count}", type="warning")
+    count = session.layout.motion_count
+    if not isinstance(value, int | float) or value != int(value) or not 1 <= value <= count:
+        ui.notify(f"a motion is a whole number 1..{count}, not {value!r}", type="warning")
         return
-    if not await attempt(session.submit(lambda r: r.play_motion(slot)), f"play {slot}"):
+    slot = int(value)
+    after = await guarded(session.submit(lambda r: _played(r, slot)), f"play {slot}")
+    if after is None:
+        return
+    if after.rom_error:
+        status.text = f"motion {slot}: the board's program stopped (ROM error)"
+        ui.notify(
+            f"motion {slot}: the board's program stopped with a ROM error at PC "
+            f"{after.pc:06X} (does the slot hold a motion?); STOP sets it going again",
+            type="negative",
+            multi_line=True,
+        )
         return
     status.text = f"motion {slot} started"
     if not wait:
