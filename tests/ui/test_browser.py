@@ -190,6 +190,8 @@ def test_teach_captures_poses_and_saves_a_motion_that_reloads(
     page.get_by_test_id("tab-teach").click()
     page.get_by_test_id("teach-capture").click()
     _wait(lambda: page.get_by_test_id("teach-count").inner_text() == "1 keyframes")
+    # captured keyframes are work a reload would lose: the browser asks before leaving
+    page.wait_for_function("typeof window.onbeforeunload === 'function'")
     page.get_by_test_id("tab-servos").click()
     b, _ = board
     _click_slider(page, "slider-2", 0.75, lambda: _output(b, 2) > 8500)
@@ -203,6 +205,7 @@ def test_teach_captures_poses_and_saves_a_motion_that_reloads(
     _field(page, "teach-name").fill("wave by hand")
     page.get_by_test_id("teach-save").click()
     _wait(lambda: "saved as motion" in page.get_by_test_id("teach-status").inner_text(), 30)
+    page.wait_for_function("window.onbeforeunload === null")  # saved into the project
     text = page.get_by_test_id("teach-status").inner_text()
     slot = int(re.search(r"motion (\d+)", text).group(1))
     shot(page, "teach")

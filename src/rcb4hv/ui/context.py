@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import weakref
 from collections.abc import Callable
 from concurrent.futures import Future
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
-from nicegui import ui
+from nicegui import Client, ui
 from nicegui.element import Element
 from nicegui.elements.mixins.value_element import ValueElement
 
@@ -20,7 +21,15 @@ from rcb4hv.robot import RobotModel
 from rcb4hv.session import BoardSession
 from rcb4hv.ui.robots import choose_robot
 
-__all__ = ["MAX_UPLOAD", "UiContext", "attempt", "guarded", "on_commit", "tid"]
+__all__ = [
+    "MAX_UPLOAD",
+    "UiContext",
+    "attempt",
+    "guard_leaving",
+    "guarded",
+    "on_commit",
+    "tid",
+]
 
 log = logging.getLogger(__name__)
 
@@ -45,6 +54,23 @@ def on_commit(element: ValueElement[Any], fn: Callable[[Any], None]) -> None:
     do nothing for a value that changes nothing."""
     element.on("keydown.enter", lambda: fn(element.value))
     element.on("blur", lambda: fn(element.value))
+
+
+_LEAVE_JS = (
+    "window.onbeforeunload = {on} ? (e) => {{ e.preventDefault(); e.returnValue = ''; }} : null"
+)
+_unsaved: weakref.WeakKeyDictionary[Client, set[str]] = weakref.WeakKeyDictionary()
+
+
+def guard_leaving(client: Client, page: str, unsaved: bool) -> None:
+    """Whether ``page`` of the browser tab ``client`` holds work a reload would lose: while any
+    page does, the browser asks before leaving (its own "leave site?" question, when
+    onbeforeunload cancels the event). One question for every page of the tab."""
+    pages = _unsaved.setdefault(client, set())
+    before = bool(pages)
+    (pages.add if unsaved else pages.discard)(page)
+    if bool(pages) != before:
+        client.run_javascript(_LEAVE_JS.format(on="true" if pages else "false"))
 
 
 async def guarded(future: Future[T], what: str) -> T | None:

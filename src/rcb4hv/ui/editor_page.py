@@ -41,7 +41,7 @@ from rcb4hv.hth4.edit import (
 )
 from rcb4hv.robot import RobotModel
 from rcb4hv.ui import flow_editor, trim_panel
-from rcb4hv.ui.context import UiContext, attempt, on_commit, tid
+from rcb4hv.ui.context import UiContext, attempt, guard_leaving, on_commit, tid
 from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
 from rcb4hv.ui.flowsvg import motion_svg
@@ -53,11 +53,6 @@ from rcb4hv.ui.scene3d import RobotScene
 __all__ = ["EditorPage", "build"]
 
 log = logging.getLogger(__name__)
-
-LEAVE_GUARD = (
-    "window.onbeforeunload = {on} ? (e) => {{ e.preventDefault(); e.returnValue = ''; }} : null"
-)
-"""Browsers show their own "leave site?" question when onbeforeunload cancels the event."""
 
 
 def build(ctx: UiContext) -> None:
@@ -71,7 +66,6 @@ class EditorPage:
         self.ctx = ctx
         self.ed = Editor()
         self.loading = False  # True while widgets are set from the state: not user edits
-        self.guard = False  # whether the browser is asked to confirm leaving
         self.client = ui.context.client
         self.scene: RobotScene | None = None  # the 3D view, built when a model is known
         self._layout()
@@ -448,9 +442,6 @@ class EditorPage:
             if self.scene is not None:
                 self.scene.update(ed.pose_angles())
                 self.aids.refresh()
-            if ed.dirty != self.guard:
-                self.guard = ed.dirty
-                on = "true" if ed.dirty else "false"
-                self.client.run_javascript(LEAVE_GUARD.format(on=on))
+            guard_leaving(self.client, "editor", ed.dirty)
         finally:
             self.loading = False

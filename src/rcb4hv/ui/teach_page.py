@@ -23,7 +23,7 @@ from rcb4hv.project.run import run_motions
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, SystemRegister
 from rcb4hv.session import StepJob
-from rcb4hv.ui.context import UiContext, guarded, tid
+from rcb4hv.ui.context import UiContext, guard_leaving, guarded, tid
 from rcb4hv.ui.remote_page import PAD
 
 __all__ = ["SavedMotion", "build", "save_keyframes"]
@@ -88,6 +88,13 @@ def play_job(keyframes: list[Keyframe]) -> object:
 def build(ctx: UiContext) -> None:
     session = ctx.session
     frames: list[Keyframe] = []
+    client = ui.context.client
+    saved_frames: list[Keyframe] = []  # what "Save into project" last saved
+
+    def changed() -> None:
+        """The keyframes changed: a reload would lose them unless they were saved."""
+        guard_leaving(client, "teach", bool(frames) and frames != saved_frames)
+
     ics_all = [s.ics for s in session.state.servos]
     with ui.row().classes("items-center"):
         chosen = tid(
@@ -113,6 +120,7 @@ def build(ctx: UiContext) -> None:
 
     @ui.refreshable
     def keyframe_list() -> None:
+        changed()
         count.text = f"{len(frames)} keyframes"
         for i, kf in enumerate(frames):
             with ui.row().classes("items-center"):
@@ -136,6 +144,7 @@ def build(ctx: UiContext) -> None:
             frames[i] = Keyframe(float(value), frames[i].positions, frames[i].name)
         except ValueError as exc:
             ui.notify(str(exc), type="negative")
+        changed()
 
     def clear() -> None:
         frames.clear()
@@ -205,6 +214,8 @@ def build(ctx: UiContext) -> None:
             ui.notify(f"not saved: {exc}", type="negative", multi_line=True)
             return
         ctx.set_project(saved.project, ctx.project_name)
+        saved_frames[:] = frames
+        changed()
         status.text = (
             f"saved as motion {saved.slot} ({len(frames)} keyframes): reloads, round-trips byte "
             f"for byte, builds, and simulates to completion in {saved.result.duration:.2f} s"
