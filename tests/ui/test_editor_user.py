@@ -176,3 +176,27 @@ def test_typing_frames_is_one_edit(kxr_project_path: Path, tmp_path: Path) -> No
         assert one(user, "editor-frames").value == 120
 
     run(scenario)
+
+
+def test_new_motion_starts_at_home(kxr_project_path: Path, tmp_path: Path) -> None:
+    """A new motion in a free slot, from the Editor: one pose with every servo at its home
+    position, selected to edit (the Editor offered no way to start one)."""
+    src = tmp_path / "kxr.h4p"
+    src.write_bytes(kxr_project_path.read_bytes())
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        await open_in_editor(user, src)
+        one(user, "editor-mirror-to").set_value(FREE)
+        one(user, "editor-mirror-name").set_value("my wave")
+        user.find(marker="editor-new-motion").click()
+        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        assert one(user, "editor-motion").value == FREE
+        assert one(user, "editor-raw-10").value == hth4.load_project(src).servo(10).home_position
+        user.find(marker="editor-save").click()
+        await until(lambda: one(user, "editor-status").text.endswith(" - saved"))
+
+    run(scenario)
+    project = hth4.load_project(src)
+    poses = list(motion_poses(project.motion(FREE)))
+    assert project.motion(FREE).name == "my wave" and len(poses) == 1
+    assert poses[0].values == {s.device_number: s.home_position for s in project.servos if s.in_use}

@@ -332,6 +332,15 @@ def new_motion(
     return bind_button(project, slot, button) if button else project
 
 
+def new_motion_at_home(
+    project: Project, slot: int, name: str, speed: int = 30, checks: Checks = DEFAULT_CHECKS
+) -> Project:
+    """A new motion in free slot ``slot`` with one pose: every servo in use at its home
+    position, reached in ``speed`` output periods (a start to add poses to)."""
+    home = {s.device_number: s.home_position for s in project.servos if s.in_use}
+    return insert_pose(new_motion(project, slot, name), slot, 0, home, speed, checks)
+
+
 # ----------------------------------------------------------------------------- servos
 
 

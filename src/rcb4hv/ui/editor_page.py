@@ -37,6 +37,7 @@ from rcb4hv.hth4.edit import (
     mirror_motion,
     mirror_pose,
     move_pose,
+    new_motion_at_home,
     set_pose,
 )
 from rcb4hv.robot import RobotModel
@@ -144,11 +145,14 @@ class EditorPage:
                 self.joints = ui.column().classes("w-full gap-0")
         with ui.row().classes("items-center"):
             self.to_sel = tid(
-                ui.select({}, label="Mirror motion into", with_input=True), "editor-mirror-to"
+                ui.select({}, label="Into slot", with_input=True), "editor-mirror-to"
             ).classes("w-48")
-            self.name_in = tid(ui.input("Name of the mirror"), "editor-mirror-name")
+            self.name_in = tid(ui.input("Name"), "editor-mirror-name")
             tid(ui.button("Mirror motion", icon="flip"), "editor-mirror-motion").on_click(
                 self.mirror_all
+            )
+            tid(ui.button("New motion", icon="note_add"), "editor-new-motion").on_click(
+                self.new_motion
             )
             tid(ui.button("Send pose", icon="send"), "editor-send").on_click(self.send)
             tid(ui.button("Play motion", icon="smart_display"), "editor-play-board").on_click(
@@ -254,6 +258,20 @@ class EditorPage:
         to = None if self.to_sel.value in (None, 0) else int(self.to_sel.value)
         name = self.name_in.value or None
         self.edit(mirror_motion, ed.slot, ed.model, to=to, name=name, checks=ed.checks)
+
+    def new_motion(self) -> None:
+        """A new motion in the chosen free slot (else the first), one pose at home, selected."""
+        ed = self.ed
+        free = ed.free_slots()
+        slot = int(self.to_sel.value) if self.to_sel.value in free else (free or [None])[0]
+        if slot is None:
+            self.fail(ValueError("open a project with a free motion slot first"))
+            return
+        name = self.name_in.value or f"new motion {slot}"
+        self.edit(new_motion_at_home, slot, name, checks=ed.checks)
+        if slot not in ed.free_slots():
+            ed.select(slot, 0)
+            self.redraw()
 
     def set_value(self, ics: int, value: object) -> None:
         ed = self.ed
