@@ -263,10 +263,10 @@ class EditorPage:
         """A new motion in the chosen free slot (else the first), one pose at home, selected."""
         ed = self.ed
         free = ed.free_slots()
-        slot = int(self.to_sel.value) if self.to_sel.value in free else (free or [None])[0]
-        if slot is None:
+        if not free:
             self.fail(ValueError("open a project with a free motion slot first"))
             return
+        slot = int(self.to_sel.value) if self.to_sel.value in free else free[0]
         name = self.name_in.value or f"new motion {slot}"
         self.edit(new_motion_at_home, slot, name, checks=ed.checks)
         if slot not in ed.free_slots():
