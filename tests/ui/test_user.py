@@ -108,6 +108,24 @@ def test_slider_coalesced_move_and_hold_free() -> None:
     run(scenario)
 
 
+def test_a_slider_follows_its_servo_when_left_alone() -> None:
+    """A servo moved by something else (a motion, another client, a hand) takes its slider
+    along once the user has left the slider alone, and the page sends nothing for that (the
+    slider stayed where it was left, so touching it jumped the servo back)."""
+
+    async def scenario(user: User, ctx: UiContext, board: Board) -> None:
+        robot = ctx.session.robot
+        assert robot is not None
+        target = robot.to_position(5, 30.0)
+        ctx.session.submit(lambda r: r.move({5: target})).result(5)
+        sent = ctx.session.moves_sent
+        await until(lambda: abs(one(user, "slider-5").value - 30.0) < 1.0, 10)
+        assert ctx.session.moves_sent == sent  # following sends no move
+        assert output(board, 5) == target
+
+    run(scenario)
+
+
 def test_pad_press_and_hold_sets_and_clears_the_button_word() -> None:
     async def scenario(user: User, ctx: UiContext, board: Board) -> None:
         user.find(marker="pad-triangle").trigger("pointerdown")

@@ -183,7 +183,10 @@ class EditorPage:
         return ctx.robot if ctx.robot_source.startswith("--robot") else None
 
     def open_path(self) -> None:
-        path = Path(self.path_in.value or "").expanduser()
+        if not (self.path_in.value or "").strip():
+            self.fail(ValueError("type the path of a .h4p project file to open"))
+            return
+        path = Path(self.path_in.value.strip()).expanduser()
         if path.suffix.lower() != ".h4p":
             self.fail(ValueError(f"{path}: not a .h4p project file"))
             return

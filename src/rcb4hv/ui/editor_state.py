@@ -200,9 +200,10 @@ class Editor:
         s = self.session
         if s is None:
             return "no project open: open one here or on the Project page"
-        where = str(s.path) if s.path is not None else "not saved yet"
         edits = f"{len(s.history)} edits" if s.history else "no edits"
-        return f"{where} - {edits}" + (" - unsaved changes" if s.dirty else " - saved")
+        if s.path is None:  # the Project page's project: no file of its own yet
+            return f"no file yet - {edits}" + (" - save it to a file" if s.dirty else "")
+        return f"{s.path} - {edits}" + (" - unsaved changes" if s.dirty else " - saved")
 
     def save(self, path: Path | None) -> tuple[Path, dict[str, bytes]]:
         """Save atomically; returns the path and the HeartToHeart4 flowchart files of the

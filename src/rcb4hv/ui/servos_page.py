@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass, field
 
 from nicegui import ui
 
@@ -52,6 +53,7 @@ def servo_rows(state: BoardState, model: RobotModel | None = None) -> list[dict[
 
 def build(ctx: UiContext) -> None:
     session = ctx.session
+    sliders = _Sliders()
     with ui.row().classes("items-center"):
         tid(ui.button("Hold all", icon="lock"), "servos-hold-all").on_click(
             lambda: guarded(session.submit(lambda r: r.hold()), "hold all")
@@ -84,12 +86,11 @@ def build(ctx: UiContext) -> None:
         live_view(ctx, "servos")
         with ui.column().classes("grow"):
             chart = tid(angle_chart(session.history.seconds), "servo-plot")
-            sliders: dict[int, ui.slider] = {}
             shown: list[int] = []
 
             @ui.refreshable
             def controls() -> None:
-                sliders.clear()
+                sliders.by_ics.clear()
                 shown[:] = [s.ics for s in session.state.servos]
                 picked.set_options(shown, value=[k for k in (picked.value or []) if k in shown])
                 for s in session.state.servos:
@@ -103,6 +104,7 @@ def build(ctx: UiContext) -> None:
         table.update()
         if [s.ics for s in session.state.servos] != shown:
             controls.refresh()
+        sliders.follow(session.state)
 
     def replot() -> None:
         sel = [int(k) for k in (picked.value or [])]
@@ -112,14 +114,47 @@ def build(ctx: UiContext) -> None:
     ui.timer(0.25, replot)
 
 
-def _servo_controls(
-    ctx: UiContext, ics: int, degrees: float, sliders: dict[int, ui.slider]
-) -> None:
+SLIDER_STEP = 0.5
+"""Degrees per step of a servo slider."""
+FOLLOW_AFTER_S = 1.0
+"""A slider follows its servo (moved by hand, a motion, another client) once the user has
+left it alone this long: touching it then moves the servo from where it is, not from where
+the slider was left."""
+
+
+@dataclass
+class _Sliders:
+    """The Servos page's sliders by ICS number, when the user last moved each, and the ones
+    the page is setting itself (no move is sent for those)."""
+
+    by_ics: dict[int, ui.slider] = field(default_factory=dict)
+    touched: dict[int, float] = field(default_factory=dict)
+    following: set[int] = field(default_factory=set)
+
+    def follow(self, state: BoardState) -> None:
+        """Set each slider the user left alone to its servo's measured angle."""
+        now = time.monotonic()
+        for s in state.servos:
+            slider = self.by_ics.get(s.ics)
+            if slider is None or math.isnan(s.degrees):
+                continue
+            if now - self.touched.get(s.ics, 0.0) < FOLLOW_AFTER_S:
+                continue
+            if abs(float(slider.value) - s.degrees) >= SLIDER_STEP:
+                self.following.add(s.ics)
+                try:
+                    slider.value = round(s.degrees, 1)
+                finally:
+                    self.following.discard(s.ics)
+
+
+def _servo_controls(ctx: UiContext, ics: int, degrees: float, sliders: _Sliders) -> None:
     session = ctx.session
 
     def moved(value: float | None) -> None:
-        if value is None:
+        if value is None or ics in sliders.following:
             return
+        sliders.touched[ics] = time.monotonic()
         try:
             session.set_angle(ics, float(value))
         except (ValueError, Rcb4Error) as exc:
@@ -131,14 +166,16 @@ def _servo_controls(
             tid(ui.label(joint_name(ctx.robot, ics)), f"joint-{ics}").classes("text-xs")
         slider = (
             tid(
-                ui.slider(min=-TRAVEL_DEG, max=TRAVEL_DEG, step=0.5, value=round(degrees, 1)),
+                ui.slider(
+                    min=-TRAVEL_DEG, max=TRAVEL_DEG, step=SLIDER_STEP, value=round(degrees, 1)
+                ),
                 f"slider-{ics}",
             )
             .props("label")
             .classes("grow")
         )
         slider.on_value_change(lambda e: moved(e.value))
-        sliders[ics] = slider
+        sliders.by_ics[ics] = slider
         tid(ui.button("hold").props("dense flat"), f"hold-{ics}").on_click(
             lambda: guarded(session.submit(lambda r: r.hold([ics])), f"hold ICS {ics}")
         )
@@ -147,7 +184,11 @@ def _servo_controls(
         )
 
 
-async def _neutral(ctx: UiContext, sliders: dict[int, ui.slider]) -> None:
+async def _neutral(ctx: UiContext, sliders: _Sliders) -> None:
     await guarded(ctx.session.submit(lambda r: r.neutral(duration=0.5)), "neutral")
-    for s in sliders.values():
-        s.set_value(0.0)
+    for ics, slider in sliders.by_ics.items():
+        sliders.following.add(ics)  # the board moves them: the sliders show it, send nothing
+        try:
+            slider.set_value(0.0)
+        finally:
+            sliders.following.discard(ics)
