@@ -160,3 +160,23 @@ def test_cli_info_and_image(kxr_project_path: Path, tmp_path: Path) -> None:
 def test_upload_refuses_wrong_sizes(bad: bytes) -> None:
     with pytest.raises(ValueError, match="ROM image"):
         upload_image(None, bad)  # type: ignore[arg-type]
+
+
+def test_an_interrupted_upload_says_how_to_finish(
+    kxr_project_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C in the middle of an upload says the ROM is partly written and how to write the
+    rest (it printed only "Aborted!")."""
+    from rcb4hv.project import upload as upload_module
+
+    def interrupted(robot: Robot, image: bytes, **kwargs: object) -> None:
+        robot.write_rom(0, image[:PAGE_SIZE])  # one page, then the user presses Ctrl-C
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(upload_module, "upload_image", interrupted)
+    url = f"rcb4emu://?rom={tmp_path / 'board.bin'}&latency=0"
+    r = CliRunner().invoke(
+        cli, ["project", "upload", str(kxr_project_path), "--port", url, "--no-progress"]
+    )
+    assert r.exit_code == 130, r.output
+    assert "partly written" in r.output and "--only-changed" in r.output

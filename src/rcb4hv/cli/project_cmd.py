@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -281,25 +282,33 @@ def upload(
 
     image, _, _ = load_image(file)
     with conn.open() as robot:
-        if only_changed:
-            with _output.progress(len(image), "read", progress) as rbar:
-                current = robot.read_rom(0, len(image), progress=rbar)
-            from rcb4hv.project.upload import changed_pages
+        try:
+            if only_changed:
+                with _output.progress(len(image), "read", progress) as rbar:
+                    current = robot.read_rom(0, len(image), progress=rbar)
+                from rcb4hv.project.upload import changed_pages
 
-            n = len(changed_pages(current, image))
-            with _output.progress(n * 128, "write", progress) as bar:
-                res = upload_image(
-                    robot,
-                    image,
-                    only_changed=True,
-                    verify=verify,
-                    restart=restart,
-                    progress=bar,
-                    known=current,
-                )
-        else:
-            with _output.progress(len(image), "write", progress) as bar:
-                res = upload_image(robot, image, verify=verify, restart=restart, progress=bar)
+                n = len(changed_pages(current, image))
+                with _output.progress(n * 128, "write", progress) as bar:
+                    res = upload_image(
+                        robot,
+                        image,
+                        only_changed=True,
+                        verify=verify,
+                        restart=restart,
+                        progress=bar,
+                        known=current,
+                    )
+            else:
+                with _output.progress(len(image), "write", progress) as bar:
+                    res = upload_image(robot, image, verify=verify, restart=restart, progress=bar)
+        except KeyboardInterrupt:
+            click.echo(
+                "interrupted: the board's ROM is partly written and its program is stopped; "
+                f"`rcb4hv project upload {file} --only-changed` writes the rest",
+                err=True,
+            )
+            sys.exit(130)
     checked = " and verified" if verify else ""
     click.echo(
         f"wrote{checked} {res.pages_written} of {res.pages_total} pages ({res.bytes_written} bytes)"

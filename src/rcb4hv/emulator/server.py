@@ -423,6 +423,8 @@ class TcpServer(_Server):
                 conn, peer = self._listener.accept()
             except BlockingIOError:
                 return False
+            if self._conn is not None:  # one board, one link: as a serial port has
+                log.warning("TCP client %s replaces the one connected before (disconnected)", peer)
             self._drop_conn()
             conn.setblocking(False)
             conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
