@@ -1,5 +1,5 @@
 """``rcb4hv project add-motion``: save keyframes as a new motion of a HeartToHeart4 project
-(the Teach page of ``rcb4hv ui`` does the same), and ``rcb4hv servo capture``-style JSON."""
+(the Teach page of ``rcb4hv ui`` does the same), from the keyframes JSON it reads."""
 
 from __future__ import annotations
 
