@@ -313,3 +313,20 @@ def test_pty_reply_in_pieces_after_stray_bytes() -> None:
         c.close()
         os.close(master)
         os.close(slave)
+
+
+@pytest.mark.parametrize(
+    ("url", "said"),
+    [
+        ("socket://127.0.0.1", "needs a port"),
+        ("socket://127.0.0.1:port", "socket://HOST:PORT"),
+        ("nonsense://x", "a port is a device path"),
+    ],
+)
+def test_a_url_that_cannot_open_says_what_a_port_is(url: str, said: str) -> None:
+    """A typed TransportError naming the URL, not pyserial's TypeError or ValueError."""
+    from rcb4hv.errors import TransportError
+    from rcb4hv.transport import open_transport
+
+    with pytest.raises(TransportError, match=said):
+        open_transport(url)

@@ -9,6 +9,7 @@ import os
 import select
 import socket
 import time
+import urllib.parse
 from typing import Final
 
 import serial
@@ -130,6 +131,30 @@ def _disable_nagle(port: object) -> None:
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
 
+_KINDS = (
+    "a port is a device path, socket://HOST:PORT, rfc2217://, rcb4emu://, spy://DEV or fault://"
+)
+
+
+def _check_url(url: str) -> None:
+    """TransportError for a URL pyserial would fail on obscurely (a socket without a port)."""
+    if not url.lower().startswith("socket://"):
+        return
+    try:
+        port = urllib.parse.urlsplit(url).port
+    except ValueError as exc:
+        raise TransportError(f"cannot open {url}: {exc} (socket://HOST:PORT)") from exc
+    if port is None:
+        raise TransportError(
+            f"cannot open {url}: a socket:// URL needs a port (socket://HOST:PORT)"
+        )
+
+
+def _why(exc: BaseException) -> str:
+    """``exc``'s message without a "read failed: " pyserial put in front of it already."""
+    return str(exc).removeprefix("read failed: ")
+
+
 class SerialTransport(Transport):
     """A :class:`Transport` over any pyserial port object, at 8E1."""
 
@@ -160,10 +185,13 @@ class SerialTransport(Transport):
         """
         if baudrate <= 0:
             raise ValueError(f"baud rate {baudrate} must be positive")
+        _check_url(url)
         try:
             port = open_8e1(url, baudrate, write_timeout=2.0)
         except PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
+        except ValueError as exc:  # pyserial: "invalid URL, protocol 'x' not known"
+            raise TransportError(f"cannot open {url}: {exc} ({_KINDS})") from exc
         _disable_nagle(port)
         log.debug("opened %s at %d baud", url, baudrate)
         return cls(port, url)
@@ -215,7 +243,7 @@ class SerialTransport(Transport):
                 if fd is not None:
                     select.select((fd,), (), (), remaining)
         except (serial.SerialException, OSError, ValueError) as exc:
-            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+            raise TransportError(f"{self.url}: read failed: {_why(exc)}") from exc
         except TypeError as exc:  # pyserial on a port closed under it (fd None)
             raise TransportError(f"{self.url}: port closed: {exc}") from exc
 
@@ -236,7 +264,7 @@ class SerialTransport(Transport):
                     return b""
                 select.select((fd,), (), (), remaining)
         except OSError as exc:
-            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+            raise TransportError(f"{self.url}: read failed: {_why(exc)}") from exc
 
     def _read_some_port(self, size: int, deadline: float) -> bytes:
         port, fd = self.port, self._fd
@@ -258,7 +286,7 @@ class SerialTransport(Transport):
                 if fd is not None:
                     select.select((fd,), (), (), remaining)
         except (serial.SerialException, OSError, ValueError) as exc:
-            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+            raise TransportError(f"{self.url}: read failed: {_why(exc)}") from exc
         except TypeError as exc:  # pyserial on a port closed under it (fd None)
             raise TransportError(f"{self.url}: port closed: {exc}") from exc
 
