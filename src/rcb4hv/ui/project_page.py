@@ -89,7 +89,8 @@ def build(ctx: UiContext) -> None:
                 max_file_size=ctx.max_upload,
                 on_upload=uploaded,
                 on_rejected=lambda: ui.notify(
-                    "not opened: a project is a .h4p file (a flowchart .xml goes to the next box)",
+                    f"not opened: a project is a .h4p file of at most {ctx.max_upload // 2**20} MB "
+                    "(a flowchart .xml goes to the next box)",
                     type="warning",
                 ),
             ).props('accept=".h4p"'),
@@ -102,7 +103,9 @@ def build(ctx: UiContext) -> None:
                 max_file_size=ctx.max_upload,
                 on_upload=flowchart_uploaded,
                 on_rejected=lambda: ui.notify(
-                    "not shown: a flowchart is an .xml file", type="warning"
+                    "not shown: a flowchart is an .xml file of at most "
+                    f"{ctx.max_upload // 2**20} MB",
+                    type="warning",
                 ),
             ).props('accept=".xml"'),
             "flowchart-upload",
