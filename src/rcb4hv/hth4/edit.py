@@ -26,6 +26,7 @@ from rcb4hv.hth4.keyframes import END_MARKER, now_text
 from rcb4hv.hth4.mirror import mirror_motion_entries
 from rcb4hv.hth4.model import Motion, Project, ServoConfig
 from rcb4hv.hth4.motioncode import AddressMap, retarget_motion, retarget_project, slot_size
+from rcb4hv.hth4.motionlist import button_label
 from rcb4hv.hth4.poses import (
     DEFAULT_CHECKS,
     Checks,
@@ -309,8 +310,9 @@ def bind_button(
         for other in project.used_motions:
             if other.slot != slot and other.button == (button, compare_type):
                 raise EditError(
-                    f"button word {button} already starts motion {other.slot} "
-                    f"({other.name}); unbind it first or force"
+                    f"{button_label(button)} (button word {button}) already starts motion "
+                    f"{other.slot} ({other.name}): unbind it first, or take it (--force; the "
+                    "Editor's override box)"
                 )
     return _put(project, replace(m, button_data=button, compare_type=compare_type))
 
