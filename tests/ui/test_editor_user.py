@@ -125,8 +125,10 @@ def test_trim_panel_stores_a_trim(kxr_project_path: Path, tmp_path: Path) -> Non
         def base() -> int:
             return int.from_bytes(bytes(board.ram[blk + 2 : blk + 4]), "little", signed=True)
 
-        # the new trim with the output 7500: the servo is sent what it was (7560 - 250)
-        assert base() == new_trim(-250, 7560) == -190 and output(board, 10) == 7500
+        # the new trim with the output 7500: the servo is sent what it was (7560 - 250); the
+        # output reaches 7500 at the board's next output period
+        await until(lambda: output(board, 10) == 7500)
+        assert base() == new_trim(-250, 7560) == -190
         user.find(marker="trim-write").click()
         await user.should_see("trims written to the board")
         assert base() == -190 and output(board, 10) == 7500  # not offset a second time
