@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from rcb4hv.client import Rcb4Client, Robot, ServoInfo
@@ -137,3 +139,15 @@ def test_robot_validates_before_sending() -> None:
     with pytest.raises(ValueError):
         robot.client.read_ram(0x48F, 2)
     assert t.writes == []
+
+
+@pytest.mark.parametrize("bad", [None, 0, -1.0, math.inf, math.nan, "1", True])
+def test_a_timeout_is_seconds_above_zero_and_finite(bad: object) -> None:
+    """A ValueError before anything is sent: None raised a TypeError, inf hung for ever."""
+    with pytest.raises(ValueError, match="a timeout is a number of seconds"):
+        Rcb4Client(ScriptedTransport(), timeout=bad)  # type: ignore[arg-type]
+    if bad is not None:  # a call's None is "the client's timeout"
+        client = Rcb4Client(ScriptedTransport())
+        with pytest.raises(ValueError, match="a timeout is a number of seconds"):
+            client.acknowledge_check(timeout=bad)  # type: ignore[arg-type]
+        assert client.transport.writes == []  # type: ignore[attr-defined]

@@ -18,7 +18,7 @@ from types import TracebackType
 from typing import Final, NoReturn, TypeVar
 
 from rcb4hv.aio.transport import AsyncTransport, open_async_transport
-from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, ram_read_frame
+from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, check_timeout, ram_read_frame
 from rcb4hv.client.plans import (
     MAX_READ,
     MAX_WRITE,
@@ -126,8 +126,7 @@ class AsyncRcb4Client:
         allow_communicate_device: bool = False,
         corrupt_grace: float = 0.02,
     ) -> None:
-        if not timeout > 0:
-            raise ValueError("timeout must be > 0")
+        check_timeout(timeout)
         self.transport = transport
         self.timeout = timeout
         self.allow_communicate_device = allow_communicate_device
@@ -150,8 +149,7 @@ class AsyncRcb4Client:
 
         ``baudrate=None`` detects the rate: an ACK check at 1,250,000, 625,000, then 115,200.
         """
-        if not timeout > 0:
-            raise ValueError("timeout must be > 0")
+        check_timeout(timeout)
         transport = await open_async_transport(url, baudrate or DEFAULT_BAUD)
         client = cls(transport, timeout=timeout, allow_communicate_device=allow_communicate_device)
         if baudrate is None:
@@ -265,6 +263,7 @@ class AsyncRcb4Client:
         exactly that frame. Anything else (a NAK, a reply in pieces, stray bytes before it, a
         damaged reply) goes through the hunt of :class:`~rcb4hv.client.exchange.ReplyMatcher`.
         """
+        check_timeout(timeout)
         transport = self.transport
         async with self._lock:
             deadline = time.monotonic() + timeout

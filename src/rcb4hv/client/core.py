@@ -19,7 +19,7 @@ from threading import Lock
 from types import TracebackType
 from typing import Final, NoReturn, TypeVar
 
-from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, ram_read_frame
+from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, check_timeout, ram_read_frame
 from rcb4hv.client.plans import (
     MAX_READ,
     MAX_WRITE,
@@ -127,8 +127,7 @@ class Rcb4Client:
         allow_communicate_device: bool = False,
         corrupt_grace: float = 0.02,
     ) -> None:
-        if not timeout > 0:
-            raise ValueError("timeout must be > 0")
+        check_timeout(timeout)
         self.transport = transport
         self.timeout = timeout
         self.allow_communicate_device = allow_communicate_device
@@ -151,8 +150,7 @@ class Rcb4Client:
 
         ``baudrate=None`` detects the rate: an ACK check at 1,250,000, 625,000, then 115,200.
         """
-        if not timeout > 0:
-            raise ValueError("timeout must be > 0")
+        check_timeout(timeout)
         transport = open_transport(url, baudrate or DEFAULT_BAUD)
         client = cls(transport, timeout=timeout, allow_communicate_device=allow_communicate_device)
         if baudrate is None:
@@ -262,6 +260,7 @@ class Rcb4Client:
         exactly that frame. Anything else (a NAK, a reply in pieces, stray bytes before it, a
         damaged reply) goes through the hunt of :class:`~rcb4hv.client.exchange.ReplyMatcher`.
         """
+        check_timeout(timeout)
         transport = self.transport
         with self._lock:
             deadline = time.monotonic() + timeout

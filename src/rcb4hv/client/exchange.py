@@ -10,18 +10,28 @@ asyncio) feed it, each with its own waiting.
 from __future__ import annotations
 
 import logging
+import math
 from typing import Final
 
 from rcb4hv.errors import ChecksumError, Rcb4TimeoutError
 from rcb4hv.protocol import NEED_DATA, Com, FrameDecoder, Move, Ram
 
-__all__ = ["RAM_READS", "ReplyMatcher", "ram_read_frame"]
+__all__ = ["RAM_READS", "ReplyMatcher", "check_timeout", "ram_read_frame"]
 
 log = logging.getLogger("rcb4hv.client.core")
 
 RAM_READS: dict[tuple[int, int], bytes] = {}
 """RAM read frames already built, by (address, size): a control loop reads the same ones."""
 RAM_READS_KEPT: Final = 512
+
+
+def check_timeout(timeout: object) -> None:
+    """ValueError unless ``timeout`` is a number of seconds > 0 and finite: no call may hang
+    (None and inf would), and 0 or less could never see a reply."""
+    if isinstance(timeout, bool) or not isinstance(timeout, int | float):
+        raise ValueError(f"a timeout is a number of seconds, not {timeout!r}")
+    if not 0 < timeout < math.inf:
+        raise ValueError(f"a timeout is a number of seconds > 0 and finite, not {timeout!r}")
 
 
 def ram_read_frame(address: int, size: int) -> bytes:
