@@ -400,7 +400,7 @@ class EditorPage:
             self.player.show(None)
             self.aids.attach(None)
             return
-        self.caption.text = ed.model.title
+        self.caption.text = ed.model.title + (f" ({ed.model_note})" if ed.model_note else "")
         with self.holder:
             self.scene = RobotScene(ed.model, width=420, height=420)
             tid(self.scene.scene, "editor-3d")

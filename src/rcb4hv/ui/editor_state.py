@@ -53,6 +53,7 @@ class Editor:
         self.session: EditSession | None = None
         self.model: RobotModel | None = None
         self.model_error = ""
+        self.model_note = ""  # why the model is not the one given with --robot
         #: the models the project's evidence fits when detection must ask (pick_robot)
         self.model_candidates: tuple[str, ...] = ()
         self.slot: int | None = None
@@ -68,14 +69,28 @@ class Editor:
         name = str(path) if path is not None else "the project"
         self.session = EditSession(parse_named_project(data, name), path, data)
         self.model, self.model_error, self.model_candidates = None, "", ()
+        self.model_note = ""
         try:
             self.model = project_model(self.session.project, model)
         except AmbiguousRobotError as exc:
             self.model_error, self.model_candidates = str(exc), exc.candidates
         except Rcb4Error as exc:
             self.model_error = str(exc)
+            if model is not None:  # --robot names a robot this project is not for
+                self.open_detected(f"--robot {model.name} does not fit this project ({exc})")
         used = self.project.used_motions
         self.select(used[0].slot if used else None)
+
+    def open_detected(self, why: str) -> None:
+        """The model detected from the project, since the one named does not fit (``why``)."""
+        try:
+            self.model = project_model(self.project)
+        except AmbiguousRobotError as exc:
+            self.model_error, self.model_candidates = f"{why}; {exc}", exc.candidates
+        except Rcb4Error as exc:
+            self.model_error = f"{why}; {exc}"
+        else:
+            self.model_error, self.model_note = "", f"{why}: the Editor uses {self.model.name}"
 
     def pick_robot(self, name: str) -> None:
         """Use model ``name`` (one of :attr:`model_candidates`, as ``--robot`` would)."""
