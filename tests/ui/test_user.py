@@ -230,6 +230,7 @@ def test_teach_captures_and_saves_into_the_project(kxr_project_path: Path) -> No
         assert slot not in one(user, "teach-slot").options
         user.find(marker="teach-play").click()
         await until(lambda: output(board, 4) == 9000 and output(board, 2) != 0x8000, 10)
+        await user.should_see("played 2 keyframes on the board")  # it said nothing
         user.find(marker="teach-clear").click()
         await until(lambda: one(user, "teach-count").text == "0 keyframes")
 

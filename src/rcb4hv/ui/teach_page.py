@@ -5,6 +5,7 @@ the .h4p and the motion's flowchart)."""
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from nicegui import ui
@@ -23,7 +24,7 @@ from rcb4hv.project.run import run_motions
 from rcb4hv.project.simresult import MotionResult
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, SystemRegister
 from rcb4hv.session import StepJob
-from rcb4hv.ui.context import UiContext, guard_leaving, guarded, tid
+from rcb4hv.ui.context import UiContext, attempt, guard_leaving, guarded, tid
 from rcb4hv.ui.remote_page import PAD
 
 __all__ = ["SavedMotion", "build", "save_keyframes"]
@@ -72,7 +73,7 @@ def capture(robot: Robot) -> dict[int, int]:
     }
 
 
-def play_job(keyframes: list[Keyframe]) -> object:
+def play_job(keyframes: list[Keyframe]) -> Callable[[Robot], StepJob[None]]:
     def job(robot: Robot) -> StepJob[None]:
         for i, kf in enumerate(keyframes):
             robot.move(dict(kf.positions), kf.time)
@@ -161,6 +162,9 @@ def build(ctx: UiContext) -> None:
         if not pose:
             ui.notify("no servo position to capture", type="warning")
             return
+        left = sorted({s.ics for s in session.state.servos} - set(pose))
+        if left:  # free servos report 8000h, others nothing usable: not in the keyframe
+            ui.notify(f"ICS {left} left out: no position in 3500..11500 (free?)", type="warning")
         frames.append(Keyframe(DEFAULT_TIME, pose, f"Pos{len(frames) + 1}"))
         keyframe_list.refresh()
 
@@ -168,7 +172,10 @@ def build(ctx: UiContext) -> None:
         if not frames:
             ui.notify("capture a pose first", type="warning")
             return
-        await guarded(session.submit_steps(play_job(list(frames)), "teach play"), "play")  # type: ignore[arg-type]
+        ui.notify(f"playing {len(frames)} keyframes on the board")
+        done = session.submit_steps(play_job(list(frames)), "teach play")
+        if await attempt(done, "play"):  # type: ignore[arg-type]
+            ui.notify(f"played {len(frames)} keyframes on the board", type="positive")
 
     ui.separator()
     with ui.row().classes("items-center"):
