@@ -39,6 +39,7 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
         one(user, "flow-kind").set_value("counter_loop")
         user.find(marker="flow-add").click()
         await until(lambda: "3 edits" in one(user, "editor-status").text)
+        await user.should_see("point `to` at the block after the loop")  # the form says how
         one(user, "flow-target").set_value(1)
         user.find(marker="flow-connect").click()
         await until(lambda: "4 edits" in one(user, "editor-status").text)

@@ -26,6 +26,7 @@ from rcb4hv.errors import Rcb4Error
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4.blocks import KINDS, Block, block_spans, motion_program
 from rcb4hv.hth4.blocks.edit import (
+    BLOCK_HINTS,
     connect_block,
     insert_block,
     move_block,
@@ -232,6 +233,8 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
         b = blocks[view.selected]
         with form:
             ui.label(f"block {view.selected}: {b.kind}" + (f" ({b.label})" if b.label else ""))
+            if b.kind in BLOCK_HINTS:
+                tid(ui.label(BLOCK_HINTS[b.kind]), "flow-hint").classes("text-xs text-slate-600")
             for name, value in b.fields.items():
                 choices = _choices(b.kind, name, value)
                 element: ui.input | ui.select

@@ -32,6 +32,7 @@ from rcb4hv.hth4.motioncode import retarget_project
 from rcb4hv.hth4.poses import EntryEdit
 
 __all__ = [
+    "BLOCK_HINTS",
     "BLOCK_TEMPLATES",
     "connect_block",
     "insert_block",
@@ -73,6 +74,16 @@ BLOCK_TEMPLATES: dict[str, dict[str, Json]] = {
     "raw": {"hex": "03 FE 01"},
 }
 """The fields a new block of each kind starts with (``to`` 0: the program's first block)."""
+
+BLOCK_HINTS: dict[str, str] = {
+    "counter_loop": "counts the counter down by one, then branches to `to` when the test holds "
+    "(`equal`: it reached zero). As in Kondo's samples: set the counter before the loop, point "
+    "`to` at the block after the loop, and end the loop with a jump back to its first block",
+    "counter_set": "the number of passes of a counter_loop that counts this counter down",
+    "jump": "`to`: a block number or a label",
+    "call": '`to`: {"motion": N} calls motion N and comes back; a block number or label',
+}
+"""What a user needs to know to fill in a block of these kinds (the dashboard shows it)."""
 assert set(BLOCK_TEMPLATES) == set(KINDS)
 
 
