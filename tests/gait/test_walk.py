@@ -139,3 +139,30 @@ def test_play_sends_every_pose_and_waits_out_each_move() -> None:
     assert len(sent[0][1]) == len(KXR.servos)  # the first pose names every servo
     assert all(speed == every for speed, _ in sent[1:-1])
     assert sum(waited) == pytest.approx(0.5 + (len(w.poses) - 1) * 0.015, abs=0.02)
+
+
+@pytest.mark.parametrize("name", ["khr3hv", "khr3hv-22", "kxr-l2"])
+def test_a_walk_bends_the_knees_the_way_knees_bend(name: str) -> None:
+    """Every joint of a generated walk inside its advisory range: a robot whose home stands on
+    straight legs (the KHR-3HV) had its knees bent backwards, -72 to -113 deg, on every walk."""
+    model = load_builtin(name)
+    w = walk(model, default_params(model, "forward", steps=2))
+    for pose in w.poses:
+        for joint, angle in pose.items():
+            lo, hi = model.joint(joint).advisory_range
+            assert lo - 1e-6 <= angle <= hi + 1e-6, (joint, math.degrees(angle))
+
+
+def test_a_walk_for_one_robot_is_not_added_to_another_robots_project(tmp_path: Path) -> None:
+    """`gait --robot khr3hv --into` a KXR-L2 project wrote KHR-3HV values onto the KXR's
+    servos with exit 0; it is refused as every other command refuses a model that does not
+    fit (and `gait tune` refuses it before its search)."""
+    kxr = tmp_path / "kxr.h4p"
+    r = CliRunner().invoke(cli, ["gait", "--robot", "kxr-l2", "--into", str(kxr)])
+    assert r.exit_code == 0, r.output
+    before = kxr.read_bytes()
+    for args in (["gait"], ["gait", "tune", "--evaluations", "1"]):
+        r = CliRunner().invoke(cli, [*args, "--robot", "khr3hv", "--into", str(kxr)])
+        assert r.exit_code == 1, r.output
+        assert "the project has no servo at index 0 (head_yaw)" in r.output
+    assert kxr.read_bytes() == before

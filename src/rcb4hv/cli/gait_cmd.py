@@ -168,11 +168,11 @@ def tune_command(
 
     model = load_robot(robot_name)
     base = default_params(model, direction, steps=steps, stride=stride, turn=turn)
+    project = load_or_new(into, model)  # a project for another robot: refused before the search
     best, tried = tune(
         model, base, trials=trials, evaluations=evaluations, seed=seed, workers=workers,
         use_ray=ray_address is not None, ray_address=ray_address or None,
     )  # fmt: skip
-    project = load_or_new(into, model)
     if slot is None:
         free = free_slots(project)
         slot = free[0] if free else 2

@@ -94,6 +94,29 @@ class Body:
         )  # fmt: skip
 
 
+KNEE_SEED_RAD = 0.3
+"""How far the first pose's IK starts with each straight knee bent (rad): a robot whose home
+stands on straight legs (Kondo's KHR-3HV sample homes at 7500) is at the knee's singularity,
+where the IK may bend it either way."""
+
+
+def knees_forward(model: RobotModel, feet: tuple[str, ...]) -> dict[str, float]:
+    """``model``'s home pose with each straight knee of the legs ending at ``feet`` bent the
+    way a knee bends (the ankle goes behind it), as the IK's start: from straight legs it bent
+    the KHR-3HV's knees backwards (project check: past the advisory range on every walk)."""
+    seed = dict(model.home)
+    for foot in feet:
+        for j in limb(model, foot):
+            if "knee" not in j.name or abs(seed.get(j.name, 0.0)) > 0.05:
+                continue
+            x = {
+                sign: forward(model, {**seed, j.name: sign * KNEE_SEED_RAD})[foot][0][3]
+                for sign in (1.0, -1.0)
+            }
+            seed[j.name] = KNEE_SEED_RAD * (1.0 if x[1.0] < x[-1.0] else -1.0)
+    return seed
+
+
 def _sole(model: RobotModel, foot: str) -> tuple[float, float]:
     """The middle of the foot's lowest points (its sole), from the ankle, in the foot frame
     at the zero pose (where the models stand with level soles)."""
@@ -178,7 +201,7 @@ def walk(model: RobotModel, params: GaitParams, period_s: float = 0.015) -> Walk
             "body; a turn in place (made by slipping feet on the real robot) is not generated"
         )
     pat = trajectory(params, body.zc, period_s, body.soles)
-    pose = dict(model.home)
+    pose = knees_forward(model, (body.left, body.right))
     poses: list[dict[str, float]] = []
     worst, missed = 0.0, 0
     cx, cy = body.com

@@ -90,10 +90,18 @@ def walk_motion(
 
 
 def load_or_new(path: Path, model: RobotModel) -> Project:
-    """The project at ``path``, or a new one for ``model`` when there is no file yet."""
+    """The project at ``path``, or a new one for ``model`` when there is no file yet. A project
+    for another robot (``model`` maps servos it does not use) is refused with
+    :class:`~rcb4hv.errors.RobotModelError`, by the rule every command uses
+    (:func:`rcb4hv.hth4.robotpick.project_model`): a walk for one robot on another's servos."""
     from rcb4hv.hth4 import load_project
+    from rcb4hv.hth4.robotpick import project_model
 
-    return load_project(path) if path.exists() else new_project(model)
+    if not path.exists():
+        return new_project(model)
+    project = load_project(path)
+    project_model(project, model)
+    return project
 
 
 class FramePlayer(Protocol):
