@@ -166,3 +166,22 @@ def test_a_walk_for_one_robot_is_not_added_to_another_robots_project(tmp_path: P
         assert r.exit_code == 1, r.output
         assert "the project has no servo at index 0 (head_yaw)" in r.output
     assert kxr.read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (["--stride", "5"], "stride 5 m is more than kxr-l2's legs can make"),
+        (["--stride", "inf"], "stride inf m is more than"),
+        (["--width", "0.5"], "width 0.5 m is more than"),
+        (["--lift", "1"], "lift 1 m is more than"),
+        (["--direction", "turn-left", "--turn", "-10"], "the direction says which way"),
+    ],
+)
+def test_a_walk_no_robot_can_make_is_refused(tmp_path: Path, args: list[str], said: str) -> None:
+    """Absurd parameters: a one-line error naming the parameter, nothing written (a 5 m stride
+    was written with every pose out of reach; a negative turn-left turned right)."""
+    out = tmp_path / "w.h4p"
+    r = CliRunner().invoke(cli, ["gait", "--robot", "kxr-l2", *args, "--into", str(out)])
+    assert r.exit_code == 1 and said in r.output, r.output
+    assert not out.exists()

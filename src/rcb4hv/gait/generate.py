@@ -147,9 +147,22 @@ def default_params(
     width: float | None = None,
     step_time: float | None = None,
 ) -> GaitParams:
-    """:class:`GaitParams` with the defaults scaled to ``model``'s leg (see the constants)."""
+    """:class:`GaitParams` with the defaults scaled to ``model``'s leg (see the constants).
+    A stride of more than one and a half legs, a width of more than two or a lift of more than
+    half a leg is no walk of this robot: ValueError naming it (they were written, every pose
+    out of reach, with a log warning)."""
     body = Body.of(model)
     side = direction in ("left", "right")
+    for what, value, most in (
+        ("stride", stride, 1.5 * body.leg),
+        ("width", width, 2.0 * body.leg),
+        ("lift", lift, 0.5 * body.leg),
+    ):
+        if value is not None and value > most:
+            raise ValueError(
+                f"{what} {value:g} m is more than {model.name}'s legs can make (at most "
+                f"{most:.3f} m; its leg is {body.leg:.3f} m)"
+            )
     return GaitParams(
         direction=direction,
         steps=steps,

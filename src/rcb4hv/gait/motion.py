@@ -84,7 +84,10 @@ def walk_motion(
         except ValueError as e:
             if "a motion slot holds" in str(e):
                 continue
-            raise
+            raise ValueError(
+                f"{e}: the walk takes a joint past its servo's travel; a smaller lift, turn, "
+                "stride or width"
+            ) from None
         return replace(m, date=now_text()), every
     raise ValueError("the walk does not fit a motion slot; take fewer steps")
 

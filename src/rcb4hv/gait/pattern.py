@@ -64,8 +64,13 @@ class GaitParams:
             raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}")
         if self.steps < 1:
             raise ValueError("a walk needs at least one step")
+        numbers = (self.stride, self.turn, self.width, self.lift, self.step_time, self.lean)
+        if not all(math.isfinite(v) for v in numbers):
+            raise ValueError("stride, turn, width, lift, step time and lean are finite numbers")
         if not (self.stride >= 0 and self.lift > 0 and self.width > 0 and self.step_time > 0):
             raise ValueError("stride >= 0, lift, width and step time > 0")
+        if self.turn < 0:
+            raise ValueError("turn is degrees per step, >= 0: the direction says which way")
         if not 0.05 <= self.double_support <= 0.8:
             raise ValueError("double support must be 0.05..0.8 of a step")
 
