@@ -207,3 +207,19 @@ def test_upload_draws_no_bar_when_stderr_is_no_terminal(image_file: Path, tmp_pa
     )  # fmt: skip
     assert r.exit_code == 0, r.output
     assert r.output == "wrote 0 of 2048 pages (0 bytes)\n"
+
+
+@pytest.mark.parametrize("option", ["--trace", "--plot"])
+def test_simulate_does_not_write_its_output_over_the_project(
+    kxr_project_path: Path, tmp_path: Path, option: str
+) -> None:
+    """--trace or --plot naming the project simulated wrote over it; refused before the run,
+    as is a plot file matplotlib cannot write (it failed after the whole simulation)."""
+    copy = tmp_path / "kxr.h4p"
+    shutil.copyfile(kxr_project_path, copy)
+    before = copy.read_bytes()
+    r = _run("project", "simulate", copy, "--physics", "--motion", "39", option, copy)
+    assert r.exit_code == 2 and "is the file simulated" in r.output, r.output
+    assert copy.read_bytes() == before
+    r = _run("project", "simulate", copy, "--motion", "39", "--plot", tmp_path / "out.txt")
+    assert r.exit_code == 2 and "a picture" in r.output, r.output

@@ -202,6 +202,7 @@ def simulate(
         raise click.UsageError("--start and --what-if set up the robot of --physics: add --physics")
     if trace is not None and not physics:
         raise click.UsageError("--trace writes the simulated robot's track: add --physics")
+    _check_outputs(file, plot, trace)
     options = _what_if(what_if)
     model = None
     if physics or robot is not None:
@@ -245,6 +246,25 @@ def simulate(
             click.echo(f"wrote {trace}")
     codes = {STATUS_EXIT.get(r.status, 0) for r in [run.boot, *run.results]}
     sys.exit(1 if 1 in codes else max(codes))
+
+
+def _check_outputs(file: Path, plot: Path | None, trace: Path | None) -> None:
+    """Before the simulation runs: --plot and --trace are not the input (they overwrote the
+    project), not each other, and the plot is a picture matplotlib can write."""
+    outs = {"--plot": plot, "--trace": trace}
+    for name, out in outs.items():
+        if out is not None and out.resolve() == file.resolve():
+            raise click.BadParameter(f"{out} is the file simulated: give another", param_hint=name)
+    if plot is not None and trace is not None and plot.resolve() == trace.resolve():
+        raise click.BadParameter("--plot and --trace name the same file", param_hint="--trace")
+    if plot is not None and plot.suffix.lower() not in PLOT_SUFFIXES:
+        raise click.BadParameter(
+            f"{plot}: a picture, one of {', '.join(sorted(PLOT_SUFFIXES))}", param_hint="--plot"
+        )
+
+
+PLOT_SUFFIXES = frozenset({".png", ".svg", ".pdf", ".jpg", ".jpeg"})
+"""What ``--plot`` writes (matplotlib's formats a user would want)."""
 
 
 def _what_if(items: tuple[str, ...]) -> PhysicsOptions | None:
