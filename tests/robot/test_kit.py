@@ -403,3 +403,25 @@ def test_motions_past_the_mechanical_limits_turn_a_pair_of_signs(kxr_project_pat
     det_f = detect_kit(None, servo_table(project), home_pose(project), extremes=ext)
     assert det_f.model.name == "kxr:L2L5A3G" and det_f.notes == ()
     assert ("motions within the mechanical limits", True, "every joint") in det_f.checks
+
+
+@pytest.mark.parametrize("code", ["kxr:R4LL", "kxr:L2W2L6A4H2"])
+def test_an_exported_wheeled_kit_reads_back(code: str, tmp_path: Path) -> None:
+    """`robot export --joint-map` of a kit with wheels, then `--robot FILE`: the same joint
+    map, wheels included (reading it back failed: "kind must be one of pitch, roll, yaw,
+    grip")."""
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+
+    urdf, jmap = tmp_path / "robot.urdf", tmp_path / "robot.toml"
+    r = CliRunner().invoke(
+        cli, ["robot", "export", code, "-o", str(urdf), "--joint-map", str(jmap)]
+    )
+    assert r.exit_code == 0, r.output
+    kit, back = load_robot(code), load_robot(str(jmap))
+    assert {(s.index, s.joint, s.sign) for s in back.servos} == {
+        (s.index, s.joint, s.sign) for s in kit.servos
+    }
+    wheels = {j.name for j in kit.joints if j.kind == "wheel"}
+    assert wheels and wheels == {j.name for j in back.joints if j.kind == "wheel"}

@@ -16,7 +16,7 @@ The joint map says which RCB-4 servo drives which URDF joint::
     sign = 1                       # +1 or -1: which way a larger servo value turns the joint
     offset = 0                     # counts beyond centre and trim that are joint angle 0
     mirror = "r_knee"              # optional: the joint on the other side
-    kind = "pitch"                 # optional: pitch, roll, yaw or grip
+    kind = "pitch"                 # optional: pitch, roll, yaw, grip or wheel
     side = "left"                  # optional: left, right or centre
 
 What is not given is inferred: ``kind`` from the joint's axis in the robot's base frame at
@@ -54,7 +54,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 
 __all__ = ["build_model", "load_urdf_robot", "parse_joint_map", "to_joint_map"]
 
-_KINDS = ("pitch", "roll", "yaw", "grip")
+_KINDS = ("pitch", "roll", "yaw", "grip", "wheel")
 _SIDES = ("left", "right", "centre")
 _SWAPS = (
     ("l_", "r_"),
