@@ -64,7 +64,10 @@ def test_options_parse_from_name_value_items_and_name_what_they_change() -> None
         ("frictio=0.5", "NAME one of stiffness"),
         ("friction", "NAME=VALUE"),
         ("friction=slippery", "'slippery' is not a number"),
-        ("friction=0", "friction must be a finite factor > 0"),
+        ("friction=0", r"friction must be a factor of 0\.01\.\.100"),
+        ("mass=1e9", r"mass must be a factor of 0\.01\.\.100"),  # MuJoCo's state went NaN
+        ("mass=1e-6", "mass must be a factor"),
+        ("stiffness=inf", "stiffness must be a factor"),
         ("floor_tilt_deg=50", "floor_tilt_deg must be 0..45"),
     ],
 )

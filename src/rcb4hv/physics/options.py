@@ -16,7 +16,11 @@ from dataclasses import dataclass, fields, replace
 
 from rcb4hv.physics.sensors import SensorLayout
 
-__all__ = ["NOT_FACTORS", "PhysicsOptions"]
+__all__ = ["FACTOR_RANGE", "NOT_FACTORS", "PhysicsOptions"]
+
+FACTOR_RANGE = (0.01, 100.0)
+"""What a factor on a documented figure may be: a what-if, not another world (a mass x 1e9
+made MuJoCo's state NaN, x 1e-6 turned the robot 7565 degrees)."""
 
 NOT_FACTORS = (
     "floor_tilt_deg",
@@ -90,8 +94,11 @@ class PhysicsOptions:
             if f.name in NOT_FACTORS:
                 continue
             v = getattr(self, f.name)
-            if not isinstance(v, (int, float)) or not 0 < v < math.inf:
-                raise ValueError(f"PhysicsOptions.{f.name} must be a finite factor > 0, not {v!r}")
+            if not isinstance(v, (int, float)) or not FACTOR_RANGE[0] <= v <= FACTOR_RANGE[1]:
+                raise ValueError(
+                    f"PhysicsOptions.{f.name} must be a factor of {FACTOR_RANGE[0]:g}.."
+                    f"{FACTOR_RANGE[1]:g}, not {v!r}"
+                )
 
     def changed(self) -> tuple[tuple[str, float], ...]:
         """The fields that differ from the documented figures, as (name, value) in field
