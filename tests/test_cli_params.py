@@ -3,6 +3,8 @@ object every board command receives (``click.make_pass_decorator``)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 import pytest
 from click.testing import CliRunner
@@ -80,3 +82,21 @@ def test_a_sequence_takes_the_slots_of_the_images_layout() -> None:
         parse_sequence("0", LAYOUTS["2.2"])
     with pytest.raises(click.BadParameter, match="separated by commas"):
         parse_sequence("a,b", LAYOUTS["2.2"])
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (["robot", "ik", "kxr-l2", "--link", "l_foot", "--pos", "nan", "0", "0"], "finite"),
+        (["robot", "ik", "kxr-l2", "--link", "l_foot", "--pos", "0", "inf", "0"], "finite"),
+        (["project", "robust", "{fx}", "--seed", "-5", "--motion", "39"], "x>=0"),
+        (["project", "simulate", "{fx}", "--physics", "--sequence", "9,,13"], "commas"),
+    ],
+)
+def test_numbers_that_mean_nothing_are_refused(
+    args: list[str], said: str, kxr_project_path: Path
+) -> None:
+    """A nan target exited 0, a negative seed gave numpy's message, an empty slot in a
+    sequence was skipped."""
+    r = CliRunner().invoke(cli, [a.format(fx=kxr_project_path) for a in args])
+    assert r.exit_code == 2 and said in r.output, r.output

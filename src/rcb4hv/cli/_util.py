@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import sys
 import unicodedata
 from collections.abc import Callable, Sequence
@@ -66,8 +67,29 @@ def handle_errors(func: F) -> F:
 if TYPE_CHECKING:  # click >= 8.2 types ParamType by its value; older click is not generic
     _IntParam = click.ParamType[int, Any]
     _BaudParam = click.ParamType[int | None, Any]
+    _FloatParam = click.ParamType[float, Any]
 else:
-    _IntParam = _BaudParam = click.ParamType
+    _IntParam = _BaudParam = _FloatParam = click.ParamType
+
+
+class FiniteFloat(_FloatParam):
+    """A real number that is not inf or nan (a target, an angle)."""
+
+    name = "number"
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        return number
+
+
+FINITE = FiniteFloat()
 
 
 class IntegerType(_IntParam):

@@ -137,7 +137,7 @@ def gait_command(
 @TURN
 @click.option("--trials", type=click.IntRange(min=1), default=8, show_default=True)
 @click.option("--evaluations", type=click.IntRange(min=1), default=16, show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Processes (cores).")
 @RAY
 @click.option(

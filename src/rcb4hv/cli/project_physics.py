@@ -38,7 +38,7 @@ def parse_sequence(text: str, lay: MotionLayout) -> list[int]:
     """``33,15`` -> [33, 15]: motion slots of the image's layout ``lay`` (1-120 in
     HeartToHeart4 2.x, 1-50 in 1.3)."""
     try:
-        slots = [int(p) for p in text.replace(" ", "").split(",") if p]
+        slots = [int(p) for p in text.replace(" ", "").split(",")]
     except ValueError:
         raise click.BadParameter(f"{text!r}: give motion slots separated by commas") from None
     if not slots or any(not 1 <= s <= lay.motion_count for s in slots):

@@ -22,7 +22,7 @@ def register(cli: click.Group) -> None:
 @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--motion", "motions", type=MOTION_SLOT, multiple=True, help="Slot (repeatable).")
 @click.option("--trials", type=click.IntRange(min=1), default=20, show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--robot", default=None, help="Robot model (default: detected from FILE).")
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Processes (cores).")
 @RAY

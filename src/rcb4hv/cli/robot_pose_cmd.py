@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from rcb4hv.cli._util import handle_errors, print_json
+from rcb4hv.cli._util import FINITE, handle_errors, print_json
 from rcb4hv.errors import RobotModelError
 from rcb4hv.robot.builtin import load_robot
 from rcb4hv.robot.ik import Orient, solve
@@ -72,11 +72,11 @@ def fk(name: str, link: str, angles_file: Path | None, as_json: bool) -> None:
 @click.command("ik")
 @click.argument("name")
 @click.option("--link", required=True, help="The hand or foot link to move, e.g. l_foot.")
-@click.option("--pos", nargs=3, type=float, required=True, help="Target X Y Z (m, torso frame).")
+@click.option("--pos", nargs=3, type=FINITE, required=True, help="Target X Y Z (m, torso frame).")
 @click.option(
     "--rpy",
     nargs=3,
-    type=float,
+    type=FINITE,
     default=None,
     help="Target orientation: roll pitch yaw in degrees (torso frame); default: keep it.",
 )
