@@ -136,7 +136,13 @@ def gait_command(
 @STRIDE
 @TURN
 @click.option("--trials", type=click.IntRange(min=1), default=8, show_default=True)
-@click.option("--evaluations", type=click.IntRange(min=1), default=16, show_default=True)
+@click.option(
+    "--evaluations",
+    type=click.IntRange(min=1),
+    default=16,
+    show_default=True,
+    help="Walks to try, in generations of 4 (CMA-ES asks 4 at a time); fewer if it converges.",
+)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Processes (cores).")
 @RAY
@@ -160,23 +166,28 @@ def tune_command(
     from dataclasses import asdict
 
     from rcb4hv.gait.generate import default_params, walk
-    from rcb4hv.gait.motion import load_or_new, walk_motion
+    from rcb4hv.gait.motion import load_or_new, period_ms, walk_motion
     from rcb4hv.gait.tune import tune
     from rcb4hv.hth4 import dump_project
     from rcb4hv.hth4.keyframes import add_motion, free_slots
+    from rcb4hv.project.relocate import project_layout
     from rcb4hv.robot.builtin import load_robot
 
     model = load_robot(robot_name)
     base = default_params(model, direction, steps=steps, stride=stride, turn=turn)
     project = load_or_new(into, model)  # a project for another robot: refused before the search
+    period = period_ms(project)  # the candidates play as the walk will: at the project's period
     best, tried = tune(
         model, base, trials=trials, evaluations=evaluations, seed=seed, workers=workers,
-        use_ray=ray_address is not None, ray_address=ray_address or None,
+        use_ray=ray_address is not None, ray_address=ray_address or None, period_ms=period,
     )  # fmt: skip
     if slot is None:
         free = free_slots(project)
         slot = free[0] if free else 2
-    motion, _ = walk_motion(model, walk(model, best.params), slot=slot, name=f"tuned {direction}")
+    motion, _ = walk_motion(
+        model, walk(model, best.params, period / 1000.0), slot=slot, name=f"tuned {direction}",
+        period=period, layout=project_layout(project),
+    )  # fmt: skip
     write_atomic(into, dump_project(add_motion(project, motion)))
     doc = {
         "robot": model.name, "trials": trials, "seed": seed,

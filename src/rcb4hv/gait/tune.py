@@ -23,7 +23,7 @@ from rcb4hv.gait.generate import walk
 from rcb4hv.gait.motion import walk_motion
 from rcb4hv.gait.pattern import GaitParams
 from rcb4hv.hth4.keyframes import add_motion
-from rcb4hv.hth4.newproject import new_project
+from rcb4hv.hth4.newproject import new_project, set_output_period
 from rcb4hv.robot.model import RobotModel
 
 __all__ = ["BOUNDS", "SHORTFALL_WEIGHT", "Candidate", "progress_of", "score", "tune"]
@@ -82,11 +82,13 @@ def tune(
     trials: int,
     evaluations: int,
     seed: int = 0,
+    period_ms: int = 15,
     run: Callable[..., list[dict[str, Any]]] | None = None,
     **backend: Any,
 ) -> tuple[Candidate, list[Candidate]]:
     """The best candidate and every candidate tried (``evaluations`` walks, each in
-    ``trials`` trials; ``backend``: ``workers``, ``use_ray``, ``ray_address``)."""
+    ``trials`` trials, played at the output period ``period_ms``, the target project's;
+    ``backend``: ``workers``, ``use_ray``, ``ray_address``)."""
     try:
         import cma
     except ImportError as exc:
@@ -107,8 +109,10 @@ def tune(
         scores = []
         for x in xs:
             p = _params(base, x)
-            motion, _ = walk_motion(model, walk(model, p), slot=2, name="tune")
-            image, layout = project_image(add_motion(new_project(model), motion))
+            w = walk(model, p, period_ms / 1000.0)
+            motion, _ = walk_motion(model, w, slot=2, name="tune", period=period_ms)
+            project = set_output_period(new_project(model), period_ms)
+            image, layout = project_image(add_motion(project, motion))
             (row,) = go(image, [2], layout=layout, robot=model, trials=trials, seed=seed, **backend)
             prog = progress_of(p.direction, row)
             c = Candidate(
@@ -118,5 +122,10 @@ def tune(
             tried.append(c)
             scores.append(c.score)
         es.tell(xs, scores)
+    if len(tried) < evaluations:  # CMA-ES stopped: its criteria met (a flat score, say)
+        log.warning(
+            "the search stopped after %d of %d evaluations: %s",
+            len(tried), evaluations, ", ".join(f"{k} {v:g}" for k, v in es.stop().items()),
+        )  # fmt: skip
     best = min(tried, key=lambda c: c.score)
     return best, tried
