@@ -18,7 +18,7 @@ from rcb4hv.hth4.keyframes import add_motion
 from rcb4hv.hth4.newproject import new_project
 from rcb4hv.project.relocate import project_image
 from rcb4hv.project.run import run_motions
-from rcb4hv.robot.builtin import load_builtin
+from rcb4hv.robot.builtin import load_builtin, load_robot
 from rcb4hv.robot.kinematics import forward
 
 KXR = load_builtin("kxr-l2")
@@ -185,3 +185,13 @@ def test_a_walk_no_robot_can_make_is_refused(tmp_path: Path, args: list[str], sa
     r = CliRunner().invoke(cli, ["gait", "--robot", "kxr-l2", *args, "--into", str(out)])
     assert r.exit_code == 1 and said in r.output, r.output
     assert not out.exists()
+
+
+def test_a_biped_with_a_wheel_behind_each_ankle_walks_on_its_feet() -> None:
+    """The KXR-L2W2L6A4H2 (a wheel on each ankle) was refused: the wheel made the ankle a
+    branch, so the legs ended nowhere ("a walk needs two legs, found feet []")."""
+    model = load_robot("kxr:L2W2L6A4H2")
+    w = walk(model, default_params(model, "forward", steps=2))
+    assert w.missed == 0
+    with pytest.raises(RobotModelError, match="walks are generated for two-legged robots"):
+        walk(load_robot("kxr:L6"), default_params(load_robot("kxr-l2"), "forward"))

@@ -76,7 +76,11 @@ class Body:
     def of(cls, model: RobotModel) -> Body:
         feet = [n for n, kind in effectors(model).items() if kind == "foot"]
         if len(feet) != 2:
-            raise RobotModelError(f"{model.name}: a walk needs two legs, found feet {feet}")
+            raise RobotModelError(
+                f"{model.name}: walks are generated for two-legged robots (two feet, below "
+                "the hands), and this is none: a robot on more legs or on wheels walks with "
+                "its own project's motions"
+            )
         frames = forward(model, model.home)
         left, right = sorted(feet, key=lambda n: -frames[n][1][3])
         zero = forward(model, {})

@@ -101,12 +101,15 @@ class IKResult:
 
 def limb(model: RobotModel, link: str) -> tuple[Joint, ...]:
     """The joints that move ``link`` relative to its limb's base, base first: the chain from
-    ``link`` up to the nearest ancestor link with more than one child joint (or the root)."""
+    ``link`` up to the nearest ancestor link with more than one child joint (or the root). A
+    gripper's finger or a wheel on a link does not make it a branch: the KXR's ankle wheel
+    hangs from the ankle, whose leg goes on to the foot."""
     require_link(model, link)
     by_child = {j.child: j for j in model.joints}
     children: dict[str, int] = {}
     for j in model.joints:
-        children[j.parent] = children.get(j.parent, 0) + 1
+        if j.kind not in ("grip", "wheel"):
+            children[j.parent] = children.get(j.parent, 0) + 1
     out: list[Joint] = []
     name = link
     while name in by_child:
@@ -120,19 +123,21 @@ def limb(model: RobotModel, link: str) -> tuple[Joint, ...]:
 
 def effectors(model: RobotModel) -> dict[str, Literal["hand", "foot"]]:
     """The hands and feet a user drags: the end links of limbs of at least 3 joints (a
-    gripper's finger gives way to its forearm: the grip joint does not reach). At the zero
-    pose a foot lies below the midpoint between the lowest and the highest end link, a hand
-    above it."""
-    parents = {j.parent for j in model.joints}
+    gripper's finger or a wheel gives way to the link it turns on: the grip or wheel joint
+    does not reach; a leg with a wheel behind its ankle ends in its foot). At the zero pose a
+    foot lies below the midpoint between the lowest and the highest end link, a hand above
+    it."""
     by_child = {j.child: j for j in model.joints}
+    turning = {j.child for j in model.joints if j.kind in ("grip", "wheel")}
+    parents = {j.parent for j in model.joints if j.child not in turning}
     ends: list[str] = []
     for link in model.links:
         name = link.name
         if name in parents:
             continue
-        while name in by_child and by_child[name].kind == "grip":
+        while name in by_child and by_child[name].kind in ("grip", "wheel"):
             name = by_child[name].parent
-        if len(limb(model, name)) >= 3:
+        if name not in ends and name not in parents and len(limb(model, name)) >= 3:
             ends.append(name)
     if not ends:
         return {}
