@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from rcb4hv.asm import assemble
@@ -137,3 +138,43 @@ def test_disasm_input_errors() -> None:
     assert result.exit_code != 0 and "not an address" in result.stderr
     result = runner.invoke(cli, ["disasm", "--origin", "0x40000", "03 0D 10"])
     assert result.exit_code == 1 and "origin" in result.stderr
+
+
+def test_an_image_disassembled_assembles_back_to_the_same_image(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    """`disasm --image` then `asm --image`: the 256 KB image, byte for byte (asm wrote the
+    program's bytes only, 248708 of them, which `disasm --image` and `upload` refuse)."""
+    rom, text, back = tmp_path / "rom.bin", tmp_path / "rom.s", tmp_path / "rom2.bin"
+    runner = CliRunner()
+    assert (
+        runner.invoke(cli, ["project", "build", str(kxr_project_path), "-o", str(rom)]).exit_code
+        == 0
+    )
+    assert runner.invoke(cli, ["disasm", "--image", str(rom), "-o", str(text)]).exit_code == 0
+    r = runner.invoke(cli, ["asm", str(text), "--image", "-o", str(back)])
+    assert r.exit_code == 0, r.output
+    assert back.read_bytes() == rom.read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("source", "folder", "ok"),
+    [
+        (bytes(range(128, 256)), "", False),  # a ROM image given as the source
+        (b"RETURN\n", "no/such/dir", False),  # the output in a missing folder
+        (b"\xef\xbb\xbfRETURN\n", "", True),  # a byte-order mark is no statement
+    ],
+)
+def test_asm_says_what_is_wrong_in_one_line(
+    source: bytes, folder: str, ok: bool, tmp_path: Path
+) -> None:
+    """A binary source and an output in a missing folder printed tracebacks; a byte-order
+    mark was an error."""
+    src = tmp_path / "walk.s"
+    src.write_bytes(source)
+    r = CliRunner().invoke(cli, ["asm", str(src), "-o", str(tmp_path / folder / "x.bin")])
+    if ok:
+        assert r.exit_code == 0, r.output
+    else:
+        assert r.exit_code == 1 and r.output.startswith("error: "), r.output
+        assert r.output.count("\n") == 1, r.output

@@ -43,16 +43,30 @@ _ORIGIN = click.option(
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the bytes here.")
 @_ORIGIN
 @click.option("--hex", "as_hex", is_flag=True, help="Write hex text (one frame a line).")
-def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> None:
+@click.option(
+    "--image",
+    "as_image",
+    is_flag=True,
+    help="With -o: a whole 256 KB ROM image, the program at its origin, the rest erased (FF): "
+    "what `disasm --image` read.",
+)
+def asm(source: str, output: str | None, origin: int | None, as_hex: bool, as_image: bool) -> None:
     """Assemble SOURCE ('-' = stdin) into RCB-4 command frames.
 
     Without -o the frames are printed in hex, one per line, after their ROM address.
     """
+    if as_image and (output is None or as_hex):
+        _fail("--image writes a ROM image: give -o FILE (and no --hex)")
     try:
-        with click.open_file(source, encoding="utf-8") as f:
+        with click.open_file(source, encoding="utf-8-sig") as f:  # a BOM is no statement
             text = f.read()
     except OSError as exc:
         _fail(f"{source}: {exc.strerror or exc}")
+    except UnicodeDecodeError:
+        _fail(
+            f"{source}: not UTF-8 text; an assembler source is text (a ROM image is read "
+            "with `rcb4hv disasm --image`)"
+        )
     try:
         program = assemble(text, origin)
     except AsmError as exc:
@@ -60,15 +74,25 @@ def asm(source: str, output: str | None, origin: int | None, as_hex: bool) -> No
     except ValueError as exc:
         _fail(str(exc))
     if output is not None and not as_hex:
-        write_atomic(output, program.data)
-        click.echo(f"{len(program.data)} bytes at ${program.origin:06X} -> {output}", err=True)
+        data = program.image() if as_image else program.data
+        _write(output, data)
+        click.echo(f"{len(data)} bytes at ${program.origin:06X} -> {output}", err=True)
         return
     lines = [f"{item.address:06X}  {item.data.hex(' ').upper()}" for item in program.items]
     text_out = "\n".join(lines) + ("\n" if lines else "")
     if output is not None:
-        write_atomic(output, text_out)
+        _write(output, text_out)
     else:
         click.echo(text_out, nl=False)
+
+
+def _write(output: str, data: bytes | str) -> None:
+    """Write ``output`` atomically, or a one-line error naming it."""
+    try:
+        write_atomic(output, data)
+    except OSError as exc:  # write_atomic's message names the file
+        why = exc.strerror or str(exc)
+        _fail(why if output in why else f"{output}: {why}")
 
 
 @click.command("disasm")
@@ -142,7 +166,7 @@ def disasm(
     except (OSError, ValueError) as exc:
         _fail(str(exc))
     if output is not None:
-        write_atomic(output, text)
+        _write(output, text)
     else:
         click.echo(text, nl=False)
 
