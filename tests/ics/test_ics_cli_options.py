@@ -57,3 +57,22 @@ def test_a_bad_value_after_the_subcommand_is_a_usage_error() -> None:
     r = CliRunner().invoke(cli, ["ics", "scan", "--port", BUS, "--baud", "9600"])
     assert r.exit_code == 2
     assert "Invalid value for '--baud'" in r.output
+
+
+def test_an_id_change_with_json_needs_yes() -> None:
+    """With --json there is no one to ask, and it renamed every servo on the wire unasked."""
+    r = CliRunner().invoke(cli, ["ics", "--port", "icsemu://", "--json", "id", "--set", "5"])
+    assert r.exit_code == 2 and "give --yes" in r.output, r.output
+    r = CliRunner().invoke(
+        cli, ["ics", "--port", "icsemu://", "--json", "id", "--set", "5", "--yes"]
+    )
+    assert r.exit_code == 0 and json.loads(r.output)["id"] == 5, r.output
+
+
+def test_the_ics_tools_never_take_the_boards_port(monkeypatch: pytest.MonkeyPatch) -> None:
+    """$RCB4HV_PORT is the board's: the ICS tools sent ICS bytes to an RCB-4 there."""
+    monkeypatch.setenv("RCB4HV_PORT", "rcb4emu://")
+    monkeypatch.delenv("RCB4HV_ICS_PORT", raising=False)
+    monkeypatch.setattr("rcb4hv.transport.serial_port.find_kondo_ports", lambda: [])
+    r = CliRunner().invoke(cli, ["ics", "scan"])
+    assert r.exit_code == 1 and "$RCB4HV_ICS_PORT" in r.output and "icsemu://" in r.output

@@ -61,11 +61,15 @@ class IcsTarget:
         from rcb4hv.transport import SerialTransport
         from rcb4hv.transport.serial_port import resolve_port
 
-        url = resolve_port(self.port)
-        if self.via_board:
+        if self.via_board:  # the board's port
+            url = resolve_port(self.port)
             return IcsBus(BoardIcsLink(SerialTransport.open(url, self.baud), self.line))
-        return IcsBus.open(url, self.baud)
+        # the adapter in ICS mode: never the board's $RCB4HV_PORT (ICS bytes to an RCB-4)
+        return IcsBus.open(resolve_port(self.port, ICS_PORT_ENV, "icsemu://"), self.baud)
 
+
+ICS_PORT_ENV = "RCB4HV_ICS_PORT"
+"""The ICS tools' default port (the adapter in ICS mode), apart from the board's."""
 
 PORT_HELP = (
     "The adapter in ICS mode (/dev/ttyUSB0), a pty or socket:// of `rcb4hv emulate-ics`, "
@@ -82,7 +86,7 @@ def _target_options(func: F, *, group: bool) -> F:
     options = [
         click.option(
             "--port",
-            envvar="RCB4HV_ICS_PORT" if group else None,
+            envvar=ICS_PORT_ENV if group else None,
             default=None,
             metavar="URL",
             help=PORT_HELP,
@@ -233,7 +237,9 @@ def id_cmd(target: IcsTarget, new_id: int | None, yes: bool) -> None:
         if new_id is None:
             print_json({"id": old}) if target.as_json else click.echo(old)
             return
-        if not yes and not target.as_json:
+        if not yes and target.as_json:  # no one to ask: a rename of every servo on the wire
+            raise click.UsageError("--json cannot ask: give --yes to change the ID")
+        if not yes:
             click.confirm(
                 f"Only ONE servo may be on the bus: every servo connected takes the new ID.\n"
                 f"Change ID {old} -> {new_id}?",

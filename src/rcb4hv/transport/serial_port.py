@@ -89,18 +89,20 @@ def find_kondo_ports() -> list[str]:
     return sorted(found)
 
 
-def resolve_port(port: str | None) -> str:
-    """The URL to open: ``port`` if given, else ``$RCB4HV_PORT``, else the one Kondo adapter."""
+def resolve_port(port: str | None, env: str = PORT_ENV, emulator: str = "rcb4emu://") -> str:
+    """The URL to open: ``port`` if given, else ``$RCB4HV_PORT`` (``env``: another variable,
+    e.g. the ICS tools' ``RCB4HV_ICS_PORT``), else the one Kondo adapter. ``emulator``: the
+    URL the error suggests."""
     if port:
         return port
-    env = os.environ.get(PORT_ENV)
-    if env:
-        return env
+    value = os.environ.get(env)
+    if value:
+        return value
     found = find_kondo_ports()
     if not found:
         raise TransportError(
             "no Kondo USB adapter (VID 165C, PID 0008/0007) found; "
-            f"give a port (--port URL or ${PORT_ENV}), e.g. /dev/ttyUSB0 or rcb4emu://"
+            f"give a port (--port URL or ${env}), e.g. /dev/ttyUSB0 or {emulator}"
         )
     if len(found) > 1:
         log.warning("several Kondo adapters found (%s); using %s", ", ".join(found), found[0])
