@@ -76,3 +76,13 @@ def test_the_ics_tools_never_take_the_boards_port(monkeypatch: pytest.MonkeyPatc
     monkeypatch.setattr("rcb4hv.transport.serial_port.find_kondo_ports", lambda: [])
     r = CliRunner().invoke(cli, ["ics", "scan"])
     assert r.exit_code == 1 and "$RCB4HV_ICS_PORT" in r.output and "icsemu://" in r.output
+
+
+def test_two_servos_on_the_line_give_no_wrong_id() -> None:
+    """Two servos answer an ID read at once and their answers AND into an ID neither has:
+    `ics id` printed 0 with exit 0, and `--set` renamed both "from 0"."""
+    for args in (["id"], ["id", "--set", "7", "--yes"]):
+        r = CliRunner().invoke(cli, ["ics", "--port", "icsemu://?ids=1,2", *args])
+        assert r.exit_code == 1 and "more than one servo on the line" in r.output, r.output
+    r = CliRunner().invoke(cli, ["ics", "--port", "icsemu://?ids=3", "id"])
+    assert r.exit_code == 0 and r.output.strip() == "3", r.output

@@ -226,10 +226,19 @@ class IcsBus:
         return found
 
     def read_id(self) -> int:
-        """The ID of the one servo on the bus (with several, the answers collide)."""
+        """The ID of the one servo on the bus, checked: that ID answers a stretch read. With
+        several servos the answers collide on the wire and AND into an ID none of them may
+        have: :class:`~rcb4hv.errors.IcsError` then, not a wrong ID."""
         command = encode_id_read()
         reply = decode_reply(command, self.link.exchange(command))
         assert isinstance(reply, IdReply)
+        try:
+            self.servo(reply.servo_id).stretch()
+        except IcsNoReply:
+            raise IcsError(
+                f"the ID read back, {reply.servo_id}, does not answer: more than one servo on "
+                "the line? Connect only the one to read (or rename)"
+            ) from None
         return reply.servo_id
 
     def write_id(self, new_id: int) -> int:
