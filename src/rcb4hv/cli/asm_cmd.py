@@ -10,7 +10,7 @@ import click
 
 from rcb4hv.asm import assemble, disassemble, disassemble_frames, disassemble_image
 from rcb4hv.cli.decode_cmd import parse_hex
-from rcb4hv.errors import AsmError
+from rcb4hv.errors import AsmError, Rcb4Error
 from rcb4hv.files import write_atomic
 
 
@@ -148,7 +148,9 @@ def disasm(
         if image is not None:
             if origin is not None:
                 _fail("--origin does not apply to --image")
-            text = disassemble_image(Path(image).read_bytes(), **kw)
+            data = Path(image).read_bytes()
+            _warn_older_layout(image, data)
+            text = disassemble_image(data, **kw)
         elif project is not None:
             assert motion is not None
             text = _project_motion(project, motion, origin, labels=not no_labels, **kw)
@@ -169,6 +171,24 @@ def disasm(
         _write(output, text)
     else:
         click.echo(text, nl=False)
+
+
+def _warn_older_layout(name: str, data: bytes) -> None:
+    """``disasm --image`` names the regions of a HeartToHeart4 2.2 image: say so for an image
+    in an older layout (its motions sit elsewhere; the frames are still right)."""
+    from rcb4hv.project.relocate import image_layout
+
+    try:
+        layout = image_layout(data)
+    except (ValueError, Rcb4Error):
+        return  # no HeartToHeart4 layout found: disassemble_image says what is wrong
+    if layout.version != "2.2":
+        click.echo(
+            f"warning: {name} is a HeartToHeart4 {layout.version} image; the regions below "
+            "are named as in 2.2 (its motions start elsewhere: `rcb4hv project image` lists "
+            "them)",
+            err=True,
+        )
 
 
 def _project_motion(
