@@ -141,11 +141,16 @@ class _Sliders:
             if now - self.touched.get(s.ics, 0.0) < FOLLOW_AFTER_S:
                 continue
             if abs(float(slider.value) - s.degrees) >= SLIDER_STEP:
-                self.following.add(s.ics)
-                try:
-                    slider.value = round(s.degrees, 1)
-                finally:
-                    self.following.discard(s.ics)
+                self.show(s.ics, round(s.degrees, 1))
+
+    def show(self, ics: int, degrees: float) -> None:
+        """Set slider ``ics`` to ``degrees`` without sending a move (the servo is there, or
+        the board takes it there)."""
+        self.following.add(ics)
+        try:
+            self.by_ics[ics].value = degrees
+        finally:
+            self.following.discard(ics)
 
 
 def _servo_controls(ctx: UiContext, ics: int, degrees: float, sliders: _Sliders) -> None:
@@ -186,9 +191,5 @@ def _servo_controls(ctx: UiContext, ics: int, degrees: float, sliders: _Sliders)
 
 async def _neutral(ctx: UiContext, sliders: _Sliders) -> None:
     await guarded(ctx.session.submit(lambda r: r.neutral(duration=0.5)), "neutral")
-    for ics, slider in sliders.by_ics.items():
-        sliders.following.add(ics)  # the board moves them: the sliders show it, send nothing
-        try:
-            slider.set_value(0.0)
-        finally:
-            sliders.following.discard(ics)
+    for ics in sliders.by_ics:
+        sliders.show(ics, 0.0)  # the board moves them there
