@@ -86,3 +86,14 @@ def test_two_servos_on_the_line_give_no_wrong_id() -> None:
         assert r.exit_code == 1 and "more than one servo on the line" in r.output, r.output
     r = CliRunner().invoke(cli, ["ics", "--port", "icsemu://?ids=3", "id"])
     assert r.exit_code == 0 and r.output.strip() == "3", r.output
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [(["set", "speed=0", "--live"], "speed 0 is not 1..127"), (["set", "reverse=2"], "flag")],
+)
+def test_a_setting_the_servo_cannot_hold_is_refused(args: list[str], said: str) -> None:
+    """A live speed of 0 skipped the 1..127 check (and failed on the servo's silence); a
+    reverse flag of 2 was stored as 1."""
+    r = CliRunner().invoke(cli, ["ics", "--port", "icsemu://?ids=0", *args])
+    assert r.exit_code == 1 and said in r.output, r.output

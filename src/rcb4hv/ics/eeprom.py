@@ -162,6 +162,8 @@ class Eeprom:
         data = bytearray(self.data)
         for name, value in values.items():
             if name in FLAG_BITS:
+                if value not in (0, 1):
+                    raise ValueError(f"{name} is a flag: 0 or 1, not {value!r}")
                 flags = unpack_nibbles(data[FIELD["flags"].span])
                 bit = 1 << FLAG_BITS[name]
                 flags = (flags | bit) if value else (flags & ~bit)

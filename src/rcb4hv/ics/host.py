@@ -39,7 +39,7 @@ from rcb4hv.ics.codec import (
     encode_read,
     encode_write,
 )
-from rcb4hv.ics.eeprom import FLAG_BITS, Eeprom
+from rcb4hv.ics.eeprom import FIELD, FLAG_BITS, Eeprom
 from rcb4hv.ics.link import IcsLink, SerialIcsLink
 from rcb4hv.transport import SerialTransport
 
@@ -166,6 +166,8 @@ class IcsServo:
             bad = set(values) - set(LIVE)
             if bad:
                 raise ValueError(f"only {sorted(LIVE)} have live writes, not {sorted(bad)}")
+            for name, v in values.items():  # the EEPROM's ranges, checked before a byte goes
+                FIELD[name].encode(v)
             changes: dict[str, tuple[int | None, int | None]] = {}
             for name, v in values.items():
                 before = self.read(LIVE[name])
