@@ -185,3 +185,18 @@ def test_moves_to_the_host_and_arithmetic_on_rom_encode_back() -> None:
     assert [b.kind for b in program.blocks] == ["move", "arith", "arith", "arith"]
     assert program.blocks[0].fields == {"dst": "COM", "src": "VAR0", "size": 2}
     assert compile_program(project, 1, program) == frames
+
+
+@pytest.mark.parametrize(
+    ("hex_", "said"),
+    [("03 FE", "not whole command frames"), ("03 FE 02", "checksum"), ("zz", "non-hexadecimal")],
+)
+def test_a_raw_block_is_whole_frames(hex_: str, said: str) -> None:
+    """A raw block that is no whole frame was imported, and the build then refused the
+    project it had written."""
+    project = one_motion_project((b"\x03\x0d\x10\xff",))
+    program = Program(blocks=(Block("raw", {"hex": hex_}), Block("end", {})))
+    with pytest.raises(EditError, match=said):
+        compile_program(project, 1, program)
+    ok = Program(blocks=(Block("raw", {"hex": "03 FE 01"}), Block("end", {})))
+    assert compile_program(project, 1, ok)[0] == bytes.fromhex("03 FE 01")

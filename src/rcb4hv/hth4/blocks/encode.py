@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from rcb4hv.errors import EditError
+from rcb4hv.errors import EditError, ProtocolError
 from rcb4hv.hth4.blocks.fields import Fields
 from rcb4hv.hth4.blocks.kinds import (
     BRANCH_KINDS,
@@ -43,6 +43,7 @@ from rcb4hv.protocol import (
     Shift,
     Sub,
 )
+from rcb4hv.protocol.frame import split_frames
 from rcb4hv.protocol.memory import Button
 
 __all__ = ["encode_block"]
@@ -177,9 +178,16 @@ def encode_block(block: Block, resolve: Resolver, where: str, here: int = 0) -> 
         return _wait(f, here)
     if kind == "raw":
         try:
-            return (bytes.fromhex(f.text("hex")),)
-        except ValueError as exc:
+            data = bytes.fromhex(f.text("hex"))
+            frames, tail = split_frames(data)
+        except (ValueError, ProtocolError) as exc:  # not hex; a frame whose checksum is wrong
             raise EditError(f"{f.path('hex')}: {exc}") from None
+        if not frames or tail not in (b"", END):  # the build would refuse the project
+            raise EditError(
+                f"{f.path('hex')}: not whole command frames ({len(tail)} byte(s) after "
+                f"{len(frames)} frame(s))"
+            )
+        return (data,)
     if kind == "end":
         return (Return().encode() + END,)
     if kind == "return":
