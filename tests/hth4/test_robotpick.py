@@ -65,14 +65,19 @@ def test_every_caller_uses_the_same_rule(project: hth4.Project) -> None:
     assert physics_robot(None, rom, "kxr-l2-gripper").name == "kxr-l2-gripper"
 
 
-def test_the_editor_refuses_a_named_model_the_project_cannot_drive(project: hth4.Project) -> None:
+def test_the_editor_does_not_drive_a_project_with_a_named_model_it_cannot(
+    project: hth4.Project,
+) -> None:
+    """`rcb4hv ui --robot khr3hv` and a KXR-L2 project: not the KHR-3HV but the detected
+    model, with the reason in a note (the Editor had no model and asked for --robot)."""
     from rcb4hv.hth4 import dump_project
     from rcb4hv.robot.builtin import load_builtin
     from rcb4hv.ui.editor_state import Editor
 
     ed = Editor()
     ed.open(dump_project(project), None, load_builtin("khr3hv"))  # `rcb4hv ui --robot khr3hv`
-    assert ed.model is None and "no servo at index 0 (head_yaw)" in ed.model_error
+    assert ed.model is not None and ed.model.name == "kxr-l2-gripper" and not ed.model_error
+    assert "no servo at index 0 (head_yaw)" in ed.model_note
     ed.open(dump_project(project), None, load_builtin("kxr-l2"))
     assert ed.model is not None and ed.model.name == "kxr-l2" and not ed.model_error
     assert project_model(project, load_builtin("kxr-l2")) is load_builtin("kxr-l2")

@@ -103,18 +103,3 @@ def test_opening_a_project_detects_its_robot_once(monkeypatch: pytest.MonkeyPatc
     ctx = UiContext(SimpleNamespace(state=SimpleNamespace(servos=[])), auto_robot=True)  # type: ignore[arg-type]
     ctx.set_project(_ambiguous_turtle(), "turtle.h4p")
     assert set(ctx.robot_candidates) == {"kxr:L4T", "kxr:L4N"} and len(calls) == 1
-
-
-def test_the_editor_uses_the_detected_robot_when_the_named_one_does_not_fit(
-    kxr_project_path: Path,
-) -> None:
-    """``rcb4hv ui --robot khr3hv`` and a KXR-L2 project in the Editor: the detected model,
-    with a note saying why (the Editor had no model and told the user to name one with
-    --robot, which they had)."""
-    from rcb4hv.ui.editor_state import Editor
-
-    ed = Editor()
-    ed.open(kxr_project_path.read_bytes(), kxr_project_path, load_builtin("khr3hv"))
-    assert ed.model is not None and ed.model.name == "kxr-l2-gripper"
-    assert ed.model_note.startswith("--robot khr3hv does not fit this project")
-    assert ed.model_error == ""
