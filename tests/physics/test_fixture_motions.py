@@ -196,7 +196,7 @@ def test_the_cli_reports_physics_in_json(tmp_path: Path) -> None:
         (["--physics", "--sequence", "13,200"], "motion slots are 1-120"),
         (["--what-if", "friction=0.5"], "add --physics"),
         (["--physics", "--what-if", "grip=2"], "NAME one of stiffness"),
-        (["--physics", "--what-if", "friction=-1"], "finite factor > 0"),
+        (["--physics", "--what-if", "friction=-1"], "a factor of 0.01..100"),
     ],
 )
 def test_the_cli_refuses_bad_physics_options(args: list[str], message: str) -> None:
