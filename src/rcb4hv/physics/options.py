@@ -16,11 +16,14 @@ from dataclasses import dataclass, fields, replace
 
 from rcb4hv.physics.sensors import SensorLayout
 
-__all__ = ["FACTOR_RANGE", "NOT_FACTORS", "PhysicsOptions"]
+__all__ = ["FACTOR_RANGE", "MAY_BE_OFF", "NOT_FACTORS", "PhysicsOptions"]
 
 FACTOR_RANGE = (0.01, 100.0)
 """What a factor on a documented figure may be: a what-if, not another world (a mass x 1e9
 made MuJoCo's state NaN, x 1e-6 turned the robot 7565 degrees)."""
+MAY_BE_OFF = ("servo_damping",)
+"""Factors that may be 0: the servo controller's braking switched off is a what-if worth
+asking (tests/physics/test_servo_braking.py)."""
 
 NOT_FACTORS = (
     "floor_tilt_deg",
@@ -94,10 +97,11 @@ class PhysicsOptions:
             if f.name in NOT_FACTORS:
                 continue
             v = getattr(self, f.name)
-            if not isinstance(v, (int, float)) or not FACTOR_RANGE[0] <= v <= FACTOR_RANGE[1]:
+            lo = 0.0 if f.name in MAY_BE_OFF else FACTOR_RANGE[0]
+            if not isinstance(v, (int, float)) or not lo <= v <= FACTOR_RANGE[1]:
                 raise ValueError(
-                    f"PhysicsOptions.{f.name} must be a factor of {FACTOR_RANGE[0]:g}.."
-                    f"{FACTOR_RANGE[1]:g}, not {v!r}"
+                    f"PhysicsOptions.{f.name} must be a factor of {lo:g}..{FACTOR_RANGE[1]:g}, "
+                    f"not {v!r}"
                 )
 
     def changed(self) -> tuple[tuple[str, float], ...]:
