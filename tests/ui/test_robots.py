@@ -103,3 +103,21 @@ def test_opening_a_project_detects_its_robot_once(monkeypatch: pytest.MonkeyPatc
     ctx = UiContext(SimpleNamespace(state=SimpleNamespace(servos=[])), auto_robot=True)  # type: ignore[arg-type]
     ctx.set_project(_ambiguous_turtle(), "turtle.h4p")
     assert set(ctx.robot_candidates) == {"kxr:L4T", "kxr:L4N"} and len(calls) == 1
+
+
+def test_a_robot_named_for_the_dashboard_yields_to_a_project_it_does_not_fit(
+    kxr_project_path: Path,
+) -> None:
+    """`rcb4hv ui --robot khr3hv` and a KXR-L2 project: every page, not the Editor alone, uses
+    the detected model and says why (the Project page kept the KHR-3HV); a project it fits
+    keeps it."""
+    from rcb4hv.hth4 import load_project
+
+    ctx = UiContext(SimpleNamespace(state=SimpleNamespace(servos=[])))  # type: ignore[arg-type]
+    ctx.choose_robot("khr3hv")
+    assert ctx.robot is not None and ctx.robot.name == "khr3hv"
+    ctx.set_project(load_project(kxr_project_path), "kxr.h4p")
+    assert ctx.robot is not None and ctx.robot.name == "kxr-l2-gripper"
+    assert ctx.robot_source.startswith("detected from the project; --robot khr3hv does not fit")
+    ctx.set_project(None)
+    assert ctx.robot.name == "khr3hv" and ctx.robot_source == "--robot khr3hv"

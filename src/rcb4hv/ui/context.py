@@ -112,14 +112,19 @@ class UiContext:
     robot_candidates: tuple[str, ...] = ()
     """The models the open project fits when detection must ask (none picked yet): the
     dashboard does not play the project on a model it did not pick (:meth:`pick_robot`)."""
+    robot_spec: str | None = None
+    """``rcb4hv ui --robot``: the model every page uses while it fits the open project
+    (:func:`rcb4hv.ui.robots.named_or_detected`)."""
     max_upload: int = MAX_UPLOAD
     _listeners: list[Callable[[], None]] = field(default_factory=list)
 
     def choose_robot(self, spec: str | None = None) -> None:
-        """Choose the model from ``spec`` (``--robot``), the open project or the board."""
+        """Choose the model from ``spec`` (``--robot``, kept for the next project), the open
+        project or the board."""
+        self.robot_spec = spec if spec is not None else self.robot_spec
         indices = [s.ics for s in self.session.state.servos]
         self.robot, self.robot_source, self.robot_candidates = choose_robot(
-            spec, self.project, indices
+            self.robot_spec, self.project, indices
         )
 
     @property
@@ -154,7 +159,7 @@ class UiContext:
 
     def set_project(self, project: Project | None, name: str = "") -> None:
         self.project, self.project_name = project, name
-        if self.auto_robot:
+        if self.auto_robot or self.robot_spec is not None:
             self.choose_robot()
         self._notify()
 

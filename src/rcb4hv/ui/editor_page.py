@@ -40,7 +40,6 @@ from rcb4hv.hth4.edit import (
     new_motion_at_home,
     set_pose,
 )
-from rcb4hv.robot import RobotModel
 from rcb4hv.ui import flow_editor, trim_panel
 from rcb4hv.ui.context import UiContext, attempt, guard_leaving, on_commit, tid
 from rcb4hv.ui.editor_play import play_on_board
@@ -176,11 +175,10 @@ class EditorPage:
             self.fail(exc)
         self.redraw()
 
-    def named_robot(self) -> RobotModel | None:
-        """The model given with ``rcb4hv ui --robot``; otherwise None: the editor detects
+    def named_robot(self) -> str | None:
+        """The model named with ``rcb4hv ui --robot``; otherwise None: the editor detects
         the robot from the project it edits (a default model must not drive a mirror)."""
-        ctx = self.ctx
-        return ctx.robot if ctx.robot_source.startswith("--robot") else None
+        return self.ctx.robot_spec
 
     def open_path(self) -> None:
         if not (self.path_in.value or "").strip():

@@ -26,6 +26,7 @@ from rcb4hv.protocol import POSITION_MAX, POSITION_MIN
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 from rcb4hv.robot import RobotModel
 from rcb4hv.robot.servos import TRAVEL_DEG
+from rcb4hv.ui.robots import named_or_detected
 
 __all__ = ["Editor", "JointRow"]
 
@@ -62,7 +63,9 @@ class Editor:
 
     # ------------------------------------------------------------------ opening
 
-    def open(self, data: bytes, path: Path | None = None, model: RobotModel | None = None) -> None:
+    def open(
+        self, data: bytes, path: Path | None = None, model: RobotModel | str | None = None
+    ) -> None:
         """Edit the project file ``data`` (read from ``path``, where Save writes) with
         ``model`` (``--robot``), else the model detected from it: the rule of
         :mod:`rcb4hv.hth4.robotpick` (a model needing servos the project lacks is refused)."""
@@ -71,26 +74,17 @@ class Editor:
         self.model, self.model_error, self.model_candidates = None, "", ()
         self.model_note = ""
         try:
-            self.model = project_model(self.session.project, model)
+            if model is None:
+                self.model = project_model(self.session.project)
+            else:  # the dashboard's one rule for --robot and a project it may not fit
+                self.model, why = named_or_detected(model, self.session.project)
+                self.model_note = f"{why}: the Editor uses {self.model.name}" if why else ""
         except AmbiguousRobotError as exc:
             self.model_error, self.model_candidates = str(exc), exc.candidates
         except Rcb4Error as exc:
             self.model_error = str(exc)
-            if model is not None:  # --robot names a robot this project is not for
-                self.open_detected(f"--robot {model.name} does not fit this project ({exc})")
         used = self.project.used_motions
         self.select(used[0].slot if used else None)
-
-    def open_detected(self, why: str) -> None:
-        """The model detected from the project, since the one named does not fit (``why``)."""
-        try:
-            self.model = project_model(self.project)
-        except AmbiguousRobotError as exc:
-            self.model_error, self.model_candidates = f"{why}; {exc}", exc.candidates
-        except Rcb4Error as exc:
-            self.model_error = f"{why}; {exc}"
-        else:
-            self.model_error, self.model_note = "", f"{why}: the Editor uses {self.model.name}"
 
     def pick_robot(self, name: str) -> None:
         """Use model ``name`` (one of :attr:`model_candidates`, as ``--robot`` would)."""

@@ -19,13 +19,13 @@ import logging
 from collections.abc import Iterable
 from typing import NamedTuple
 
-from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError
+from rcb4hv.errors import AmbiguousRobotError, NoRobotModelError, RobotModelError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.robot import RobotModel
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 
-__all__ = ["DEFAULT_ROBOT", "RobotChoice", "board_robot", "choose_robot"]
+__all__ = ["DEFAULT_ROBOT", "RobotChoice", "board_robot", "choose_robot", "named_or_detected"]
 
 log = logging.getLogger(__name__)
 
@@ -58,12 +58,33 @@ class RobotChoice(NamedTuple):
     candidates: tuple[str, ...] = ()
 
 
+def named_or_detected(named: str | RobotModel, project: Project) -> tuple[RobotModel, str]:
+    """``--robot``'s model (a name or a loaded model) when it fits ``project``, else the model
+    detected from the project and why the named one was not taken (the one rule for every
+    page: a KHR-3HV named for a KXR-L2 project draws and plays nothing the project drives).
+    Raises what detection raises when the named model does not fit and none is detected."""
+    try:
+        return project_model(project, named), ""
+    except RobotModelError as exc:
+        name = named if isinstance(named, str) else named.name
+        return project_model(project), f"--robot {name} does not fit this project ({exc})"
+
+
 def choose_robot(
     spec: str | None, project: Project | None, board_indices: Iterable[int]
 ) -> RobotChoice:
     """The model by the rules of this module, from one detection of the project; ``spec`` is
     ``--robot`` (raises :class:`~rcb4hv.errors.RobotModelError` when it names no robot)."""
     if spec is not None:
+        if project is not None:
+            try:
+                model, why = named_or_detected(spec, project)
+            except RobotModelError:  # nothing fits better: the named model, as given
+                log.info("--robot %s does not fit the open project, nor does any", spec)
+            else:
+                return RobotChoice(
+                    model, f"detected from the project; {why}" if why else f"--robot {spec}"
+                )
         return RobotChoice(project_model(None, spec), f"--robot {spec}")
     asks = ""
     candidates: tuple[str, ...] = ()
