@@ -147,3 +147,17 @@ def test_labels_inside_long_runs(fill: int) -> None:
     image[start : start + len(data)] = data
     image_text = disassemble_image(bytes(image))
     assert assemble(image_text).image() == bytes(image)
+
+
+def test_a_frame_with_a_bad_checksum_is_named_and_round_trips() -> None:
+    """A damaged command frame is kept as bytes (it must assemble back the same) with a note
+    that it is a frame with a bad checksum, not data (it became plain ``.byte`` before)."""
+    good = bytes.fromhex("070B4B04000566")
+    bad = good[:-1] + b"\x67"
+    text = disassemble(bad + bytes.fromhex("030D10"))
+    assert "000000: 7-byte frame with a bad checksum 67 (the sum is 66)" in text
+    assert "RETURN" in text
+    assert assemble(text).data == bad + bytes.fromhex("030D10")
+    assert "bad checksum" not in disassemble(good)
+    # bytes that are no frame whatever their sum get no such note
+    assert "bad checksum" not in disassemble(bytes.fromhex("07FF4B04000567"))

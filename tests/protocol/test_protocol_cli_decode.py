@@ -38,8 +38,27 @@ def test_json_output_has_command_and_fields() -> None:
 def test_bad_checksum_is_one_line_error() -> None:
     code, out, err = run("07 0F 02 1E 4C 1D 00")
     assert code == 1
-    assert out == ""
+    assert "not decoded: bad checksum 00, the sum of the other bytes is 9F" in out
     assert err.count("\n") == 1 and "checksum" in err
+
+
+def test_decoding_goes_on_after_a_bad_frame() -> None:
+    """Captured traffic with one damaged frame: every other frame is still decoded, and
+    each bad one is reported with its offset (the decoder stopped at the first before)."""
+    good, bad = "07 0F 02 1E 4C 1D 9F", "07 0F 02 1E 4C 1D 9E"
+    code, out, err = run(good, bad, "00 01", "03 0D 10", bad)
+    assert code == 1
+    assert out.count("RunSingleServo") == 1 and "Return" in out
+    lines = err.splitlines()
+    assert lines == [
+        "error: byte 7: 07 0F 02 1E 4C 1D 9E: bad checksum 9E, the sum of the other bytes is 9F",
+        "error: byte 14: 2 bytes skipped: no frame starts there (00 01)",
+        "error: byte 19: 07 0F 02 1E 4C 1D 9E: bad checksum 9E, the sum of the other bytes is 9F",
+    ]
+    code, out, _ = run("--json", bad, "03 0D 10")
+    first, second = (json.loads(line) for line in out.splitlines())
+    assert first["offset"] == 0 and "bad checksum" in str(first["error"])
+    assert second["command"] == "Return"
 
 
 def test_truncated_frame_reports_offset() -> None:

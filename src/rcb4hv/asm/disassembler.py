@@ -13,7 +13,7 @@ from typing import Final
 
 from rcb4hv.asm.symbols import field_text, ram_text
 from rcb4hv.asm.syntax import SHIFT_LEFT, SHIFT_RIGHT, condition_text, position_text, rom_text
-from rcb4hv.errors import ProtocolError
+from rcb4hv.errors import ChecksumError, ProtocolError
 from rcb4hv.protocol import (
     ADDR,
     ROM_SIZE,
@@ -40,6 +40,7 @@ from rcb4hv.protocol import (
     Shift,
     Source,
     SystemRegister,
+    checksum,
     decode_command,
     encode_command,
     frame_at,
@@ -172,22 +173,45 @@ class SweepItem:
     address: int
     data: bytes
     command: Command | None
+    note: str = ""
+    """Why the bytes here are not an instruction, when they nearly are (a bad checksum)."""
+
+
+def _bad_sum_note(data: bytes, i: int) -> str:
+    """A note when the frame its SIZE byte spans at ``data[i]`` would be a command but for its
+    checksum (a damaged frame, not data), else ""."""
+    size = data[i]
+    frame = data[i : i + size]
+    if size < 3 or len(frame) < size:
+        return ""
+    fixed = frame[:-1] + bytes((checksum(frame[:-1]),))
+    try:
+        decode_command(fixed)
+    except ProtocolError:
+        return ""
+    return (
+        f"{size}-byte frame with a bad checksum {frame[-1]:02X} (the sum is "
+        f"{fixed[-1]:02X}): kept as bytes"
+    )
 
 
 def sweep(data: bytes, origin: int) -> list[SweepItem]:
     items: list[SweepItem] = []
     i, n = 0, len(data)
     while i < n:
+        note = ""
         try:
             frame = frame_at(data, i)
             cmd: Command | None = decode_command(frame)
+        except ChecksumError:
+            cmd, note = None, _bad_sum_note(data, i)
         except ProtocolError:
             cmd = None
         if cmd is not None and encode_command(cmd) == frame:
             items.append(SweepItem(origin + i, frame, cmd))
             i += len(frame)
             continue
-        items.append(SweepItem(origin + i, data[i : i + 1], None))
+        items.append(SweepItem(origin + i, data[i : i + 1], None, note))
         i += 1
     return items
 
@@ -304,6 +328,9 @@ class Listing:
                     break
                 k += 1
             data = b"".join(it.data for it in items[start:k])
+            for it in items[start:k]:
+                if it.note:
+                    self.comment(f"{it.address:06X}: {it.note}")
             address = item.address
             if start > 0 and isinstance(items[start - 1].command, Return) and data[0] == 0xFF:
                 self.raw(address, data[:1], f"{address:06X}  end-of-motion marker")

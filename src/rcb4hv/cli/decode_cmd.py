@@ -9,8 +9,9 @@ import sys
 import click
 
 from rcb4hv.errors import ProtocolError
-from rcb4hv.protocol import NEED_DATA, FrameDecoder, decode_command
+from rcb4hv.protocol import decode_command
 from rcb4hv.protocol.describe import command_fields, describe_command
+from rcb4hv.protocol.frame import MIN_FRAME_SIZE, checksum, sum_ok
 
 _HEX_NOISE = re.compile(r"0x|[\s,:;\-]", re.IGNORECASE)
 
@@ -33,39 +34,74 @@ def _reply_text(frame: bytes) -> str | None:
     return None
 
 
-def decode_stream(data: bytes) -> tuple[list[dict[str, object]], str | None]:
-    """Split ``data`` into frames and decode each; the second item is the first error, if any."""
-    decoder = FrameDecoder(max_size=255, resync="frame")
-    decoder.receive_data(data)
+def _skipped(offset: int, data: bytes) -> dict[str, object]:
+    """An entry for bytes no frame starts at (noise between frames, a lost SIZE byte)."""
+    n = len(data)
+    return {
+        "offset": offset,
+        "hex": data.hex(" ").upper(),
+        "error": f"{n} byte{'s' if n > 1 else ''} skipped: no frame starts there",
+    }
+
+
+def decode_stream(data: bytes) -> tuple[list[dict[str, object]], list[str]]:
+    """Split ``data`` into frames and decode each, resynchronising after a bad one.
+
+    Returns the entries in order (a frame that does not decode, or bytes no frame starts at,
+    is an entry with an ``error``) and the errors, each prefixed with its byte offset. A
+    frame with a bad checksum is skipped whole (its SIZE byte is trusted) and decoding goes
+    on after it; a byte that cannot start a frame is skipped alone.
+    """
     out: list[dict[str, object]] = []
+    errors: list[str] = []
+    skipped = bytearray()
+
+    def flush(at: int) -> None:
+        if skipped:
+            entry = _skipped(at - len(skipped), bytes(skipped))
+            out.append(entry)
+            errors.append(f"byte {entry['offset']}: {entry['error']} ({entry['hex']})")
+            skipped.clear()
+
     offset = 0
-    while True:
-        try:
-            frame = decoder.next_frame()
-        except ProtocolError as exc:
-            return out, f"byte {offset}: {exc}"
-        if frame is NEED_DATA:
-            rest = decoder.reset()
-            if rest:
-                return out, (
-                    f"byte {offset}: truncated frame {rest.hex(' ').upper()} "
-                    f"(size byte says {rest[0]}, {len(rest)} given)"
-                )
-            return out, None
-        assert isinstance(frame, bytes)
+    while offset < len(data):
+        size = data[offset]
+        if size < MIN_FRAME_SIZE:
+            skipped.append(size)
+            offset += 1
+            continue
+        flush(offset)
+        frame = data[offset : offset + size]
+        if len(frame) < size:
+            why = f"truncated frame (size byte says {size}, {len(frame)} given)"
+            errors.append(f"byte {offset}: {why} {frame.hex(' ').upper()}")
+            out.append({"offset": offset, "hex": frame.hex(" ").upper(), "error": why})
+            break
         entry: dict[str, object] = {"offset": offset, "hex": frame.hex(" ").upper()}
-        try:
-            cmd = decode_command(frame)
-        except ProtocolError as exc:
-            reply = _reply_text(frame)
-            if reply is None:
-                return out, f"byte {offset}: {frame.hex(' ').upper()}: {exc}"
-            entry.update({"reply": reply, "text": reply})
+        if not sum_ok(frame):
+            why = (
+                f"bad checksum {frame[-1]:02X}, the sum of the other bytes is "
+                f"{checksum(frame[:-1]):02X}"
+            )
+            entry["error"] = why
+            errors.append(f"byte {offset}: {frame.hex(' ').upper()}: {why}")
         else:
-            entry.update(command_fields(cmd))
-            entry["text"] = describe_command(cmd)
+            try:
+                cmd = decode_command(frame)
+            except ProtocolError as exc:
+                reply = _reply_text(frame)
+                if reply is None:
+                    entry["error"] = str(exc)
+                    errors.append(f"byte {offset}: {frame.hex(' ').upper()}: {exc}")
+                else:
+                    entry.update({"reply": reply, "text": reply})
+            else:
+                entry.update(command_fields(cmd))
+                entry["text"] = describe_command(cmd)
         out.append(entry)
-        offset += len(frame)
+        offset += size
+    flush(offset)
+    return out, errors
 
 
 @click.command("decode")
@@ -74,16 +110,22 @@ def decode_stream(data: bytes) -> tuple[list[dict[str, object]], str | None]:
 def decode(hex_words: tuple[str, ...], as_json: bool) -> None:
     """Decode RCB-4HV frames given in hex (captured traffic: several frames in a row are fine).
 
+    A frame that does not decode (a bad checksum, an unknown command) is reported and
+    decoding goes on after it; the exit status is then 1.
+
     Example: rcb4hv decode 07 0F 02 1E 4C 1D 9F
     """
-    entries, error = decode_stream(parse_hex(hex_words))
+    entries, errors = decode_stream(parse_hex(hex_words))
     for entry in entries:
         if as_json:
             click.echo(json.dumps(entry, ensure_ascii=False))
+        elif "error" in entry:
+            click.echo(f"{entry['hex']}\n  (not decoded: {entry['error']})")
         else:
             click.echo(f"{entry['hex']}\n  {entry['text']}")
-    if error:
+    for error in errors:
         click.echo(f"error: {error}", err=True)
+    if errors:
         sys.exit(1)
 
 
