@@ -105,7 +105,9 @@ def test_tune_keeps_the_best_candidate_and_writes_it(tmp_path: Path) -> None:
         return [{"fall_probability": 0.0, "dx_m": {"median": 0.05}}]
 
     base = default_params(KXR, "forward", steps=1)
-    best, tried = tune(KXR, base, trials=1, evaluations=4, run=fake)
+    result = tune(KXR, base, trials=1, evaluations=4, run=fake)
+    best, tried = result.best, result.tried
+    assert best is not None and not result.interrupted
     assert len(tried) >= 4
     assert best.score == min(c.score for c in tried)
     assert best.fall_probability == 0.0 and best.progress == pytest.approx(0.05)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 import time
 from pathlib import Path
 from typing import get_args
@@ -162,12 +163,15 @@ def tune_command(
     into: Path, slot: int | None, report: Path | None,
 ) -> None:  # fmt: skip
     """CMA-ES over lift, step time, double support and width: the walk that falls least over
-    TRIALS physics trials (docs/gait.md), stored in --into, with a --report."""
+    TRIALS physics trials (docs/gait.md), stored in --into, with a --report. A progress bar on
+    a terminal; Ctrl-C stops the search, stores the best walk so far and exits with 130."""
     from dataclasses import asdict
+
+    from tqdm import tqdm
 
     from rcb4hv.gait.generate import default_params, walk
     from rcb4hv.gait.motion import load_or_new, period_ms, walk_motion
-    from rcb4hv.gait.tune import tune
+    from rcb4hv.gait.tune import TuneProgress, planned, tune
     from rcb4hv.hth4 import dump_project
     from rcb4hv.hth4.keyframes import add_motion, free_slots
     from rcb4hv.project.relocate import project_layout
@@ -177,10 +181,27 @@ def tune_command(
     base = default_params(model, direction, steps=steps, stride=stride, turn=turn)
     project = load_or_new(into, model)  # a project for another robot: refused before the search
     period = period_ms(project)  # the candidates play as the walk will: at the project's period
-    best, tried = tune(
-        model, base, trials=trials, evaluations=evaluations, seed=seed, workers=workers,
-        use_ray=ray_address is not None, ray_address=ray_address or None, period_ms=period,
-    )  # fmt: skip
+    # the bar of `project robust`: none on a stderr that is no terminal (tqdm's disable=None)
+    with tqdm(total=planned(evaluations), unit="walk", disable=None, leave=False) as bar:
+
+        def show(p: TuneProgress) -> None:
+            bar.set_postfix_str(f"best {p.best.score:.3f}", refresh=False)
+            bar.update(p.done - bar.n)
+
+        result = tune(
+            model, base, trials=trials, evaluations=evaluations, seed=seed, workers=workers,
+            use_ray=ray_address is not None, ray_address=ray_address or None, period_ms=period,
+            progress=show,
+        )  # fmt: skip
+    best, tried = result.best, result.tried
+    stopped = (
+        f"interrupted after {len(tried)} of {result.planned} evaluations"
+        if result.interrupted
+        else ""
+    )
+    if best is None:  # interrupted before the first walk was scored
+        click.echo(f"{stopped}: no walk evaluated; {into} not written", err=True)
+        sys.exit(130)
     if slot is None:
         free = free_slots(project)
         slot = free[0] if free else 2
@@ -190,7 +211,8 @@ def tune_command(
     )  # fmt: skip
     write_atomic(into, dump_project(add_motion(project, motion)))
     doc = {
-        "robot": model.name, "trials": trials, "seed": seed,
+        "robot": model.name, "trials": trials, "seed": seed, "interrupted": result.interrupted,
+        "evaluations": len(tried),
         "best": {**asdict(best.params), "fall_probability": best.fall_probability,
                  "progress": best.progress, "score": best.score},
         "candidates": [{**asdict(c.params), "fall_probability": c.fall_probability,
@@ -200,8 +222,11 @@ def tune_command(
         write_atomic(report, json.dumps(doc, indent=2) + "\n")
     p = best.params
     click.echo(
-        f"{into}: motion {slot}: best of {len(tried)}: falls {best.fall_probability:.2f}, "
+        f"{into}: motion {slot}: best of {len(tried)}{f' ({stopped})' if stopped else ''}: "
+        f"falls {best.fall_probability:.2f}, "
         f"progress {best.progress:.3g} of {p.commanded:.3g}; lift {p.lift * 1000:.1f} mm, "
         f"step {p.step_time:.2f} s, double support {p.double_support:.2f}, "
         f"width {p.width * 1000:.1f} mm"
     )
+    if result.interrupted:
+        sys.exit(130)

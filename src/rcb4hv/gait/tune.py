@@ -9,6 +9,11 @@ stay fixed. Each candidate walk is played in :func:`rcb4hv.project.robust.robust
     fall probability + SHORTFALL_WEIGHT * max(0, 1 - median progress / commanded)
 
 so a walk that stands still by taking no step does not win.
+
+:func:`tune` reports each evaluated candidate to an optional ``progress`` callback
+(:class:`TuneProgress`) and, on Ctrl-C (a :class:`KeyboardInterrupt` anywhere in the search,
+the callback included), stops and returns what it has: the best so far, in a
+:class:`TuneResult` marked ``interrupted``.
 """
 
 from __future__ import annotations
@@ -26,7 +31,18 @@ from rcb4hv.hth4.keyframes import add_motion
 from rcb4hv.hth4.newproject import new_project, set_output_period
 from rcb4hv.robot.model import RobotModel
 
-__all__ = ["BOUNDS", "SHORTFALL_WEIGHT", "Candidate", "progress_of", "score", "tune"]
+__all__ = [
+    "BOUNDS",
+    "POPSIZE",
+    "SHORTFALL_WEIGHT",
+    "Candidate",
+    "TuneProgress",
+    "TuneResult",
+    "planned",
+    "progress_of",
+    "score",
+    "tune",
+]
 
 log = logging.getLogger(__name__)
 
@@ -40,6 +56,8 @@ BOUNDS: dict[str, tuple[float, float]] = {
 double-support share as itself. Documented choices (wide enough to matter, narrow enough
 that every candidate is a walk the IK reaches)."""
 SHORTFALL_WEIGHT = 0.5
+POPSIZE = 4
+"""Candidates CMA-ES asks for at a time (one generation)."""
 
 
 @dataclass(frozen=True)
@@ -48,6 +66,41 @@ class Candidate:
     fall_probability: float
     progress: float
     score: float
+
+
+@dataclass(frozen=True)
+class TuneProgress:
+    """What :func:`tune` tells its ``progress`` callback after each evaluated candidate."""
+
+    done: int
+    """Candidates evaluated so far (1, 2, ...)."""
+    total: int
+    """Candidates planned: :func:`planned` of the budget (CMA-ES may stop sooner)."""
+    best: Candidate
+    """The best (lowest score) so far."""
+    latest: Candidate
+    """The candidate just evaluated."""
+
+
+@dataclass(frozen=True)
+class TuneResult:
+    """What :func:`tune` found."""
+
+    best: Candidate | None
+    """The lowest score tried (the first of equals); None only when interrupted before any
+    candidate was evaluated."""
+    tried: list[Candidate]
+    """Every candidate evaluated, in order."""
+    interrupted: bool
+    """The search was stopped by a :class:`KeyboardInterrupt` (Ctrl-C), not by its budget or
+    CMA-ES's own criteria."""
+    planned: int
+    """Candidates planned (:func:`planned` of the budget)."""
+
+
+def planned(evaluations: int) -> int:
+    """The candidates a budget of ``evaluations`` plays: whole generations of :data:`POPSIZE`."""
+    return -(-evaluations // POPSIZE) * POPSIZE
 
 
 def _params(base: GaitParams, x: Sequence[float]) -> GaitParams:
@@ -84,11 +137,20 @@ def tune(
     seed: int = 0,
     period_ms: int = 15,
     run: Callable[..., list[dict[str, Any]]] | None = None,
+    progress: Callable[[TuneProgress], object] | None = None,
     **backend: Any,
-) -> tuple[Candidate, list[Candidate]]:
-    """The best candidate and every candidate tried (``evaluations`` walks, each in
-    ``trials`` trials, played at the output period ``period_ms``, the target project's;
-    ``backend``: ``workers``, ``use_ray``, ``ray_address``)."""
+) -> TuneResult:
+    """Search ``evaluations`` walks (whole generations of :data:`POPSIZE`; fewer if CMA-ES
+    converges), each in ``trials`` trials, played at the output period ``period_ms``, the
+    target project's; ``backend``: ``workers``, ``use_ray``, ``ray_address``. ``run`` stands
+    in for :func:`rcb4hv.project.robust.robust` (tests).
+
+    ``progress``, if given, is called after each evaluated candidate with a
+    :class:`TuneProgress` (done, total, best so far). A :class:`KeyboardInterrupt` (Ctrl-C,
+    or raised by ``progress``) stops the search: the trials of the candidate in play are
+    stopped (the pool drops its queued trials and joins its processes; Ray's tasks not yet
+    done are cancelled) and the result holds every candidate evaluated before, its ``best``
+    (None if there was none) and ``interrupted=True``; the interrupt is not re-raised."""
     try:
         import cma
     except ImportError as exc:
@@ -101,31 +163,41 @@ def tune(
     hi = [BOUNDS[k][1] for k in BOUNDS]
     x0 = [1.0, 1.0, base.double_support, 1.0]
     es = cma.CMAEvolutionStrategy(
-        x0, 0.2, {"bounds": [lo, hi], "seed": seed + 1, "popsize": 4, "verbose": -9}
+        x0, 0.2, {"bounds": [lo, hi], "seed": seed + 1, "popsize": POPSIZE, "verbose": -9}
     )
+    total = planned(evaluations)
     tried: list[Candidate] = []
-    while len(tried) < evaluations and not es.stop():
-        xs = es.ask()
-        scores = []
-        for x in xs:
-            p = _params(base, x)
-            w = walk(model, p, period_ms / 1000.0)
-            motion, _ = walk_motion(model, w, slot=2, name="tune", period=period_ms)
-            project = set_output_period(new_project(model), period_ms)
-            image, layout = project_image(add_motion(project, motion))
-            (row,) = go(image, [2], layout=layout, robot=model, trials=trials, seed=seed, **backend)
-            prog = progress_of(p.direction, row)
-            c = Candidate(
-                p, row["fall_probability"], prog, score(row["fall_probability"], prog, p.commanded)
-            )
-            log.info("candidate %s: %.3f", x, c.score)
-            tried.append(c)
-            scores.append(c.score)
-        es.tell(xs, scores)
+    best: Candidate | None = None
+    try:
+        while len(tried) < evaluations and not es.stop():
+            xs = es.ask()
+            scores = []
+            for x in xs:
+                p = _params(base, x)
+                w = walk(model, p, period_ms / 1000.0)
+                motion, _ = walk_motion(model, w, slot=2, name="tune", period=period_ms)
+                project = set_output_period(new_project(model), period_ms)
+                image, layout = project_image(add_motion(project, motion))
+                (row,) = go(
+                    image, [2], layout=layout, robot=model, trials=trials, seed=seed, **backend
+                )
+                prog = progress_of(p.direction, row)
+                fall = row["fall_probability"]
+                c = Candidate(p, fall, prog, score(fall, prog, p.commanded))
+                log.info("candidate %s: %.3f", x, c.score)
+                tried.append(c)
+                scores.append(c.score)
+                if best is None or c.score < best.score:
+                    best = c
+                if progress is not None:
+                    progress(TuneProgress(len(tried), total, best, c))
+            es.tell(xs, scores)
+    except KeyboardInterrupt:
+        log.info("the search was interrupted after %d of %d evaluations", len(tried), total)
+        return TuneResult(best, tried, True, total)
     if len(tried) < evaluations:  # CMA-ES stopped: its criteria met (a flat score, say)
         log.warning(
             "the search stopped after %d of %d evaluations: %s",
             len(tried), evaluations, ", ".join(f"{k} {v:g}" for k, v in es.stop().items()),
         )  # fmt: skip
-    best = min(tried, key=lambda c: c.score)
-    return best, tried
+    return TuneResult(best, tried, False, total)

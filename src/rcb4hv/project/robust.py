@@ -14,10 +14,11 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -35,6 +36,9 @@ __all__ = [
     "summarise",
     "wilson",
 ]
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 RANGES: Mapping[str, tuple[float, float]] = {
     "friction": (0.6, 1.4),
@@ -165,23 +169,37 @@ def robust(
 
         results = run_ray(run_trial, jobs, ray_address, progress)
     else:
-        results = _run_pool(jobs, workers or os.cpu_count() or 1, progress)
+        results = _run_pool(run_trial, jobs, workers or os.cpu_count() or 1, progress)
     return summarise(results)
 
 
+def _ignore_sigint() -> None:
+    """A pool process leaves Ctrl-C to its parent, which stops the pool (a terminal sends
+    SIGINT to every process of the group: an idle worker printed a KeyboardInterrupt
+    traceback)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _run_pool(
-    jobs: Sequence[Trial], workers: int, progress: Callable[[int], object] | None
-) -> list[list[dict[str, Any]]]:
-    out: list[list[dict[str, Any]]] = []
+    fn: Callable[[T], R],
+    jobs: Sequence[T],
+    workers: int,
+    progress: Callable[[int], object] | None,
+) -> list[R]:
+    """``fn`` of each job, in order: in this process (``workers`` 1) or a process pool."""
+    out: list[R] = []
     if workers <= 1:
         for j in jobs:
-            out.append(run_trial(j))
+            out.append(fn(j))
             if progress is not None:
                 progress(1)
         return out
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        for r in pool.map(run_trial, jobs):
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_ignore_sigint)
+    try:
+        for r in pool.map(fn, jobs):
             out.append(r)
             if progress is not None:
                 progress(1)
+    finally:  # an exception (Ctrl-C): the queued trials are dropped, the processes joined
+        pool.shutdown(wait=True, cancel_futures=True)
     return out

@@ -54,7 +54,8 @@ def run_ray(
 ) -> list[R]:
     """Run ``fn`` on each of ``jobs`` as Ray tasks on the cluster at ``address`` (None: start
     a local Ray, or join the one already started in this process); the results in the jobs'
-    order."""
+    order. A KeyboardInterrupt (Ctrl-C, or raised by ``progress``) cancels the tasks not yet
+    done and is re-raised."""
     ray = require_ray()
     if not ray.is_initialized():
         probe(address)
@@ -67,10 +68,15 @@ def run_ray(
     order = {r: i for i, r in enumerate(refs)}
     out: list[R | None] = [None] * len(refs)
     pending = list(refs)
-    while pending:
-        done, pending = ray.wait(pending, num_returns=1)
-        for r in done:
-            out[order[r]] = ray.get(r)
-            if progress is not None:
-                progress(1)
+    try:
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            for r in done:
+                out[order[r]] = ray.get(r)
+                if progress is not None:
+                    progress(1)
+    except KeyboardInterrupt:  # Ctrl-C: the tasks not yet done are not left to run
+        for r in pending:
+            ray.cancel(r)
+        raise
     return [r for r in out if r is not None]
