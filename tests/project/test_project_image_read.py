@@ -1,4 +1,4 @@
-"""``project image`` on images that are not clean builds: slots holding garbage."""
+"""``project image``: slots holding garbage, the settings and the layout it shows."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
 from rcb4hv.project.image import read_image
-from rcb4hv.rom import layout
+from rcb4hv.rom import default_image, layout
+from rcb4hv.rom.layout import LAYOUTS
 
 GARBAGE = bytes((0x5A + 7 * i) % 0xF0 for i in range(64))  # never FF (erased)
 
@@ -55,3 +56,26 @@ def test_a_slot_holding_garbage_is_listed_not_dropped(kxr_image: bytes, tmp_path
     ]
     assert "does not decode" in data["undecoded_slots"][0]["note"]
     assert [m["slot"] for m in data["motions"]] == [n for n in sorted(clean) if n != 1]
+
+
+def test_image_shows_its_settings_and_layout(kxr_image: bytes, tmp_path: Path) -> None:
+    """``project image`` printed no startup / priority settings (``project info`` does) and its
+    --json did not say which layout it read the image in."""
+    path = tmp_path / "kxr.bin"
+    path.write_bytes(kxr_image)
+    r = CliRunner().invoke(cli, ["project", "image", str(path)])
+    assert r.exit_code == 0, r.output
+    lines = r.output.splitlines()
+    assert "HeartToHeart4 2.2 layout" in lines[0]
+    assert lines[1:3] == [
+        "startup motion: 13B80h (slot 39)",
+        "priority check 0: Battery LessThan 224 -> 14380h (slot 40)",  # AD0 <= 223 as stored
+    ]
+    for version in ("2.2", "2.1", "1.3"):
+        path.write_bytes(default_image(LAYOUTS[version]))
+        r = CliRunner().invoke(cli, ["project", "image", str(path), "--json"])
+        assert r.exit_code == 0, r.output
+        assert json.loads(r.output)["layout"] == version
+        r = CliRunner().invoke(cli, ["project", "image", str(path)])
+        assert f"HeartToHeart4 {version} layout" in r.output
+        assert "startup motion: none" in r.output

@@ -215,12 +215,14 @@ def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
     data = read_rom_image(
         image, "use `rcb4hv project info` to read it, `rcb4hv project build` for its image"
     )
-    c = read_image(data, image_layout(data, layout_name))
+    lay = image_layout(data, layout_name)
+    c = read_image(data, lay)
     motions = [_image_entry(c, m.slot, m.address, len(m.frames), m.size) for m in c.motions]
     if as_json:
         print_json(
             {
                 "title": c.title,
+                "layout": lay.version,
                 "system_register": f"{c.system_register:04X}",
                 "startup_motion": None
                 if c.startup_motion_address < 0
@@ -244,12 +246,15 @@ def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
         return
     bad = {u.slot: u for u in c.undecoded}
     click.echo(
-        f"{image.name}: {c.title or '(no title)'}, system register "
-        f"{c.system_register:04X}h, {len(motions)} motions, "
+        f"{image.name}: {c.title or '(no title)'}, HeartToHeart4 {lay.version} layout, system "
+        f"register {c.system_register:04X}h, {len(motions)} motions, "
         f"{len(c.servos)} servos"
         + (", 1 slot that does not decode" if len(bad) == 1 else "")
         + (f", {len(bad)} slots that do not decode" if len(bad) > 1 else "")
     )
+    for line in project_check_cmd.image_settings_lines(c, lay):
+        click.echo(line)
+    click.echo("")
     used = {m.slot for m in c.motions}  # a slot with garbage from its first byte is no motion
     motions += [_image_entry(c, u.slot, u.address) for u in bad.values() if u.slot not in used]
     rows = []
