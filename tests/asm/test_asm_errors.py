@@ -68,3 +68,18 @@ def test_code_past_end_of_rom() -> None:
 def test_bad_origin_argument() -> None:
     with pytest.raises(ValueError, match="origin"):
         assemble("RETURN", origin=0x40000)
+
+
+@pytest.mark.parametrize(
+    ("source", "fragment"),
+    [
+        ("MOVE RAM[1162], RAM[0], 20", "destination RAM[048Ah] + 20 bytes runs past the end"),
+        ("MOVE RAM[0], ROM[0x3FFFF], 20", "source ROM[03FFFFh] + 20 bytes runs past the end"),
+    ],
+)
+def test_an_operand_past_the_end_is_named_in_hex(source: str, fragment: str) -> None:
+    """The message showed a Python repr: ``destination Ram(address=1162) + 20 bytes``."""
+    with pytest.raises(AsmError) as info:
+        assemble(source)
+    assert fragment in info.value.message
+    assert "address=" not in info.value.message

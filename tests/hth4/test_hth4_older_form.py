@@ -4,6 +4,7 @@ for byte, and made from the fixture flowcharts."""
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import pytest
 from hypothesis import given
@@ -11,6 +12,7 @@ from hypothesis import strategies as st
 
 from rcb4hv import hth4
 from rcb4hv.errors import Hth4FormatError
+from rcb4hv.hth4.blocks.flowxml import motion_from_xml, motion_xml
 from rcb4hv.hth4.flowchart_older import dump_older_flowchart, to_older_form
 from rcb4hv.hth4.model import Point
 
@@ -193,3 +195,38 @@ def test_older_form_errors_are_typed() -> None:
         dump_older_flowchart(replace(chart, lines=(three,)))
     with pytest.raises(ValueError, match="not an older-form chart"):
         dump_older_flowchart(replace(chart, item_types=None))
+
+
+@pytest.fixture(scope="module")
+def kxr(kxr_project_path: Path) -> hth4.Project:
+    return hth4.load_project(kxr_project_path)
+
+
+@pytest.mark.parametrize(
+    ("name", "slot"),
+    [
+        ("HAC_KXR_TURN_LEFT.xml", 69),  # a button loop: one CmpButton box, one True arrow
+        ("HAC_KXR_WALK_FORWARD.xml", 66),  # two button branches
+        (None, 69),  # the chart rcb4hv draws of that motion (project motion-xml)
+    ],
+)
+def test_older_form_keeps_the_true_arrow_of_a_compare_box(
+    kxr: hth4.Project, name: str | None, slot: int
+) -> None:
+    """to_older_form set every arrow's LineType to Straight, so the result no longer compiled
+    ("flowchart box CmpButton4: two arrows leave it and none is marked True"): the older form's
+    reader takes LineType as the arrow's ConnectMode, True marking the branch taken."""
+    raw = fixture(name).read_bytes() if name else motion_xml(kxr, slot)
+    chart = hth4.parse_motion_xml(raw)
+    assert any(line.connect_mode == "True" for line in chart.lines)
+    data = hth4.dump_motion_xml(to_older_form(chart))
+    back = hth4.parse_motion_xml(data)
+    assert back.item_types is not None
+    branch = {"True", "False"}
+
+    def marks(c: hth4.Flowchart) -> list[tuple[str | None, str]]:
+        return [(ln.guid, ln.connect_mode) for ln in c.lines if ln.connect_mode in branch]
+
+    assert marks(back) == marks(chart)
+    assert {ln.connect_mode for ln in back.lines} - branch <= {"Straight"}
+    assert motion_from_xml(kxr, slot, data) == kxr.motion(slot).frames

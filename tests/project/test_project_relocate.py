@@ -120,7 +120,7 @@ def test_older_image_simulates_like_the_2_2_image(
 
 
 def test_moves_that_cannot_be_made_are_refused(kxr_project: hth4.Project) -> None:
-    with pytest.raises(LayoutError, match=r"M0\d\d .*cannot be moved|only 50 motion slots"):
+    with pytest.raises(LayoutError, match=r"M051 .*only 50 motion slots"):
         relocate_project(kxr_project, LAYOUTS["1.3"])
     m = kxr_project.used_motions[0]
     boot_call = bytes.fromhex("07 0C F5 03 00 00")
@@ -183,4 +183,18 @@ def test_cli_moves_a_2_2_project_on_request(kxr_project_path: Path, tmp_path: Pa
         cli, ["project", "build", str(kxr_project_path), "-o", str(out), "--layout", "1.3"]
     )
     assert r.exit_code != 0
-    assert "cannot be moved" in r.output or "only 50 motion slots" in r.output
+    assert "HeartToHeart4 1.3 has only 50 motion slots" in r.output, r.output
+
+
+def test_a_slot_past_the_layout_is_named_before_a_jump_into_it(
+    kxr_project: hth4.Project,
+) -> None:
+    """Moving the fixture to 1.3 named a JUMP of motion 49 into slot 56 ("JUMP 1C380h targets
+    no motion slot ... that HeartToHeart4 1.3 has") instead of the slots 1.3 lacks."""
+    assert max(m.slot for m in kxr_project.used_motions) > 50
+    with pytest.raises(LayoutError) as e:
+        relocate_project(kxr_project, LAYOUTS["1.3"])
+    assert "HeartToHeart4 1.3 has only 50 motion slots" in str(e.value)
+    assert "JUMP" not in str(e.value) and "cannot be moved" not in str(e.value)
+    with pytest.raises(LayoutError, match="only 50 motion slots"):
+        project_image(kxr_project, "1.3")

@@ -1,11 +1,12 @@
-"""``rcb4hv project check`` (the lint) and the settings lines of ``project info``. Registered
-into the ``project`` group by :mod:`rcb4hv.cli.project_cmd`."""
+"""``rcb4hv project check`` (the lint) and the settings lines of ``project info`` and ``project
+image``. Registered into the ``project`` group by :mod:`rcb4hv.cli.project_cmd`."""
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeAlias, cast
 
 import click
 
@@ -14,37 +15,89 @@ from rcb4hv.hth4 import Project
 
 if TYPE_CHECKING:
     from rcb4hv.project.check import Finding
+    from rcb4hv.project.image import ImageContents
+    from rcb4hv.rom.layout import MotionLayout
 
-__all__ = ["register", "settings_lines"]
+__all__ = ["image_settings_lines", "register", "settings_lines"]
 
 
-def _target_text(project: Project, address: int) -> str:
+Slot: TypeAlias = Callable[[int], tuple[int, str | None] | None]
+"""(slot, what it holds: a name, "" for a motion without one, None for none) of the motion
+slot starting at an address, None if no slot starts there."""
+
+
+def _target_text(slot_at: Slot, address: int) -> str:
     """``13B80h (slot 39, NAME)``, ``none`` for a negative address, or what is wrong."""
     if address < 0:
         return "none"
-    m = project.motion_at(address)
-    if m is None:
+    found = slot_at(address)
+    if found is None:
         return f"{address:05X}h (not the start of a motion slot)"
-    if m.is_empty:
-        return f"{address:05X}h (slot {m.slot} holds no motion)"
-    return f"{address:05X}h (slot {m.slot}, {m.name or 'unnamed'})"
+    slot, label = found
+    if label is None:
+        return f"{address:05X}h (slot {slot} holds no motion)"
+    return f"{address:05X}h (slot {slot}{', ' if label else ''}{label})"
+
+
+def _settings_lines(
+    slot_at: Slot,
+    startup: int,
+    priority: Iterable[tuple[int, str, str, int, int]],
+    low_power: tuple[int, int] | None = None,
+) -> list[str]:
+    """The startup (and low-power: address, AD0 value) lines and a line a priority check
+    (index, port, compare type, value, address)."""
+    lines = [f"startup motion: {_target_text(slot_at, startup)}"]
+    if low_power is not None:
+        address, value = low_power
+        at = f" at AD0 <= {value}" if address >= 0 else ""
+        lines.append(f"low-power motion: {_target_text(slot_at, address)}{at}")
+    for i, port, compare, value, address in priority:
+        lines.append(
+            f"priority check {i}: {port} {compare} {value} -> {_target_text(slot_at, address)}"
+        )
+    return lines
 
 
 def settings_lines(project: Project) -> list[str]:
     """The startup, low-power and priority settings, "none" where they name no motion."""
-    lines = [
-        f"startup motion: {_target_text(project, project.startup_motion_address)}",
-        f"low-power motion: {_target_text(project, project.low_power_motion_address)}"
-        + (
-            f" at AD0 <= {project.low_power_value}" if project.low_power_motion_address >= 0 else ""
-        ),
+
+    def slot_at(address: int) -> tuple[int, str | None] | None:
+        m = project.motion_at(address)
+        if m is None:
+            return None
+        return m.slot, None if m.is_empty else m.name or "unnamed"
+
+    return _settings_lines(
+        slot_at,
+        project.startup_motion_address,
+        [
+            (i, pm.port, pm.compare_type, pm.value, pm.address)
+            for i, pm in project.active_priority_motions
+        ],
+        (project.low_power_motion_address, project.low_power_value),
+    )
+
+
+def image_settings_lines(image: ImageContents, layout: MotionLayout) -> list[str]:
+    """The startup and priority settings of a ROM image (of ``layout``), as
+    :func:`settings_lines` gives a project's (an image holds a low-power motion as a priority
+    check)."""
+    held = {m.slot: "" for m in image.motions} | {
+        u.slot: "does not decode" for u in image.undecoded
+    }
+
+    def slot_at(address: int) -> tuple[int, str | None] | None:
+        n = layout.motion_at(address)
+        if n is None or layout.address(n) != address:
+            return None
+        return n, held.get(n)
+
+    checks = [
+        (i, str(p["port"]), str(p["compare_type"]), cast(int, p["value"]), cast(int, p["address"]))
+        for i, p in image.priority.items()
     ]
-    for i, pm in project.active_priority_motions:
-        lines.append(
-            f"priority check {i}: {pm.port} {pm.compare_type} {pm.value} -> "
-            f"{_target_text(project, pm.address)}"
-        )
-    return lines
+    return _settings_lines(slot_at, image.startup_motion_address, checks)
 
 
 def _short(text: str, width: int) -> str:

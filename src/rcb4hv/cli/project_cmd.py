@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -35,12 +35,32 @@ from rcb4hv.cli.project_common import (
 )
 from rcb4hv.files import write_atomic
 
+if TYPE_CHECKING:
+    from rcb4hv.project.image import ImageContents
+
 
 def _button_text(buttons: int, compare: str = "Equals") -> str:
     from rcb4hv.project.image import button_names
 
     names = button_names(buttons)
     return names if compare == "Equals" else f"{compare} {names}"
+
+
+def _image_entry(
+    c: ImageContents, slot: int, address: int, frames: int = 0, size: int = 0
+) -> dict[str, Any]:
+    """The entry of ``project image`` for the motion slot at ``address``."""
+    return {
+        "slot": slot,
+        "address": f"{address:05X}",
+        "frames": frames,
+        "bytes": size,
+        "buttons": [
+            _button_text(b.buttons, b.compare_type) for b in c.bindings if b.target == address
+        ],
+        "startup": c.startup_motion_address == address,
+        "priority": [i for i, p in c.priority.items() if p["address"] == address],
+    }
 
 
 @click.group()
@@ -195,23 +215,14 @@ def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
     data = read_rom_image(
         image, "use `rcb4hv project info` to read it, `rcb4hv project build` for its image"
     )
-    c = read_image(data, image_layout(data, layout_name))
-    motions: list[dict[str, Any]] = [
-        {
-            "slot": m.slot,
-            "address": f"{m.address:05X}",
-            "frames": len(m.frames),
-            "bytes": m.size,
-            "buttons": [_button_text(b.buttons, b.compare_type) for b in m.bindings],
-            "startup": m.startup,
-            "priority": list(m.priority),
-        }
-        for m in c.motions
-    ]
+    lay = image_layout(data, layout_name)
+    c = read_image(data, lay)
+    motions = [_image_entry(c, m.slot, m.address, len(m.frames), m.size) for m in c.motions]
     if as_json:
         print_json(
             {
                 "title": c.title,
+                "layout": lay.version,
                 "system_register": f"{c.system_register:04X}",
                 "startup_motion": None
                 if c.startup_motion_address < 0
@@ -220,30 +231,40 @@ def image_cmd(image: Path, as_json: bool, layout_name: str | None) -> None:
                 "servos": {str(k): v for k, v in c.servos.items()},
                 "priority_motions": {str(k): v for k, v in c.priority.items()},
                 "motions": motions,
+                "undecoded_slots": [
+                    {
+                        "slot": u.slot,
+                        "address": f"{u.address:05X}",
+                        "at": f"{u.at:05X}",
+                        "reason": u.reason,
+                        "note": u.note,
+                    }
+                    for u in c.undecoded
+                ],
             }
         )
         return
+    bad = {u.slot: u for u in c.undecoded}
     click.echo(
-        f"{image.name}: {c.title or '(no title)'}, system register "
-        f"{c.system_register:04X}h, {len(motions)} motions, "
+        f"{image.name}: {c.title or '(no title)'}, HeartToHeart4 {lay.version} layout, system "
+        f"register {c.system_register:04X}h, {len(motions)} motions, "
         f"{len(c.servos)} servos"
+        + (", 1 slot that does not decode" if len(bad) == 1 else "")
+        + (f", {len(bad)} slots that do not decode" if len(bad) > 1 else "")
     )
-    print_table(
-        ("slot", "address", "frames", "bytes", "button", "note"),
-        [
-            [
-                m["slot"],
-                m["address"],
-                m["frames"],
-                m["bytes"],
-                ", ".join(m["buttons"]),
-                ", ".join(
-                    (["startup"] if m["startup"] else []) + [f"priority {i}" for i in m["priority"]]
-                ),
-            ]
-            for m in motions
-        ],
-    )
+    for line in project_check_cmd.image_settings_lines(c, lay):
+        click.echo(line)
+    click.echo("")
+    used = {m.slot for m in c.motions}  # a slot with garbage from its first byte is no motion
+    motions += [_image_entry(c, u.slot, u.address) for u in bad.values() if u.slot not in used]
+    rows = []
+    for m in sorted(motions, key=lambda m: int(m["slot"])):
+        notes = (["startup"] if m["startup"] else []) + [f"priority {i}" for i in m["priority"]]
+        if m["slot"] in bad:
+            notes.append(bad[m["slot"]].note)
+        row = [m["slot"], m["address"], m["frames"], m["bytes"], ", ".join(m["buttons"])]
+        rows.append([*row, ", ".join(notes)])
+    print_table(("slot", "address", "frames", "bytes", "button", "note"), rows)
 
 
 @project.command("upload")

@@ -17,15 +17,17 @@ It reads into the same :class:`~rcb4hv.hth4.flowchart_model.Flowchart` model:
   or ``Hint`` in this form: those stay None); ``PriorityList`` and ``Path`` (meaning not
   known) are kept as extras at their places;
 * each ``LineData`` becomes a :class:`FlowchartLine` whose ``path`` is (StartPoint, EndPoint)
-  and whose ``connect_mode`` holds ``LineType`` (``Straight``); its empty ``Name`` is kept as
-  an extra;
+  and whose ``connect_mode`` holds ``LineType`` (``Straight``; ``True`` / ``False`` for the
+  arrows out of a compare box, read as the ``ConnectMode`` of the ``CanvasData`` form, so a
+  ``True`` arrow is the branch taken); its empty ``Name`` is kept as an extra;
 * :attr:`Flowchart.item_types` records the ``xsi:type`` of each list item in file order, so the
   list is written back in the same interleaving; the canvas fields (``name``, ``size``,
   ``grid_size``, ``back_color_text``) do not exist in this form and are not written.
 
 :func:`dump_older_flowchart` writes a chart read from this form back byte for byte.
 :func:`to_older_form` turns a ``CanvasData`` chart into this form (boxes first, then arrows, as
-the files of that era hold them; each arrow keeps its first and last point).
+the files of that era hold them; each arrow keeps its first and last point and its ``True`` /
+``False`` branch mark).
 """
 
 from __future__ import annotations
@@ -67,6 +69,8 @@ __all__ = [
 OLDER_ROOT: Final = "ArrayOfAnyType"
 ACTIVITY: Final = "ActivityData"
 LINE: Final = "LineData"
+BRANCH_MARKS: Final = frozenset({"True", "False"})
+"""The arrow modes that mark a compare box's branches; kept as the older form's ``LineType``."""
 
 _NO_PRIORITY: Final = XmlNode(
     "PriorityList", children=(XmlNode("anyType", ((XSI_TYPE, "xsd:string"),), "00 00 00 00"),)
@@ -146,8 +150,9 @@ def dump_older_flowchart(chart: Flowchart) -> bytes:
 def to_older_form(chart: Flowchart, line_type: str = "Straight") -> Flowchart:
     """``chart`` as the older form: boxes then arrows, each box with the era's
     ``PriorityList``/``Path`` and no Text/BackColorText/Hint, each arrow from its first to its
-    last point with ``LineType`` ``line_type``, ``xsi`` declared before ``xsd`` as those files do.
-    Extras of the ``CanvasData`` form are dropped."""
+    last point with ``LineType`` ``line_type`` (a compare box's ``True`` / ``False`` arrows keep
+    that mark: it says which arrow branches), ``xsi`` declared before ``xsd`` as those files
+    do. Extras of the ``CanvasData`` form are dropped."""
     if chart.item_types is not None:
         return chart
     acts = tuple(replace(a, text=None, back_color_text=None, hint=None) for a in chart.activities)
@@ -155,7 +160,12 @@ def to_older_form(chart: Flowchart, line_type: str = "Straight") -> Flowchart:
         if not line.path:
             raise ValueError(f"arrow {line.guid}: no points to keep")
     lines = tuple(
-        FlowchartLine(line.guid, (line.path[0], line.path[-1]), line_type) for line in chart.lines
+        FlowchartLine(
+            line.guid,
+            (line.path[0], line.path[-1]),
+            line.connect_mode if line.connect_mode in BRANCH_MARKS else line_type,
+        )
+        for line in chart.lines
     )
     extras: list[ExtraElement] = []
     for k in range(1, len(acts) + 1):

@@ -65,8 +65,10 @@ from rcb4hv.rom import (
     ImagePriorityMotion,
     ImageServo,
     Kri3Config,
+    UndecodedSlot,
     VectorPackage,
     layout,
+    undecoded_slots,
 )
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
 from rcb4hv.rom.older import build_image_for, parse_image_for
@@ -392,6 +394,9 @@ class ImageContents:
     other_packages: tuple[VectorPackage, ...] = ()
     servos: dict[int, dict[str, int]] = field(default_factory=dict)
     priority: dict[int, dict[str, object]] = field(default_factory=dict)
+    undecoded: tuple[UndecodedSlot, ...] = ()
+    """The slots holding bytes that are neither erased nor frames (a slot with none before
+    them is in no :attr:`motions`)."""
 
     @property
     def system_register(self) -> int:
@@ -471,4 +476,5 @@ def read_image(rom: bytes | bytearray, motion_layout: MotionLayout = HTH4_22) ->
         }
         for s in desc.servos
     }
-    return ImageContents(desc, tuple(slots), tuple(bindings), tuple(others), servos, priority)
+    bad = undecoded_slots(rom, motion_layout)
+    return ImageContents(desc, tuple(slots), tuple(bindings), tuple(others), servos, priority, bad)

@@ -127,14 +127,22 @@ def _move_frame(frame: bytes, source: MotionLayout, target: MotionLayout, where:
     return seal(body)
 
 
-def _move_motion(m: Hth4Motion, source: MotionLayout, target: MotionLayout) -> Hth4Motion:
-    if m.slot > target.motion_count:
-        if m.is_empty:
-            return m
+def _check_slots(project: Project, target: MotionLayout) -> None:
+    """LayoutError naming the first used motion in a slot ``target`` does not have (checked
+    before any motion moves, so a JUMP into such a slot is not what the error names)."""
+    beyond = [m for m in project.motions if m.slot > target.motion_count and not m.is_empty]
+    if beyond:
+        m = beyond[0]
+        more = f" ({len(beyond)} motions are past slot {target.motion_count})"
         raise LayoutError(
             f"motion {m.key} ({m.name}): HeartToHeart4 {target.version} has only "
-            f"{target.motion_count} motion slots"
+            f"{target.motion_count} motion slots" + (more if len(beyond) > 1 else "")
         )
+
+
+def _move_motion(m: Hth4Motion, source: MotionLayout, target: MotionLayout) -> Hth4Motion:
+    if m.slot > target.motion_count:  # empty (_check_slots refuses the others)
+        return m
     if len(m.rom_bytes()) > target.motion_stride:
         raise LayoutError(
             f"motion {m.key} ({m.name}): {len(m.rom_bytes())} bytes do not fit a "
@@ -171,6 +179,7 @@ def relocate_project(
         source = project_layout(project)
     if source == target:
         return project
+    _check_slots(project, target)
     motions = tuple(_move_motion(m, source, target) for m in project.motions)
     priority: list[PriorityMotionSlot] = []
     for p in project.priority_motions:

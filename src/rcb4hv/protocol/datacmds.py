@@ -17,6 +17,8 @@ from rcb4hv.protocol.operands import (
     KIND_RAM,
     KIND_ROM,
     MAX_READ,
+    RAM_SIZE,
+    ROM_SIZE,
     Com,
     Data,
     Destination,
@@ -28,6 +30,7 @@ from rcb4hv.protocol.operands import (
     check_int,
     decode_dst,
     dst_bytes,
+    operand_text,
     src_bytes,
 )
 
@@ -61,10 +64,16 @@ def _validate_operands(
     if src is not None and not isinstance(src, (Ram, Ics, Rom, Data)):
         raise ValueError(f"{name}: source must be Ram, Ics, Rom or Data")
     check_int(f"{name} size", size, 1, max_size)
-    if not dst.span_ok(size):
-        raise ValueError(f"{name}: destination {dst} + {size} bytes runs past the end")
-    if src is not None and not src.span_ok(size):
-        raise ValueError(f"{name}: source {src} + {size} bytes runs past the end")
+    for role, op in (("destination", dst), ("source", src)):
+        if op is not None and not op.span_ok(size):
+            end = (
+                f"RAM ({RAM_SIZE - 1:04X}h)"
+                if isinstance(op, Ram)
+                else f"ROM ({ROM_SIZE - 1:06X}h)"
+            )
+            raise ValueError(
+                f"{name}: {role} {operand_text(op)} + {size} bytes runs past the end of {end}"
+            )
 
 
 def _resolve_size(src: Source, size: int | None) -> int:

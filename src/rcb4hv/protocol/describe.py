@@ -12,11 +12,10 @@ from rcb4hv.protocol.operands import (
     POSITION_HOLD,
     Com,
     Data,
-    Destination,
     Ics,
     Ram,
     Rom,
-    Source,
+    operand_text,
 )
 from rcb4hv.protocol.registry import Command, spec_of
 from rcb4hv.protocol.replies import Ack, DataReply, Nak, Reply, VersionReply
@@ -36,19 +35,6 @@ __all__ = ["command_fields", "command_name", "describe_command", "describe_reply
 def command_name(cmd: Command) -> str:
     """The class name, which is also the name used in the command reference."""
     return type(cmd).__name__
-
-
-def operand_text(op: Destination | Source) -> str:
-    """``RAM[0462h]``, ``ICS5[+04h]``, ``ROM[000B80h]``, ``COM`` or ``#02 80``."""
-    if isinstance(op, Ram):
-        return f"RAM[{op.address:04X}h]"
-    if isinstance(op, Ics):
-        return f"ICS{op.ics}[+{op.offset:02X}h]"
-    if isinstance(op, Rom):
-        return f"ROM[{op.address:06X}h]"
-    if isinstance(op, Data):
-        return "#" + op.data.hex(" ").upper()
-    return "COM"
 
 
 def _position_text(pos: int) -> str:

@@ -41,6 +41,7 @@ __all__ = [
     "decode_dst",
     "dst_bytes",
     "is_valid_position",
+    "operand_text",
     "src_bytes",
 ]
 
@@ -195,6 +196,19 @@ class Data:
 
 Destination = Ram | Ics | Com | Rom
 Source = Ram | Ics | Rom | Data
+
+
+def operand_text(op: Destination | Source) -> str:
+    """``RAM[0462h]``, ``ICS5[+04h]``, ``ROM[000B80h]``, ``COM`` or ``#02 80``."""
+    if isinstance(op, Ram):
+        return f"RAM[{op.address:04X}h]"
+    if isinstance(op, Ics):
+        return f"ICS{op.ics}[+{op.offset:02X}h]"
+    if isinstance(op, Rom):
+        return f"ROM[{op.address:06X}h]"
+    if isinstance(op, Data):
+        return "#" + op.data.hex(" ").upper()
+    return "COM"
 
 
 def dst_bytes(dst: Destination) -> bytes:

@@ -19,6 +19,7 @@ from rcb4hv.rom.image import (
     build_image,
     parse_image,
 )
+from rcb4hv.rom.slots import UndecodedSlot, undecoded_slots
 
 __all__ = [
     "DEFAULT_ICS",
@@ -28,10 +29,12 @@ __all__ = [
     "ImagePriorityMotion",
     "ImageServo",
     "Kri3Config",
+    "UndecodedSlot",
     "VectorPackage",
     "build_image",
     "default_description",
     "default_image",
     "layout",
     "parse_image",
+    "undecoded_slots",
 ]

@@ -53,6 +53,7 @@ from rcb4hv.protocol.memory import (
 )
 from rcb4hv.rom import layout as L
 from rcb4hv.rom.calibration import ad_references
+from rcb4hv.rom.slots import scan_slot
 
 __all__ = [
     "Compare",
@@ -462,19 +463,7 @@ def parse_image(rom: bytes | bytearray) -> ImageDescription:
         )
     motions: list[ImageMotion] = []
     for n in range(1, L.MOTION_COUNT + 1):
-        base = L.motion_address(n)
-        end = base + L.MOTION_SIZE
-        frames: list[bytes] = []
-        pc = base
-        while pc < end and rom[pc] != L.ERASED:
-            try:
-                f = frame_at(rom, pc)
-            except ProtocolError:
-                break
-            if pc + len(f) > end:
-                break
-            frames.append(f)
-            pc += len(f)
+        frames, _ = scan_slot(rom, L.motion_address(n), L.MOTION_SIZE)
         if frames:
             motions.append(ImageMotion(n, frames))
     ad = ad_references(rom)

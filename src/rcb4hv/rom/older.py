@@ -50,6 +50,7 @@ from rcb4hv.protocol.memory import ADDR
 from rcb4hv.rom import layout as L
 from rcb4hv.rom.image import ImageDescription, build_image, parse_image, priority_bytes, word_write
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
+from rcb4hv.rom.slots import scan_slot
 
 __all__ = [
     "BOOT_TAIL",
@@ -126,18 +127,8 @@ def build_image_for(desc: ImageDescription, lay: MotionLayout = HTH4_22) -> byte
 
 def _slot_bytes(rom: bytes, start: int, size: int) -> bytes:
     """The frames at the start of a motion slot, up to ``size`` bytes (erased-padded)."""
-    out = bytearray()
-    pc = start
-    while pc < start + size and rom[pc] != L.ERASED:
-        try:
-            f = frame_at(rom, pc)
-        except ProtocolError:
-            break
-        if len(out) + len(f) > size:
-            break
-        out += f
-        pc += len(f)
-    return bytes(out).ljust(size, _FF)
+    frames, _ = scan_slot(rom, start, size)
+    return b"".join(frames).ljust(size, _FF)
 
 
 def parse_image_for(rom: bytes | bytearray, lay: MotionLayout = HTH4_22) -> ImageDescription:
