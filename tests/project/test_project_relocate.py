@@ -198,3 +198,27 @@ def test_a_slot_past_the_layout_is_named_before_a_jump_into_it(
     assert "JUMP" not in str(e.value) and "cannot be moved" not in str(e.value)
     with pytest.raises(LayoutError, match="only 50 motion slots"):
         project_image(kxr_project, "1.3")
+
+
+def test_a_1_3_motion_longer_than_a_2_2_slot_is_not_cut_in_silence(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """A HeartToHeart4 1.3 slot spans 4864 bytes; the reader keeps a motion's first 2048 (the
+    2.2 slot it is read into) and says so, where it cut the rest without a word."""
+    from rcb4hv.rom.default import default_image
+    from rcb4hv.rom.older import parse_image_for
+
+    lay = LAYOUTS["1.3"]
+    rom = bytearray(default_image(lay))
+    move = bytes.fromhex("07 0F 02 1E 4C 1D 9F")
+    body = move * 300 + bytes.fromhex("03 0D 10")  # 2103 bytes
+    rom[lay.address(1) : lay.address(1) + len(body)] = body
+    with caplog.at_level("WARNING", logger="rcb4hv.rom.older"):
+        parse_image_for(bytes(rom), lay)
+    assert "motion 1 of this HeartToHeart4 1.3 image is longer than the 2048 bytes" in caplog.text
+    caplog.clear()
+    short = move * 10 + bytes.fromhex("03 0D 10")
+    rom[lay.address(1) : lay.address(1) + len(body)] = short.ljust(len(body), b"\xff")
+    with caplog.at_level("WARNING", logger="rcb4hv.rom.older"):
+        parse_image_for(bytes(rom), lay)
+    assert "longer than" not in caplog.text

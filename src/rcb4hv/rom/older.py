@@ -30,6 +30,7 @@ stub (a RETURN) sits right after the last motion slot (:attr:`MotionLayout.start
 
 from __future__ import annotations
 
+import logging
 from dataclasses import replace
 from typing import Final
 
@@ -51,6 +52,8 @@ from rcb4hv.rom import layout as L
 from rcb4hv.rom.image import ImageDescription, build_image, parse_image, priority_bytes, word_write
 from rcb4hv.rom.layout import HTH4_22, LAYOUTS, MotionLayout
 from rcb4hv.rom.slots import scan_slot
+
+log = logging.getLogger(__name__)
 
 __all__ = [
     "BOOT_TAIL",
@@ -155,7 +158,17 @@ def parse_image_for(rom: bytes | bytearray, lay: MotionLayout = HTH4_22) -> Imag
     r[L.MAIN_LOOP : L.MAIN_LOOP + _MAIN_22] = rom[MAIN_LOOP:BOOT_TAIL]
     r[HTH4_22.motion_base :] = _FF * (L.ROM_SIZE - HTH4_22.motion_base)
     for n in range(1, min(lay.motion_count, HTH4_22.motion_count) + 1):
-        data = _slot_bytes(rom, lay.address(n), min(lay.motion_stride, L.MOTION_SIZE))
+        data = _slot_bytes(rom, lay.address(n), lay.motion_stride)
+        if data[L.MOTION_SIZE :].rstrip(_FF):
+            log.warning(
+                "motion %d of this HeartToHeart4 %s image is longer than the %d bytes a motion is "
+                "read with here: only its first %d bytes are read",
+                n,
+                lay.version,
+                L.MOTION_SIZE,
+                L.MOTION_SIZE,
+            )
+        data = data[: L.MOTION_SIZE]
         r[HTH4_22.address(n) : HTH4_22.address(n) + len(data)] = data
     r[L.STARTUP_STUB : L.STARTUP_STUB + 3] = encode_command(Return())
     desc = parse_image(r)
