@@ -16,6 +16,7 @@ from contextlib import ExitStack
 import pytest
 
 from rcb4hv.aio import AsyncRcb4Client, AsyncRobot, PolledTransport, StreamTransport
+from rcb4hv.client import Rcb4Client
 from rcb4hv.emulator import emulator_url
 from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import Button, Com, Data, Ics, Ram
@@ -74,6 +75,20 @@ def test_async_robot_common_calls(url: str) -> None:
             assert await robot.variable(3) == -7
             assert (await robot.system_register()).rom_run
             assert await robot.ping() < 0.5
+
+    asyncio.run(main())
+
+
+def test_baud_detection_runs_on_every_link_as_on_the_blocking_face(url: str) -> None:
+    """``baudrate=None`` runs the ACK checks over socket:// too (the blocking client does; the
+    asyncio one refused: "baud detection needs a serial port")."""
+    with Rcb4Client.open(url, baudrate=None, timeout=0.5) as blocking:
+        blocking.acknowledge_check()
+
+    async def main() -> None:
+        async with await AsyncRcb4Client.open(url, baudrate=None, timeout=0.5) as rcb:
+            assert await rcb.detect_baudrate(probe_timeout=0.2) == 1250000
+            await rcb.acknowledge_check()
 
     asyncio.run(main())
 
