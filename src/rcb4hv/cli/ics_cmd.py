@@ -57,7 +57,7 @@ class IcsTarget:
     as_json: bool
 
     def open(self) -> Any:
-        from rcb4hv.ics import BoardIcsLink, IcsBus
+        from rcb4hv.ics import BoardIcsLink, IcsBus, SerialIcsLink
         from rcb4hv.transport import SerialTransport
         from rcb4hv.transport.serial_port import resolve_port
 
@@ -65,7 +65,9 @@ class IcsTarget:
             url = resolve_port(self.port)
             return IcsBus(BoardIcsLink(SerialTransport.open(url, self.baud), self.line))
         # the adapter in ICS mode: never the board's $RCB4HV_PORT (ICS bytes to an RCB-4)
-        return IcsBus.open(resolve_port(self.port, ICS_PORT_ENV, "icsemu://"), self.baud)
+        url = resolve_port(self.port, ICS_PORT_ENV, "icsemu://")
+        # a servo that does not answer: the error says which --baud to try
+        return IcsBus(SerialIcsLink(SerialTransport.open(url, self.baud), baud_option="--baud"))
 
 
 ICS_PORT_ENV = "RCB4HV_ICS_PORT"
