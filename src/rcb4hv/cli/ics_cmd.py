@@ -63,6 +63,11 @@ class IcsTarget:
 
         if self.via_board:  # the board's port
             url = resolve_port(self.port)
+            if url.lower().startswith("icsemu:"):
+                raise click.UsageError(
+                    f"{url} is an ICS bus (servos), not a board, so --via-board does not apply: "
+                    "drop it, or give a board's port (e.g. rcb4emu://?ics_comm=1)"
+                )
             return IcsBus(BoardIcsLink(SerialTransport.open(url, self.baud), self.line))
         # the adapter in ICS mode: never the board's $RCB4HV_PORT (ICS bytes to an RCB-4)
         url = resolve_port(self.port, ICS_PORT_ENV, "icsemu://")

@@ -58,6 +58,11 @@ EEPROM_WRITE_TIMEOUT_S: Final = 2.0
 DEFAULT_TX_ADDRESS: Final = 0x0357
 DEFAULT_RX_ADDRESS: Final = 0x0397
 BOARD_TIMEOUT_S: Final = 1.0
+ECHO_NOT_BOARD: Final = (
+    "the port echoes the frame sent: an ICS bus (servos: the adapter in ICS mode, icsemu://, "
+    "rcb4hv emulate-ics), not a board, so --via-board does not apply; drop it"
+)
+"""Why a board link that hears its own frame back is not on a board."""
 
 
 def timeout_for(command: bytes) -> float:
@@ -165,9 +170,12 @@ class BoardIcsLink:
         frame = encode_command(frame_cmd)
         t.reset_input()
         t.write(frame)
-        got = t.read(frame_reply_length(frame_cmd), time.monotonic() + BOARD_TIMEOUT_S)
+        want = frame_reply_length(frame_cmd)
+        got = t.read(want, time.monotonic() + BOARD_TIMEOUT_S)
         if len(got) < 4:
             raise IcsNoReply(f"the board did not answer {frame.hex(' ')}")
+        if frame.startswith(got[: len(frame)]) and got[0] != want:
+            raise IcsError(f"{t.url}: {ECHO_NOT_BOARD} [sent {frame.hex(' ')}, got it back]")
         reply = decode_reply(got, frame_cmd)
         if not isinstance(reply, (Ack, Nak, DataReply)):
             raise IcsError(f"unexpected board reply {got.hex(' ')}")
