@@ -6,6 +6,7 @@ AsyncRcb4Client themselves through tests/client/aio_bridge.py: the ``aio-*`` kin
 from __future__ import annotations
 
 import asyncio
+import logging
 import math
 import socket
 import threading
@@ -136,6 +137,28 @@ def test_cancelled_call_leaves_the_client_usable() -> None:
             await rcb.acknowledge_check()
 
     asyncio.run(main())
+
+
+def test_a_late_reply_is_discarded_with_one_warning(caplog: pytest.LogCaptureFixture) -> None:
+    """The 131-byte late reply of a cancelled RAM read is one warning with the total count (it
+    was one warning per 4-byte chunk read: 33 lines)."""
+
+    async def main() -> None:
+        async with await AsyncRcb4Client.open("rcb4emu://?latency=0.15", timeout=1.0) as rcb:
+            task = asyncio.create_task(rcb.read_ram(0x0000, 128))
+            await asyncio.sleep(0.03)
+            task.cancel()
+            with pytest.raises(asyncio.CancelledError):
+                await task
+            caplog.clear()
+            with caplog.at_level(logging.WARNING, logger="rcb4hv.client"):
+                assert (await rcb.get_version_info()).text.startswith("CB-4")
+
+    asyncio.run(main())
+    stray = [r.getMessage() for r in caplog.records if "stray" in r.getMessage()]
+    assert len(stray) == 1, stray
+    assert stray[0].startswith("discarded 131 stray byte(s) before the reply to GetVersionInfo: ")
+    assert stray[0].endswith(" ...")  # the first bytes shown, not all 131
 
 
 @pytest.fixture

@@ -276,13 +276,16 @@ class Rcb4Client:
             ):
                 return chunk
             matcher = ReplyMatcher(self._decoder, cmd, expected, name, self.corrupt_grace)
-            while True:
-                raw = matcher.feed(chunk, time.monotonic())
-                if raw is not None:
-                    return raw
-                chunk = transport.read(matcher.need, matcher.until(deadline))
-                if not chunk:
-                    raise matcher.timeout_error(timeout)
+            try:
+                while True:
+                    raw = matcher.feed(chunk, time.monotonic())
+                    if raw is not None:
+                        return raw
+                    chunk = transport.read(matcher.need, matcher.until(deadline))
+                    if not chunk:
+                        raise matcher.timeout_error(timeout)
+            finally:
+                matcher.report()  # the stray bytes of the whole exchange, in one line
 
     @staticmethod
     def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
