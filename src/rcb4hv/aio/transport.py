@@ -34,6 +34,8 @@ log = logging.getLogger(__name__)
 
 POLL_INTERVAL: Final = 0.001
 """Seconds between two polls of a port without a file descriptor."""
+RATE_ERRORS: Final[tuple[type[BaseException], ...]] = (*PORT_ERRORS, ValueError)
+"""What setting a port's rate may raise (termios.error too, which is not an OSError)."""
 
 
 class AsyncTransport(abc.ABC):
@@ -260,7 +262,7 @@ def _set_rate(port: serial.Serial, baudrate: int, url: str) -> None:
         return
     try:
         port.baudrate = baudrate
-    except (*PORT_ERRORS, ValueError) as exc:
+    except RATE_ERRORS as exc:
         raise TransportError(f"{url}: cannot set {baudrate} baud: {exc}") from exc
 
 
