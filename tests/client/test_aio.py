@@ -6,6 +6,7 @@ AsyncRcb4Client themselves through tests/client/aio_bridge.py: the ``aio-*`` kin
 from __future__ import annotations
 
 import asyncio
+import logging
 import math
 import socket
 import threading
@@ -16,6 +17,7 @@ from contextlib import ExitStack
 import pytest
 
 from rcb4hv.aio import AsyncRcb4Client, AsyncRobot, PolledTransport, StreamTransport
+from rcb4hv.client import Rcb4Client
 from rcb4hv.emulator import emulator_url
 from rcb4hv.errors import ChecksumError, NakError, Rcb4TimeoutError, TransportError
 from rcb4hv.protocol import Button, Com, Data, Ics, Ram
@@ -78,6 +80,20 @@ def test_async_robot_common_calls(url: str) -> None:
     asyncio.run(main())
 
 
+def test_baud_detection_runs_on_every_link_as_on_the_blocking_face(url: str) -> None:
+    """``baudrate=None`` runs the ACK checks over socket:// too (the blocking client does; the
+    asyncio one refused: "baud detection needs a serial port")."""
+    with Rcb4Client.open(url, baudrate=None, timeout=0.5) as blocking:
+        blocking.acknowledge_check()
+
+    async def main() -> None:
+        async with await AsyncRcb4Client.open(url, baudrate=None, timeout=0.5) as rcb:
+            assert await rcb.detect_baudrate(probe_timeout=0.2) == 1250000
+            await rcb.acknowledge_check()
+
+    asyncio.run(main())
+
+
 def test_concurrent_tasks_are_serialised(url: str) -> None:
     async def worker(robot: AsyncRobot, n: int) -> None:
         for i in range(15):
@@ -121,6 +137,28 @@ def test_cancelled_call_leaves_the_client_usable() -> None:
             await rcb.acknowledge_check()
 
     asyncio.run(main())
+
+
+def test_a_late_reply_is_discarded_with_one_warning(caplog: pytest.LogCaptureFixture) -> None:
+    """The 131-byte late reply of a cancelled RAM read is one warning with the total count (it
+    was one warning per 4-byte chunk read: 33 lines)."""
+
+    async def main() -> None:
+        async with await AsyncRcb4Client.open("rcb4emu://?latency=0.15", timeout=1.0) as rcb:
+            task = asyncio.create_task(rcb.read_ram(0x0000, 128))
+            await asyncio.sleep(0.03)
+            task.cancel()
+            with pytest.raises(asyncio.CancelledError):
+                await task
+            caplog.clear()
+            with caplog.at_level(logging.WARNING, logger="rcb4hv.client"):
+                assert (await rcb.get_version_info()).text.startswith("CB-4")
+
+    asyncio.run(main())
+    stray = [r.getMessage() for r in caplog.records if "stray" in r.getMessage()]
+    assert len(stray) == 1, stray
+    assert stray[0].startswith("discarded 131 stray byte(s) before the reply to GetVersionInfo: ")
+    assert stray[0].endswith(" ...")  # the first bytes shown, not all 131
 
 
 @pytest.fixture

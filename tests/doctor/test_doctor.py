@@ -103,6 +103,18 @@ def test_symlinked_port_finds_the_tty_latency(tmp_path: Path, pty_board: str) ->
     assert lat.status == "warn" and Host.tty_name(pty_board) in lat.detail
 
 
+def test_a_pty_is_named_as_pts_not_by_its_number(tmp_path: Path, pty_board: str) -> None:
+    """``/dev/pts/N`` is ``pts/N`` (the skip said "0 has no FTDI latency timer")."""
+    assert Host.tty_name("/dev/pts/7") == "pts/7"
+    assert Host.tty_name("/dev/ttyUSB0") == "ttyUSB0"
+    assert Host.tty_name(pty_board) == pty_board.removeprefix("/dev/")
+    host = Host(sysfs=tmp_path / "sys", list_ports=lambda: [])
+    lat = _by_name(run_doctor(pty_board, host=host))["latency timer"]
+    assert lat.status == "skip"
+    tty = pty_board.removeprefix("/dev/")
+    assert lat.detail == f"{tty} has no FTDI latency timer (not an FTDI USB adapter)"
+
+
 def test_permission_denied_names_the_group(tmp_path: Path, pty_board: str) -> None:
     host = fake_host(
         tmp_path, pty_board, latency=1, can_open=lambda p: False, group_of=lambda p: "uucp"

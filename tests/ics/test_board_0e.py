@@ -166,3 +166,29 @@ def test_the_cli_via_board() -> None:
     assert eeprom.exit_code == 1 and "at most 64 bytes" in eeprom.output
     off = runner.invoke(cli, ["ics", "--via-board", "--port", "rcb4emu://", "--line", "4", "id"])
     assert off.exit_code == 1 and "IcsNoReply" in off.output
+
+
+def test_via_board_on_an_ics_bus_says_it_is_not_a_board() -> None:
+    """--via-board on an ICS bus: a clear error, not "size byte says 9 but the frame has 4
+    bytes (FrameError)" from the bus's echo of the board frame."""
+    from click.testing import CliRunner
+
+    import rcb4hv.emulator as emu
+    from rcb4hv.cli.main import cli
+    from rcb4hv.emulator import RealClock
+    from rcb4hv.errors import IcsError
+    from rcb4hv.ics import EmulatedBus
+    from rcb4hv.transport import SerialTransport
+
+    got = CliRunner().invoke(cli, ["ics", "--port", "icsemu://", "--via-board", "scan"])
+    assert got.exit_code == 2, got.output
+    assert "icsemu:// is an ICS bus (servos), not a board" in got.output
+    assert "FrameError" not in got.output
+    # over a link whose URL says nothing (emulate-ics on TCP, an adapter in ICS mode): the echo
+    bus = EmulatedBus.with_ids((0,), clock=RealClock())
+    with emu.TcpServer(bus, "127.0.0.1", 0) as srv:
+        url = f"socket://{srv.address[0]}:{srv.address[1]}"
+        ics = IcsBus(BoardIcsLink(SerialTransport.open(url, 115200)))
+        with ics, pytest.raises(IcsError, match="echoes the frame sent: an ICS bus") as info:
+            ics.scan([0])
+    assert "not a board, so --via-board does not apply" in str(info.value)

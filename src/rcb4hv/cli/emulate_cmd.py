@@ -49,8 +49,9 @@ def _parse_ad(value: str) -> tuple[int, int]:
     "--rom",
     "rom",
     type=click.Path(dir_okay=False),
-    help="Persistent 256 KB ROM image file (created from the default board if missing); a "
-    "HeartToHeart4 project's image is made with `rcb4hv project build`.",
+    help="Persistent 256 KB ROM image file (created from the default board if missing, in a "
+    "directory that exists; rewritten only when the ROM changes); a HeartToHeart4 project's "
+    "image is made with `rcb4hv project build`.",
 )
 @click.option(
     "--layout",

@@ -57,15 +57,22 @@ class IcsTarget:
     as_json: bool
 
     def open(self) -> Any:
-        from rcb4hv.ics import BoardIcsLink, IcsBus
+        from rcb4hv.ics import BoardIcsLink, IcsBus, SerialIcsLink
         from rcb4hv.transport import SerialTransport
         from rcb4hv.transport.serial_port import resolve_port
 
         if self.via_board:  # the board's port
             url = resolve_port(self.port)
+            if url.lower().startswith("icsemu:"):
+                raise click.UsageError(
+                    f"{url} is an ICS bus (servos), not a board, so --via-board does not apply: "
+                    "drop it, or give a board's port (e.g. rcb4emu://?ics_comm=1)"
+                )
             return IcsBus(BoardIcsLink(SerialTransport.open(url, self.baud), self.line))
         # the adapter in ICS mode: never the board's $RCB4HV_PORT (ICS bytes to an RCB-4)
-        return IcsBus.open(resolve_port(self.port, ICS_PORT_ENV, "icsemu://"), self.baud)
+        url = resolve_port(self.port, ICS_PORT_ENV, "icsemu://")
+        # a servo that does not answer: the error says which --baud to try
+        return IcsBus(SerialIcsLink(SerialTransport.open(url, self.baud), baud_option="--baud"))
 
 
 ICS_PORT_ENV = "RCB4HV_ICS_PORT"

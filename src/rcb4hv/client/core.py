@@ -164,8 +164,9 @@ class Rcb4Client:
     def detect_baudrate(
         self, rates: Iterable[int] = BAUD_RATES, probe_timeout: float = 0.1, tries: int = 2
     ) -> int:
-        """Find the rate the board answers at and keep it; ValueError when the link is not a
-        serial port.
+        """Find the rate the board answers at and keep it; ValueError when the link has no
+        rate (a transport without :meth:`set_baudrate`). A ``socket://`` link takes every rate
+        (the rate is the far end's), so there the checks only confirm the board answers.
 
         Each rate gets up to ``tries`` ACK checks, and counts only when a second ACK check at
         it answers too. The input is flushed before every check, so an ACK that arrives late
@@ -275,13 +276,16 @@ class Rcb4Client:
             ):
                 return chunk
             matcher = ReplyMatcher(self._decoder, cmd, expected, name, self.corrupt_grace)
-            while True:
-                raw = matcher.feed(chunk, time.monotonic())
-                if raw is not None:
-                    return raw
-                chunk = transport.read(matcher.need, matcher.until(deadline))
-                if not chunk:
-                    raise matcher.timeout_error(timeout)
+            try:
+                while True:
+                    raw = matcher.feed(chunk, time.monotonic())
+                    if raw is not None:
+                        return raw
+                    chunk = transport.read(matcher.need, matcher.until(deadline))
+                    if not chunk:
+                        raise matcher.timeout_error(timeout)
+            finally:
+                matcher.report()  # the stray bytes of the whole exchange, in one line
 
     @staticmethod
     def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:

@@ -23,6 +23,8 @@ log = logging.getLogger("rcb4hv.client.core")
 RAM_READS: dict[tuple[int, int], bytes] = {}
 """RAM read frames already built, by (address, size): a control loop reads the same ones."""
 RAM_READS_KEPT: Final = 512
+STRAY_SHOWN: Final = 32
+"""How many discarded stray bytes the warning shows (it counts them all)."""
 
 
 def check_timeout(timeout: object) -> None:
@@ -48,8 +50,9 @@ class ReplyMatcher:
     """Finds the reply frame to one command in the bytes that arrive after it was sent.
 
     Bytes that cannot start it (a SIZE other than ``expected`` or 4, a CMD other than
-    ``cmd``) are discarded and logged. A damaged candidate is remembered and sets
-    :attr:`grace_deadline` to ``now + corrupt_grace`` (a good copy may still follow).
+    ``cmd``) are discarded, and :meth:`report` logs them once for the exchange (a late reply
+    of 131 bytes is one warning, not one per chunk read). A damaged candidate is remembered
+    and sets :attr:`grace_deadline` to ``now + corrupt_grace`` (a good copy may still follow).
     """
 
     def __init__(
@@ -64,6 +67,9 @@ class ReplyMatcher:
         self.grace_deadline: float | None = None
         self.need = 4
         """How many more bytes to ask the link for."""
+        self.discarded = 0
+        """Stray bytes discarded so far in this exchange."""
+        self._shown = bytearray()  # the first of them, for the log
         decoder.reset()
 
     def feed(self, chunk: bytes, now: float) -> bytes | None:
@@ -79,12 +85,8 @@ class ReplyMatcher:
             ):
                 skip += 1
             if skip:
-                log.warning(
-                    "discarded %d stray byte(s) before the reply to %s: %s",
-                    skip,
-                    self.name,
-                    pending[:skip].hex(" "),
-                )
+                self.discarded += skip
+                self._shown += pending[: max(0, min(skip, STRAY_SHOWN - len(self._shown)))]
                 decoder.reset()
                 decoder.receive_data(pending[skip:])
                 pending = pending[skip:]
@@ -107,6 +109,24 @@ class ReplyMatcher:
                 return None
             assert isinstance(frame, bytes)
             return frame
+
+    def report(self) -> None:
+        """Log the stray bytes discarded in this exchange, once (the client calls it when the
+        exchange ends, however it ends); a no-op when there were none or after the first
+        call."""
+        if not self.discarded:
+            return
+        shown = self._shown.hex(" ")
+        if self.discarded > len(self._shown):
+            shown += " ..."
+        log.warning(
+            "discarded %d stray byte(s) before the reply to %s: %s",
+            self.discarded,
+            self.name,
+            shown,
+        )
+        self.discarded = 0
+        self._shown.clear()
 
     def until(self, deadline: float) -> float:
         """``deadline``, cut to the grace period after a damaged reply."""

@@ -7,7 +7,8 @@ times real time) and serves it synchronously inside ``write()`` / ``read()``: no
 Options (query string):
 
 * ``speed=S``   clock speed factor (default 1);
-* ``rom=PATH``  boot this ROM image file (written back on close if the board persists it);
+* ``rom=PATH``  boot this ROM image file (created if missing, in a directory that exists;
+  written back when the ROM changed);
 * ``layout=V``  the default board in HeartToHeart4 layout ``V`` (2.2, 2.1, 2.0, 1.3; with
   ``rom=`` only used when the file does not exist yet);
 * ``latency=S`` seconds between a request and its reply (default: the board's

@@ -5,11 +5,17 @@ tick) writes the *whole* current image once ``delay`` seconds of real time have 
 the first unflushed write, and :meth:`flush` writes it now. A flush writes a temporary file in
 the same directory, fsyncs it, ``os.replace``-s it over the image and fsyncs the directory, so
 the file on disk is always a complete image: every page holds either its old or its new bytes.
+
+A missing image file is created (from the board's image) when the store is opened; an existing
+one is rewritten only when the image differs from what it holds (a write of the bytes already
+there, or writes that end where they began, leave the file alone). The file's directory must
+exist: a typo in the path is refused, not created.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import logging
 import time
 from pathlib import Path
@@ -27,9 +33,17 @@ class RomStore:
 
     def __init__(self, path: str | Path, size: int, delay: float = 0.25) -> None:
         self.path = Path(path)
+        directory = self.path.parent
+        if not directory.is_dir():
+            raise FileNotFoundError(
+                errno.ENOENT,
+                f"no directory {directory} for the ROM image {self.path.name} "
+                "(it is not created: check the path)",
+            )
         self.size = size
         self.delay = delay
         self._dirty_since: float | None = None
+        self._on_disk: bytes | None = None  # the image the file holds, once read or written
         self.flushes = 0
 
     def _stale_temp_files(self) -> list[Path]:
@@ -50,6 +64,7 @@ class RomStore:
             return None
         if len(data) != self.size:
             raise ValueError(f"{self.path}: a ROM image is {self.size} bytes, not {len(data)}")
+        self._on_disk = data
         return data
 
     def mark_dirty(self) -> None:
@@ -73,12 +88,18 @@ class RomStore:
 
     def flush(self, image: bytes | bytearray) -> None:
         """Write ``image`` atomically (:func:`rcb4hv.files.write_atomic`: temp file + fsync +
-        os.replace + directory fsync; the image keeps its mode)."""
+        os.replace + directory fsync; the image keeps its mode), unless the file holds it
+        already."""
         if len(image) != self.size:
             raise ValueError("image size mismatch")
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        write_atomic(self.path, bytes(image))
+        if self._on_disk is not None and self._on_disk == image and self.path.exists():
+            self._dirty_since = None
+            log.debug("%s holds the ROM image already: not rewritten", self.path)
+            return
+        data = bytes(image)
+        write_atomic(self.path, data)
         self._dirty_since = None
+        self._on_disk = data
         self.flushes += 1
         log.debug("flushed ROM image to %s", self.path)
 

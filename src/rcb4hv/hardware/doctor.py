@@ -108,7 +108,9 @@ def _local(host: Host, url: str) -> Iterator[Check]:
     tty = host.tty_name(url)
     ms = host.latency_ms(url)
     if ms is None:
-        yield Check("latency timer", "skip", f"{tty} has no FTDI latency timer")
+        yield Check(
+            "latency timer", "skip", f"{tty} has no FTDI latency timer (not an FTDI USB adapter)"
+        )
     elif ms > LATENCY_GOAL_MS:
         yield Check(
             "latency timer",

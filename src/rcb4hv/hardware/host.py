@@ -85,8 +85,11 @@ class Host:
 
     @staticmethod
     def tty_name(device: str) -> str:
-        """``ttyUSB0`` for ``/dev/ttyUSB0`` or for a symlink to it (``/dev/rcb4-A1B2``)."""
-        return Path(os.path.realpath(device)).name
+        """``ttyUSB0`` for ``/dev/ttyUSB0`` or for a symlink to it (``/dev/rcb4-A1B2``): the
+        path below ``/dev``, so a pty is ``pts/0``, not ``0``."""
+        real = Path(os.path.realpath(device))
+        dev = Path("/dev")
+        return str(real.relative_to(dev)) if real.is_relative_to(dev) else real.name
 
     def latency_path(self, device: str) -> Path:
         devices = self.sysfs / "bus" / "usb-serial" / "devices"

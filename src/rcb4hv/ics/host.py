@@ -83,8 +83,23 @@ class IcsServo:
         return reply.position
 
     def position(self) -> int:
-        """Read the position (ICS 3.6 read sc 5; an ICS 3.5 servo does not answer it)."""
-        return self.read(Sc.POSITION)
+        """Read the position (ICS 3.6 read sc 5). An ICS 3.5 servo does not answer it: when the
+        servo answers a stretch read but not this, :class:`IcsNoReply` says so."""
+        command = encode_read(self.servo_id, Sc.POSITION)
+        try:
+            reply = self._ask(command)
+        except IcsNoReply as exc:
+            try:
+                self.stretch()
+            except IcsNoReply:
+                raise exc from None
+            raise IcsNoReply(
+                f"servo {self.servo_id} answers, but not the position read: an ICS 3.5 servo "
+                "has none (ICS 3.6 only); a move or a free returns the position "
+                f"[no reply to {command.hex(' ')}]"
+            ) from exc
+        assert isinstance(reply, ValueReply)
+        return reply.value
 
     # ---------------------------------------------------------------- live values
 

@@ -20,7 +20,7 @@ import time
 from typing import Final, Protocol
 
 from rcb4hv.errors import IcsError, IcsNoReply, NakError
-from rcb4hv.ics.codec import Kind, Sc, reply_length, strip_echo
+from rcb4hv.ics.codec import BAUD_RATES, Kind, Sc, reply_length, strip_echo
 from rcb4hv.protocol import (
     Ack,
     Com,
@@ -42,6 +42,7 @@ __all__ = [
     "BoardIcsLink",
     "IcsLink",
     "SerialIcsLink",
+    "no_reply_message",
     "timeout_for",
 ]
 
@@ -57,6 +58,11 @@ EEPROM_WRITE_TIMEOUT_S: Final = 2.0
 DEFAULT_TX_ADDRESS: Final = 0x0357
 DEFAULT_RX_ADDRESS: Final = 0x0397
 BOARD_TIMEOUT_S: Final = 1.0
+ECHO_NOT_BOARD: Final = (
+    "the port echoes the frame sent: an ICS bus (servos: the adapter in ICS mode, icsemu://, "
+    "rcb4hv emulate-ics), not a board, so --via-board does not apply; drop it"
+)
+"""Why a board link that hears its own frame back is not on a board."""
 
 
 def timeout_for(command: bytes) -> float:
@@ -64,6 +70,36 @@ def timeout_for(command: bytes) -> float:
     if command[0] & 0xE0 in (Kind.READ, Kind.WRITE) and command[1] == Sc.EEPROM:
         return EEPROM_WRITE_TIMEOUT_S if command[0] & 0xE0 == Kind.WRITE else EEPROM_READ_TIMEOUT_S
     return REPLY_TIMEOUT_S * 3 if command[0] & 0xE0 == Kind.ID else REPLY_TIMEOUT_S
+
+
+def _who(command: bytes) -> tuple[str, str]:
+    """Who does not answer ``command``, and what being absent means for it."""
+    if command[0] & 0xE0 == Kind.ID:
+        which = "write" if command[1] == 1 else "read"
+        return f"no servo answers the ID {which}", "none connected"
+    return f"servo {command[0] & 0x1F} does not answer", "absent"
+
+
+def no_reply_message(
+    command: bytes, got: bytes, baud: int | None = None, baud_option: str = ""
+) -> str:
+    """Why ``command`` got no (whole) reply, for :class:`~rcb4hv.errors.IcsNoReply`: who does
+    not answer and the likely causes, then the raw bytes. ``baud``: the host's rate, if
+    known; ``baud_option``: how the user picks another (``"--baud"`` on the command line)."""
+    kind = command[0] & 0xE0
+    who, absent = _who(command)
+    others = [str(b) for b in BAUD_RATES if b != baud]
+    rate = "at another baud rate" if baud is None else f"at another baud rate than {baud}"
+    try_ = f"{baud_option} " if baud_option else ""
+    causes = f"{absent}, or {rate}: try {try_}{' or '.join(others)}"
+    if kind == Kind.READ and command[1] == Sc.POSITION:
+        causes += "; or an ICS 3.5 servo, which has no position read (ICS 3.6 only)"
+    elif kind == Kind.WRITE and command[1] == Sc.EEPROM:
+        causes += "; or still writing its EEPROM"
+    if got:
+        who += " in full"
+    raw = f"no reply to {command.hex(' ')}, got {got.hex(' ') or 'nothing'}"
+    return f"{who} ({causes}) [{raw}]"
 
 
 class IcsLink(Protocol):
@@ -79,9 +115,12 @@ class IcsLink(Protocol):
 class SerialIcsLink:
     """An ICS bus on a serial port (adapter in ICS mode, pty, socket, ``icsemu://``)."""
 
-    def __init__(self, transport: Transport, *, timeout_scale: float = 1.0) -> None:
+    def __init__(
+        self, transport: Transport, *, timeout_scale: float = 1.0, baud_option: str = ""
+    ) -> None:
         self.transport = transport
         self.timeout_scale = timeout_scale
+        self.baud_option = baud_option  # how a no-reply error tells the user to pick a rate
 
     def exchange(self, command: bytes) -> bytes:
         t = self.transport
@@ -93,7 +132,9 @@ class SerialIcsLink:
         if len(got) < len(command):
             raise IcsError(f"no echo of {command.hex(' ')}: is the adapter in ICS mode?")
         if len(rest) < want - len(command):
-            raise IcsNoReply(f"no reply to {command.hex(' ')} (got {rest.hex(' ') or 'nothing'})")
+            baud = getattr(t, "baudrate", None)
+            rate = baud if isinstance(baud, int) else None
+            raise IcsNoReply(no_reply_message(command, rest, rate, self.baud_option))
         return rest
 
     def follow_baud(self, baud: int) -> None:
@@ -129,9 +170,12 @@ class BoardIcsLink:
         frame = encode_command(frame_cmd)
         t.reset_input()
         t.write(frame)
-        got = t.read(frame_reply_length(frame_cmd), time.monotonic() + BOARD_TIMEOUT_S)
+        want = frame_reply_length(frame_cmd)
+        got = t.read(want, time.monotonic() + BOARD_TIMEOUT_S)
         if len(got) < 4:
             raise IcsNoReply(f"the board did not answer {frame.hex(' ')}")
+        if frame.startswith(got[: len(frame)]) and got[0] != want:
+            raise IcsError(f"{t.url}: {ECHO_NOT_BOARD} [sent {frame.hex(' ')}, got it back]")
         reply = decode_reply(got, frame_cmd)
         if not isinstance(reply, (Ack, Nak, DataReply)):
             raise IcsError(f"unexpected board reply {got.hex(' ')}")
@@ -147,7 +191,12 @@ class BoardIcsLink:
             raise NakError(f"the board refused the RAM write at {self.tx_address:04X}h")
         comm = CommunicateDevice(self.ics, len(command), self.tx_address, self.rx_address)
         if isinstance(self._board(comm), Nak):
-            raise IcsNoReply(f"0Eh: no answer to {command.hex(' ')} on ICS {self.ics} (NAK)")
+            who, absent = _who(command)
+            raise IcsNoReply(
+                f"{who} on the SIO line of ICS {self.ics} ({absent}, not at the line's baud "
+                "rate, or a board that does not serve 0Eh: the emulator needs --ics-comm) "
+                f"[0Eh: NAK, no answer to {command.hex(' ')}]"
+            )
         n = reply_length(command)
         reply = self._board(Move(Com(), Ram(self.rx_address), n))
         if not isinstance(reply, DataReply):
