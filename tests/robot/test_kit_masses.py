@@ -134,6 +134,57 @@ def test_an_unweighed_humanoid_has_the_weighed_legs(
         assert link_figures("L2L6A6H2G")[slot].mass == pytest.approx(grams, abs=0.1), slot
 
 
+A3 = ("shoulder_pitch", "shoulder_roll", "elbow_pitch", "gripper")
+A4 = ("shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow_pitch")  # its gripper: unweighed
+A6 = (*A4, "wrist_pitch", "wrist_roll", "gripper")
+
+
+@pytest.mark.parametrize(
+    ("code", "weighed", "slots"),
+    [
+        ("kxr:L2L5A3G", "L2W2L5A3H2G", A3),
+        ("kxr:L2L5A3H2G", "L2W2L5A3H2G", A3),
+        ("kxr:L2L6A4H2G", "L2W2L6A4H2G", A4),
+        ("kxr:L2W2L5A4H2G", "L2W2L6A4H2G", A4),
+        ("kxr:L2L5A6H2G", "L2L6A6H2G", A6),
+        ("kxr:L2W2L6A6H2G", "L2L6A6H2G", A6),
+        ("kxr:L2L6A6G", "L2L6A6H2G", A6),
+    ],
+)
+def test_an_unweighed_humanoid_has_the_weighed_arms(
+    code: str, weighed: str, slots: tuple[str, ...]
+) -> None:
+    """The arm links of a build no source weighs link by link are those of the weighed build
+    whose arm has the same joints (the A6 arm weighed 253.8 g a side in the KXR-L2W2L6A6H2G,
+    servos and a share of the total, against 347.0 g in the KXR-L2L6A6H2G). The shoulder
+    pitch link carries its servo's case, which the weighed build counts in its torso."""
+    _, model = stock(code)
+    source = link_figures(weighed)
+    for slot in slots:
+        link = model.link(f"l_{slot}_link").inertial
+        extra = fig("servo.mass") if slot == "shoulder_pitch" else 0.0
+        assert link.mass == pytest.approx((source[slot].mass + extra) / 1000), slot
+
+
+def test_an_arm_no_build_weighs_shares_the_total() -> None:
+    """A5 and A7 arms, and an A3 arm without its gripper (whose elbow link carries a case
+    fewer), take no weighed arm: they share what the build's total leaves."""
+    weighed_a6 = link_figures("L2L6A6H2G")["elbow_pitch"].mass / 1000
+    for code in ("kxr:L2L6A7H2G", "kxr:L2L6A5H2G", "kxr:L2L5A3"):
+        _, model = stock(code)
+        assert model.link("l_elbow_pitch_link").inertial.mass != pytest.approx(weighed_a6), code
+
+
+def test_a_build_with_more_parts_weighs_more() -> None:
+    """Two ankle wheels on the same build add their servos and tyres; a head adds its own
+    (a sweep found the 30-servo KXR-L2W2L6A6H2G 137 g lighter than the 28-servo
+    KXR-L2L6A6H2G when only the legs and torso were the weighed builds')."""
+    mass = {c: stock(c)[1].mass for c in ("kxr:L2L6A6H2G", "kxr:L2W2L6A6H2G", "kxr:L2L6A6G")}
+    wheels = 2 * (fig("servo.mass") + link_figures("L2W2L6A4H2G")["ankle_wheel"].mass) / 1000
+    assert mass["kxr:L2W2L6A6H2G"] > mass["kxr:L2L6A6H2G"] + wheels * 0.5
+    assert mass["kxr:L2L6A6G"] < mass["kxr:L2L6A6H2G"]
+
+
 @pytest.mark.parametrize(("code", "family"), [("kxr:L4T", "L4T"), ("kxr:L6", "L6")])
 def test_family_totals_count_their_servos_at_the_krs_3304r2s_mass(code: str, family: str) -> None:
     _, model = stock(code)

@@ -12,9 +12,10 @@ takes its mass and centre of mass from there. Otherwise the build's own whole-ro
 where kxreus gives one, else the family's (``figures.MASS_SERVOS`` build) plus or minus one
 servo per servo more or fewer, spread as :func:`rcb4hv.robot.humanoid.distribute_mass`
 does: each link carries its servo case, the rest is shared by shape volume; a humanoid's
-torso and leg links first take their figures from the weighed build with the same legs
-(``figures.torso_contents``, ``figures.weighed_legs``): the same parts weigh the same in
-every build. kxreus weighs
+torso and leg links first take their figures from the weighed build with the same legs, its
+arm links from the one with the same arm (``figures.torso_contents``,
+``figures.weighed_legs``, ``figures.weighed_arms``): the same parts weigh the same in every
+build. kxreus weighs
 every servo case at 27.73 g, a KRS-3301's (``servo.mass_kxreus``; KXR-KITS.md §3.1), so such
 a total counts each servo of its build short of a KRS-3304R2 (``servo.mass``): the
 difference is added per servo (a weighed build's links get it per case they carry).

@@ -21,6 +21,7 @@ from rcb4hv.robot.kit.figures import (
     fig,
     link_figures,
     torso_contents,
+    weighed_arms,
     weighed_legs,
 )
 from rcb4hv.robot.kit.templates import template
@@ -187,7 +188,8 @@ def kit_model(
         + ("" if per_link else ", shared over the links by servo and shape volume")
         + (
             "; the torso's contents and the leg links from the weighed build with the same "
-            "legs (figures.torso_contents, figures.weighed_legs)"
+            "legs, the arm links from the one with the same arm (figures.torso_contents, "
+            "figures.weighed_legs, figures.weighed_arms)"
             if borrowed
             else ""
         ),
@@ -208,10 +210,11 @@ def kit_model(
 
 
 def _borrowed(bases: list[str]) -> dict[str, LinkFigure]:
-    """The weighed builds' torso contents and leg links for a humanoid build no source
-    weighs link by link (``figures.torso_contents``, ``figures.weighed_legs``)."""
+    """The weighed builds' torso contents, leg and arm links for a humanoid build no source
+    weighs link by link (``figures.torso_contents``, ``figures.weighed_legs``,
+    ``figures.weighed_arms``)."""
     legs = _legs(bases)
-    out = weighed_legs(legs, "ankle_wheel" in bases)
+    out = weighed_legs(legs, "ankle_wheel" in bases) | weighed_arms(bases)
     torso = torso_contents(legs)
     if torso is not None:
         out["torso"] = torso

@@ -10,6 +10,7 @@ named in each row).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import NamedTuple
 
 from rcb4hv.robot.kit.linkrows import LINK_ROWS
@@ -379,6 +380,46 @@ def weighed_legs(legs: int, wheels: bool) -> dict[str, LinkFigure]:
     if "hip_yaw" in out:
         yaw = out["hip_yaw"]
         out["hip_yaw"] = LinkFigure(yaw.mass + fig("servo.mass"), yaw.com, yaw.inertia)
+    return out
+
+
+# the arm links a humanoid build no source weighs takes from the weighed build whose arm has
+# the same joints: its links are the same parts (frozenset of the arm's slots -> build)
+WEIGHED_ARMS: dict[frozenset[str], str] = {
+    frozenset(("shoulder_pitch", "shoulder_roll", "elbow_pitch", "gripper")): "L2W2L5A3H2G",
+    frozenset(
+        ("shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow_pitch", "gripper")
+    ): "L2W2L6A4H2G",
+    frozenset(
+        (
+            "shoulder_pitch",
+            "shoulder_roll",
+            "shoulder_yaw",
+            "elbow_pitch",
+            "wrist_pitch",
+            "wrist_roll",
+            "gripper",
+        )
+    ): "L2L6A6H2G",
+}
+ARM_SLOTS = frozenset(s for arm in WEIGHED_ARMS for s in arm) | {"wrist_yaw"}
+
+
+def weighed_arms(slots: Iterable[str]) -> dict[str, LinkFigure]:
+    """Slot -> the figures of the arm links of the weighed build whose arm has exactly the
+    arm joints among ``slots`` (:data:`WEIGHED_ARMS`), for a humanoid build no source weighs
+    link by link; empty for an arm no weighed build has (A5, A7, an arm without its gripper,
+    whose elbow link would carry one case fewer). The shoulder pitch link takes the case of
+    its servo, which the weighed build counts in its torso (as the six-axis hip yaw's)."""
+    arm = frozenset(s for s in slots if s in ARM_SLOTS)
+    code = WEIGHED_ARMS.get(arm)
+    if code is None:
+        return {}
+    have = link_figures(code)
+    out = {s: have[s] for s in sorted(arm) if s in have}
+    if "shoulder_pitch" in out:
+        sp = out["shoulder_pitch"]
+        out["shoulder_pitch"] = LinkFigure(sp.mass + fig("servo.mass"), sp.com, sp.inertia)
     return out
 
 
