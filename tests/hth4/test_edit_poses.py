@@ -148,6 +148,11 @@ def test_motion_level_edits(project: hth4.Project) -> None:
     assert p.motion(TURN_LEFT).button == (2048 + 8, "Equals")
     with pytest.raises(EditError, match="already starts motion 11"):
         bind_button(project, TURN_LEFT, 8)
+    # --force takes the binding: motion 11 loses it (both bound left one never playing)
+    taken = bind_button(project, TURN_LEFT, 8, force=True)
+    assert taken.motion(TURN_LEFT).button == (8, "Equals")
+    assert taken.motion(11).button_data == 0
+    assert [m.slot for m in taken.used_motions if m.button == (8, "Equals")] == [TURN_LEFT]
     assert bind_button(p, TURN_LEFT, 0).motion(TURN_LEFT).button_data == 0
     p = set_trim(p, 10, -200)
     assert p.servo(10).trim == -200

@@ -18,9 +18,9 @@ from rcb4hv.rom import layout
 EMPTY_SLOT = 18  # a slot the fixture project leaves empty
 
 
-def _error(r: Result) -> str:
+def _error(r: Result, code: int = 1) -> str:
     """The one ``error: ...`` line of a failed command."""
-    assert r.exit_code == 1, r.output
+    assert r.exit_code == code, r.output
     assert isinstance(r.exception, SystemExit), r.exception
     lines = r.output.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: "), r.output
@@ -136,7 +136,8 @@ def test_diff_names_the_bad_file(kxr_project_path: Path, tmp_path: Path) -> None
     bad = tmp_path / "bad.h4p"
     bad.write_text("<Rcb4><Config>", encoding="utf-8")
     for args in ([kxr_project_path, bad], [bad, kxr_project_path]):
-        line = _error(_run("project", "diff", *args))
+        # exit status 2, as diff(1): 1 says the projects differ
+        line = _error(_run("project", "diff", *args), 2)
         assert line.startswith(f"error: {bad}: not a HeartToHeart4 project: not well-formed"), line
 
 
@@ -149,7 +150,7 @@ def test_project_commands_name_a_rom_image(command: str, image_file: Path, tmp_p
         args += ["--motion", "1"]
     if command in ("build", "mirror"):
         args += ["-o", tmp_path / "out"]
-    line = _error(_run(*args))
+    line = _error(_run(*args), 2 if command == "diff" else 1)
     assert line.startswith(f"error: {image_file}: looks like a 256 KB ROM image"), line
     assert "project image" in line
 

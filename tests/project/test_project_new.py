@@ -10,10 +10,11 @@ from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
 from rcb4hv.cli.project_common import load_image
+from rcb4hv.errors import EditError
 from rcb4hv.hth4 import dump_project, load_project, parse_project
 from rcb4hv.hth4.blocks import motion_program
 from rcb4hv.hth4.diff import diff_projects
-from rcb4hv.hth4.newproject import HOME_NAME, new_project
+from rcb4hv.hth4.newproject import HOME_NAME, new_project, set_priority
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.project.check import check_project
 from rcb4hv.project.run import run_motions
@@ -89,6 +90,26 @@ def test_bind_and_settings_change_only_what_they_say(tmp_path: Path) -> None:
         "project", "settings", out, "--ad-reference", "11=5", "-o", tmp_path / "y.h4p"
     )
     assert code == 1 and "AD channel 11" in text
+
+
+def test_settings_refuse_a_check_that_cannot_build_or_never_fires(tmp_path: Path) -> None:
+    """A priority check on a port the board has not (AD99) was written, and the build then
+    refused the project; a low-power motion with no value compared AD0 <= 0, never true.
+    Both are refused when set, and the file is not written."""
+    base = tmp_path / "base.h4p"
+    base.write_bytes(dump_project(new_project(load_builtin("kxr-l2"), date="2026-01-01T00:00:00")))
+    out = tmp_path / "out.h4p"
+    code, text = _run("project", "settings", base, "--priority", "0=1,AD99,Equals,2", "-o", out)
+    assert code == 2 and "unknown priority-motion port 'AD99'" in text, text
+    with pytest.raises(EditError, match="unknown priority-motion port 'AD99'"):
+        set_priority(load_project(base), 0, 1, "AD99", "Equals", 2)
+    with pytest.raises(EditError, match="unknown comparison 'Same'"):
+        set_priority(load_project(base), 0, 1, "AD3", "Same", 2)
+    code, text = _run("project", "settings", base, "--low-power", 1, "-o", out)
+    assert code == 1 and "would never run" in text, text
+    assert not out.exists()
+    code, text = _run("project", "settings", base, "--priority", "0=1,ad3,LessThan,2", "-o", out)
+    assert code == 0, text
 
 
 @pytest.mark.parametrize("ms", [10, 15, 20, 25])

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import click
 
-from rcb4hv.cli._util import handle_errors, output_option, print_json
+from rcb4hv.cli._util import error_line, handle_errors, output_option, print_json
+from rcb4hv.errors import Rcb4Error
 from rcb4hv.hth4 import load_project
 from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.hth4.session import EditSession
@@ -73,14 +74,18 @@ def mirror_command(
 @click.argument("a", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.argument("b", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help='Print {"changes": [...]}.')
-@handle_errors
 def diff_command(a: Path, b: Path, as_json: bool) -> None:
     """What differs from project A to project B: settings, servos, motions, poses, values.
 
-    Exit status 0 when they hold the same data, 1 when they differ (as diff(1))."""
+    Exit status 0 when they hold the same data, 1 when they differ, 2 when a file cannot be
+    read (as diff(1))."""
     from rcb4hv.hth4.diff import diff_projects
 
-    changes = diff_projects(load_project(a), load_project(b))
+    try:
+        changes = diff_projects(load_project(a), load_project(b))
+    except (Rcb4Error, ValueError, OSError) as exc:
+        click.echo(error_line(exc), err=True)
+        raise SystemExit(2) from exc
     if as_json:
         print_json({"changes": [c.to_json() for c in changes]})
     else:

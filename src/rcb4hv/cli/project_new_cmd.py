@@ -162,7 +162,7 @@ def settings_command(
 
 
 def _priority(text: str) -> tuple[int, int | None, str, str, int]:
-    from rcb4hv.project.image import COMPARE
+    from rcb4hv.hth4.newproject import COMPARE, priority_port_source
 
     index, value = _pair(text, "--priority")
     parts = [p.strip() for p in value.split(",")]
@@ -172,6 +172,10 @@ def _priority(text: str) -> tuple[int, int | None, str, str, int]:
         slot, port, compare, threshold = parts
         if compare not in COMPARE:
             raise click.BadParameter(f"--priority: {compare!r} is not one of {', '.join(COMPARE)}")
+        try:
+            priority_port_source(port)
+        except ValueError as exc:
+            raise click.BadParameter(f"--priority: {exc}") from None
         return int(index), int(slot), port, compare, int(threshold, 0)
     except ValueError:
         raise click.BadParameter(f"--priority: {text!r} is not I=SLOT,PORT,COMPARE,VALUE") from None

@@ -18,6 +18,7 @@ are addressed by their 1-based slot, poses by their 0-based index.
 from __future__ import annotations
 
 import bisect
+import logging
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 
@@ -40,6 +41,8 @@ from rcb4hv.hth4.poses import (
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, Return
 from rcb4hv.protocol.memory import CENTER
 from rcb4hv.robot.model import RobotModel
+
+log = logging.getLogger(__name__)
 
 __all__ = [
     "TRIM_LIMIT",
@@ -302,18 +305,26 @@ def bind_button(
     force: bool = False,
 ) -> Project:
     """Motion ``slot`` started by remote button word ``button`` (0: unbind). EditError if
-    another motion already has that binding, unless ``force``."""
+    another motion already has that binding, unless ``force``: then that motion loses it
+    (the board starts the first motion bound to a word, so two would leave one dead)."""
     m = used_motion(project, slot)
     if isinstance(button, bool) or not isinstance(button, int) or not 0 <= button <= 0xFFFF:
         raise EditError(f"the button word is 16 bits (0..65535), not {button!r}")
-    if button and not force:
-        for other in project.used_motions:
-            if other.slot != slot and other.button == (button, compare_type):
-                raise EditError(
-                    f"{button_label(button)} (button word {button}) already starts motion "
-                    f"{other.slot} ({other.name}): unbind it first, or take it (--force; the "
-                    "Editor's override box)"
-                )
+    holders = [
+        o
+        for o in project.used_motions
+        if button and o.slot != slot and o.button == (button, compare_type)
+    ]
+    if holders and not force:
+        other = holders[0]
+        raise EditError(
+            f"{button_label(button)} (button word {button}) already starts motion "
+            f"{other.slot} ({other.name}): unbind it first, or take it from that motion "
+            "(--force, or the Editor's override box)"
+        )
+    for other in holders:
+        log.info("motion %d (%s) loses button word %d", other.slot, other.name, button)
+        project = _put(project, replace(other, button_data=0))
     return _put(project, replace(m, button_data=button, compare_type=compare_type))
 
 

@@ -38,6 +38,7 @@ from rcb4hv.hth4.model import (
 from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS, SystemRegister
 from rcb4hv.robot.kit.stockhome import with_stock_home
 from rcb4hv.robot.model import RobotModel
+from rcb4hv.rom import Compare
 
 __all__ = [
     "HOME_FRAMES",
@@ -139,7 +140,38 @@ def set_low_power(project: Project, slot: int | None, value: int | None = None) 
         raise EditError(f"low-power value {value} outside the AD range 0..1023")
     address = -1 if slot is None else _used(project, slot, "low-power motion").address
     threshold = project.low_power_value if value is None else value
+    if slot is not None and threshold == 0:
+        raise EditError(
+            "the low-power motion runs when AD0 <= its value, and the value is 0, so it "
+            "would never run: give the value too (--low-power-value; Kondo's samples check "
+            "the battery with a priority check, Battery < 224)"
+        )
     return replace(project, low_power_motion_address=address, low_power_value=threshold)
+
+
+COMPARE: Final[dict[str, Compare]] = {
+    "Equals": "eq",
+    "NotEquals": "ne",
+    "LessThan": "lt",
+    "LessThanOrEqualTo": "le",
+    "GreaterThan": "gt",
+    "GreaterThanOrEqualTo": "ge",
+}
+"""HeartToHeart4's ``CompareType`` names -> comparisons."""
+
+
+def priority_port_source(port: str) -> tuple[int, int]:
+    """(RAM address, size) compared by a priority check of input ``port`` (Battery, AD0-AD10,
+    PA1-PA4, any case); ValueError for another name."""
+    p = port.strip()
+    if p.lower() == "battery":
+        return ADDR.ad(0), 2
+    up = p.upper()
+    if up.startswith("AD") and up[2:].isdigit() and 0 <= int(up[2:]) <= 10:
+        return ADDR.ad(int(up[2:])), 2
+    if up.startswith("PA") and up[2:].isdigit() and 1 <= int(up[2:]) <= 4:
+        return ADDR.PA[int(up[2:]) - 1], 1
+    raise ValueError(f"unknown priority-motion port {port!r} (known: Battery, AD0-AD10, PA1-PA4)")
 
 
 def set_priority(
@@ -155,6 +187,15 @@ def set_priority(
     key = str(index)
     if key not in PRIORITY_KEYS[:-1]:
         raise EditError(f"priority check {index} outside 0..12")
+    try:
+        priority_port_source(port)
+    except ValueError as exc:
+        raise EditError(f"priority check {index}: {exc}") from None
+    if compare_type not in COMPARE:
+        raise EditError(
+            f"priority check {index}: unknown comparison {compare_type!r} "
+            f"(known: {', '.join(COMPARE)})"
+        )
     if slot is None:
         entry = PriorityMotionSlot(key)
     else:

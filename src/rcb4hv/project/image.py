@@ -46,6 +46,7 @@ from typing import Final
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
 from rcb4hv.hth4.motioncode import split_frames
+from rcb4hv.hth4.newproject import COMPARE, priority_port_source
 from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
 from rcb4hv.protocol import Button
 from rcb4hv.protocol.memory import (
@@ -59,7 +60,6 @@ from rcb4hv.protocol.memory import (
     u16_bytes,
 )
 from rcb4hv.rom import (
-    Compare,
     ImageDescription,
     ImageMotion,
     ImagePriorityMotion,
@@ -86,16 +86,6 @@ __all__ = [
 ]
 
 log = logging.getLogger(__name__)
-
-COMPARE: Final[dict[str, Compare]] = {
-    "Equals": "eq",
-    "NotEquals": "ne",
-    "LessThan": "lt",
-    "LessThanOrEqualTo": "le",
-    "GreaterThan": "gt",
-    "GreaterThanOrEqualTo": "ge",
-}
-"""HeartToHeart4's ``CompareType`` names -> comparisons."""
 
 _COMPARE_NAME: Final = {v: k for k, v in COMPARE.items()}
 
@@ -195,19 +185,6 @@ def _package_compare(p: VectorPackage) -> tuple[str, int] | None:
     return None if name is None else (name, value)
 
 
-def _port_source(port: str) -> tuple[int, int]:
-    """(RAM address, size) compared by a priority check of input ``port``."""
-    p = port.strip()
-    if p.lower() == "battery":
-        return AD0, 2
-    up = p.upper()
-    if up.startswith("AD") and up[2:].isdigit() and 0 <= int(up[2:]) <= 10:
-        return ADDR.ad(int(up[2:])), 2
-    if up.startswith("PA") and up[2:].isdigit() and 1 <= int(up[2:]) <= 4:
-        return ADDR.PA[int(up[2:]) - 1], 1
-    raise ValueError(f"unknown priority-motion port {port!r} (known: Battery, AD0-AD10, PA1-PA4)")
-
-
 def _port_name(source: int, size: int) -> str:
     if size == 2 and source == AD0:
         return "Battery"
@@ -281,7 +258,7 @@ def project_description(
     for index, pm in project.active_priority_motions:
         if index >= layout.PRIORITY_COUNT:
             raise ValueError(f"priority check {index} outside 0..12")
-        source, size = _port_source(pm.port)
+        source, size = priority_port_source(pm.port)
         try:
             compare = COMPARE[pm.compare_type]
         except KeyError:

@@ -82,9 +82,9 @@ class EditorPage:
             tid(ui.button("Edit the Project page's project"), "editor-take").on_click(
                 self.take_project
             )
-            tid(ui.checkbox("override ranges and joint limits"), "editor-force").bind_value(
-                ed, "force"
-            )
+            tid(
+                ui.checkbox("override ranges, joint limits and button bindings"), "editor-force"
+            ).bind_value(ed, "force")
             self.status = tid(ui.label(ed.status()), "editor-status").classes("text-sm")
         with ui.row().classes("items-center"):
             self.motion_sel = tid(ui.select({}, label="Motion", with_input=True), "editor-motion")
