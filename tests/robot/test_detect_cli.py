@@ -195,6 +195,18 @@ def test_cli_mjcf_export(tmp_path: Path) -> None:
         assert "<mujoco" in (tmp_path / "k.xml").read_text(encoding="utf-8")
 
 
+def test_cli_mjcf_export_refuses_a_joint_map(tmp_path: Path) -> None:
+    """A joint map points a `--robot FILE` at a URDF: with --format mjcf it named the MJCF
+    file, which `--robot` then could not read. Refused before anything is written."""
+    out = CliRunner().invoke(
+        cli,
+        ["robot", "export", "kxr-l2", "--format", "mjcf", "-o", str(tmp_path / "k.xml"),
+         "--joint-map", str(tmp_path / "k.toml")],
+    )  # fmt: skip
+    assert out.exit_code == 2 and "--joint-map names a URDF file" in out.output
+    assert not (tmp_path / "k.xml").exists() and not (tmp_path / "k.toml").exists()
+
+
 def test_cli_detect_refuses_a_named_model_that_does_not_fit(kxr_project_path: Path) -> None:
     """``robot detect --robot NAME`` checks the model against the project's servos, as every
     other command does: a KHR-3HV on the fixture's KXR-L2 says which servos are missing."""

@@ -210,3 +210,21 @@ def test_cli_ik_balance_lifts_a_foot_over_the_other() -> None:
     frames = forward(model, data["angles"])
     com, left = center_of_mass(model, frames), position(frames["l_foot"])
     assert math.hypot(com[0] - left[0], com[1] - left[1]) < 0.002  # over the standing foot
+    # "pos" is where the foot went in the frame of --pos (the start pose's torso), not in
+    # the torso frame of the shifted body, which put the foot 3 cm off a reached target
+    assert math.dist(data["pos"], [float(t) for t in target]) < 0.001
+
+
+def test_cli_ik_balance_reports_where_the_link_is_in_the_targets_frame() -> None:
+    """Out of reach: the position printed and the distance to the target agree (they are in
+    one frame; the position was in the moved torso's frame, 35 mm from the target beside
+    "7.7 mm from the target")."""
+    target = [0.0, 0.03, -0.15]
+    out = CliRunner().invoke(
+        cli,
+        ["robot", "ik", "kxr-l2", "--link", "l_foot", "--pos", *map(str, target), "--balance",
+         "--json"],
+    )  # fmt: skip
+    data = json.loads(out.stdout)
+    assert data["reached"] is False
+    assert math.dist(data["pos"], target) == pytest.approx(data["error_m"], abs=0.001)

@@ -26,8 +26,9 @@ def poses_command(file: Path, slot: int, robot_name: str | None, as_json: bool) 
     """Static balance and servo load of every pose of motion --motion in FILE.
 
     For each pose: whether it stands still (``balanced``: the centre of mass inside the
-    support polygon of whatever touches the floor), the margin to the polygon's edge in
-    metres, and each servo's static torque as a fraction of its stall torque."""
+    support polygon of whatever touches the floor by more than a 6 mm reserve, which physics
+    needs to stand: docs/posing.md), the margin to the polygon's edge in metres (positive
+    inside), and each servo's static torque as a fraction of its stall torque."""
     from rcb4hv.hth4.edit import used_motion
     from rcb4hv.hth4.robotpick import project_model
     from rcb4hv.project.posebalance import motion_balance

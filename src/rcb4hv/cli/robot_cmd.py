@@ -249,6 +249,10 @@ def _against_stock(model: RobotModel) -> list[str]:
 @handle_errors
 def export(name: str, fmt: str, output: Path, joint_map: Path | None) -> None:
     """Write robot NAME as URDF (for ROS) or MJCF (for MuJoCo)."""
+    if joint_map is not None and fmt != "urdf":
+        raise click.UsageError(
+            "--joint-map names a URDF file (a `--robot FILE` reads URDF): export --format urdf"
+        )
     model = load_robot(name)
     if fmt == "mjcf":
         try:

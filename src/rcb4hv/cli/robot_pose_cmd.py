@@ -15,7 +15,7 @@ from rcb4hv.robot.builtin import load_robot
 from rcb4hv.robot.ik import Orient, solve
 from rcb4hv.robot.kinematics import from_xyz_rpy, link_pose, position
 from rcb4hv.robot.model import RobotModel
-from rcb4hv.robot.wholebody import solve_balanced
+from rcb4hv.robot.wholebody import point_in_start_frame, solve_balanced
 
 
 def read_angles(model: RobotModel, path: Path) -> dict[str, float]:
@@ -121,7 +121,10 @@ def ik(
         result = solve_balanced(model, link, pos, seed, orient=orient)
     else:
         result = solve(model, link, target, seed, orient=orient)
-    got = _rounded(position(link_pose(model, link, result.angles)))
+    if balance:  # the body moved: the link where the target is, in the start pose's frame
+        got = _rounded(point_in_start_frame(model, link, seed, result.angles))
+    else:
+        got = _rounded(position(link_pose(model, link, result.angles)))
     if not result.reached:
         click.echo(f"warning: {link}: {result.message}", err=True)
     if as_json:

@@ -53,13 +53,15 @@ def get_command(conn: Connection, as_json: bool) -> None:
         print_table(["ICS", "trim"], [[k, v] for k, v in sorted(trims.items())])
 
 
-@trim.command("set")
+@trim.command("set", context_settings={"ignore_unknown_options": True})
 @click.argument("ics", type=click.IntRange(0, 34))
 @click.argument("value", type=int)
 @pass_connection
 @handle_errors
 def set_command(conn: Connection, ics: int, value: int) -> None:
-    """Set servo ICS's trim to VALUE in the board's RAM (lost at reset: `trim save` keeps it)."""
+    """Set servo ICS's trim to VALUE in the board's RAM (lost at reset: `trim save` keeps it).
+
+    VALUE may be negative as written (`trim set 2 -240`)."""
     from rcb4hv.hth4.edit import TRIM_LIMIT
 
     if not -TRIM_LIMIT <= value <= TRIM_LIMIT:

@@ -28,7 +28,7 @@ from rcb4hv.robot.kinematics import (
 )
 from rcb4hv.robot.model import RobotModel, Vec3
 
-__all__ = ["BALANCE_ROUNDS", "solve_balanced"]
+__all__ = ["BALANCE_ROUNDS", "point_in_start_frame", "solve_balanced"]
 
 #: Rounds of "shift the torso, solve the legs and the limb": the CoM's offset shrinks by
 #: about the limbs' share of the mass each round (well under a millimetre after four).
@@ -103,3 +103,25 @@ def solve_balanced(
                 legs.at_limits + result.at_limits,
             )
     return result
+
+
+def point_in_start_frame(
+    model: RobotModel,
+    link: str,
+    start: Mapping[str, float],
+    angles: Mapping[str, float],
+) -> Vec3:
+    """Where ``link``'s origin is after :func:`solve_balanced` moved the body to ``angles``,
+    in the torso frame of the pose ``start`` it began from (the frame its target is given
+    in): the robot stands on its other feet, which stayed where they were. The torso frame of
+    ``angles`` itself has moved with the body. With no other foot, the torso frame of
+    ``angles``."""
+    pose = {j.name: 0.0 for j in model.joints}
+    before = forward(model, {**pose, **start})
+    after = forward(model, {**pose, **angles})
+    feet = [f for f, kind in effectors(model).items() if kind == "foot" and f != link]
+    if not feet:
+        return apply(after[link], (0.0, 0.0, 0.0))
+    # the torso of ``angles`` placed so that its first standing foot is where it was
+    torso = compose(before[feet[0]], invert(after[feet[0]]))
+    return apply(compose(torso, after[link]), (0.0, 0.0, 0.0))
