@@ -114,3 +114,23 @@ def test_bad_program_names_the_field(kxr_project_path: Path, tmp_path: Path) -> 
 def test_one_of_motion_or_all(kxr_project_path: Path, tmp_path: Path) -> None:
     code, out = _run("project", "motion-export", kxr_project_path, "-o", tmp_path / "x")
     assert code == 2 and "--motion N or --all" in out
+
+
+def test_a_copy_does_not_take_the_originals_button(kxr_project_path: Path, tmp_path: Path) -> None:
+    """docs/from-hth4.md's "copy a motion": motion 9 (bound to UP) exported and imported into
+    free slot 18 gave both UP, so the copy never played from the remote. The copy comes in
+    unbound, with a note, and motion 9 keeps UP."""
+    code, out = _run("project", "motion-export", kxr_project_path, "--motion", 9, "-o",
+                     tmp_path / "m9.json")  # fmt: skip
+    assert code == 0, out
+    result = tmp_path / "out.h4p"
+    r = CliRunner().invoke(
+        cli,
+        ["project", "motion-import", str(kxr_project_path), str(tmp_path / "m9.json"),
+         "--motion", "18", "-o", str(result)],
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "motion 18: ↑ already starts motion 9" in r.stderr
+    p = load_project(result)
+    assert p.motion(9).button_data == 1 and p.motion(18).button_data == 0
+    assert p.motion(18).name == p.motion(9).name

@@ -144,3 +144,18 @@ def test_cli_add_motion(kxr_project_path: Path, tmp_path: Path) -> None:
         ["project", "add-motion", str(kxr_project_path), str(kf), "--name", "x", "-o", str(out)],
     )
     assert r.exit_code == 1 and "keyframe 1" in r.output
+
+
+def test_cli_add_motion_refuses_a_button_another_motion_holds(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    """`add-motion --button UP` on the fixture, whose motion 9 starts on UP: the new motion
+    was bound too and never played from the remote (the board starts the first). Refused as
+    `project bind` refuses it, and nothing is written."""
+    kf = tmp_path / "kf.json"
+    kf.write_text(json.dumps({"keyframes": [{"time": 0.3, "positions": {"2": 7600}}]}))
+    out = tmp_path / "out.h4p"
+    args = ["project", "add-motion", str(kxr_project_path), str(kf), "--name", "x", "-o", str(out)]
+    r = CliRunner().invoke(cli, [*args, "--button", "UP"])
+    assert r.exit_code == 1 and "already starts motion 9" in r.output, r.output
+    assert "project bind --force" in r.output and not out.exists()

@@ -13,7 +13,9 @@ from rcb4hv.errors import EditError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4.blocks import dump_program, load_program, motion_program, put_program
 from rcb4hv.hth4.blocks.flowxml import motion_xml, put_flowchart
+from rcb4hv.hth4.edit import bind_button
 from rcb4hv.hth4.model import Project
+from rcb4hv.hth4.motionlist import button_label
 from rcb4hv.hth4.session import EditSession
 
 __all__ = ["register"]
@@ -71,6 +73,33 @@ def _put_file(project: Project, slot: int, path: Path) -> Project:
     return put_program(project, slot, load_program(path))
 
 
+def _drop_taken_bindings(session: EditSession, slots: list[int]) -> list[str]:
+    """Unbind each imported motion whose remote binding another motion (not imported) holds:
+    the board starts the first one, so the copy would never play from the remote and the
+    original would change hands by slot order. Returns a note per binding dropped."""
+    notes = []
+    for slot in slots:
+        m = session.project.motion(slot)
+        if m is None or m.is_empty or not m.button_data:
+            continue
+        holder = next(
+            (
+                o
+                for o in session.project.used_motions
+                if o.slot not in slots and o.button == m.button
+            ),
+            None,
+        )
+        if holder is not None:
+            session.apply(bind_button, slot, 0)
+            notes.append(
+                f"motion {slot}: {button_label(m.button_data)} already starts motion "
+                f"{holder.slot} ({holder.name}): imported without it (`project bind --force` "
+                "takes it)"
+            )
+    return notes
+
+
 @click.command("motion-import")
 @click.argument("file", type=_FILE)
 @click.argument("program", type=click.Path(exists=True, path_type=Path))
@@ -103,6 +132,8 @@ def import_command(file: Path, program: Path, slot: int | None, every: bool, out
             done.append(int(m[1]))
         if not done:
             raise EditError(f"{program}: no NNN.json or NNN.xml files")
+    for note in _drop_taken_bindings(session, done):
+        click.echo(note, err=True)
     changed = session.changed_slot_numbers  # against the file as loaded, so before saving
     emptied = sorted(set(changed) - {m.slot for m in session.changed_motions})
     session.save(output)

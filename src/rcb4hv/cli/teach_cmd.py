@@ -12,6 +12,7 @@ import click
 from rcb4hv.cli._util import MOTION_SLOT, OUTPUT_FILE, handle_errors, output_option
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4 import dump_motion_xml, dump_project, parse_project
+from rcb4hv.hth4.edit import bind_button
 from rcb4hv.hth4.keyframes import (
     Keyframe,
     add_motion,
@@ -92,9 +93,13 @@ def add_motion_command(
     from rcb4hv.project.relocate import project_layout
 
     motion = motion_from_keyframes(
-        frames, slot=slot, name=name, period_ms=period, button=word, layout=project_layout(project)
+        frames, slot=slot, name=name, period_ms=period, button=0, layout=project_layout(project)
     )
-    data = dump_project(add_motion(project, motion))
+    # bound as `project bind` binds: a word another motion holds is refused, not doubled
+    added = add_motion(project, motion)
+    if word:
+        added = bind_button(added, slot, word)
+    data = dump_project(added)
     if dump_project(parse_project(data)) != data:
         raise ValueError("the new project does not round-trip; nothing written")
     write_atomic(output, data)

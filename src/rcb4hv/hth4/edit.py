@@ -320,7 +320,7 @@ def bind_button(
         raise EditError(
             f"{button_label(button)} (button word {button}) already starts motion "
             f"{other.slot} ({other.name}): unbind it first, or take it from that motion "
-            "(--force, or the Editor's override box)"
+            "(`project bind --force`, or the Editor's override box)"
         )
     for other in holders:
         log.info("motion %d (%s) loses button word %d", other.slot, other.name, button)
