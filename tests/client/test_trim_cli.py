@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
@@ -17,3 +19,27 @@ def test_trim_set_takes_a_negative_value_as_written() -> None:
     assert r.exit_code == 1 and "trim -9999 outside" in r.output
     r = CliRunner().invoke(cli, ["trim", "set", "2", "-240", "--bogus", "--port", "rcb4emu://"])
     assert r.exit_code != 0
+
+
+def test_trim_save_refuses_another_robots_board(kxr_project_path: Path, tmp_path: Path) -> None:
+    """The board runs the fixture's image (ICS 2-19); a KXR-L2 project without grippers
+    (ICS 2-17) took its trims with no word. Refused and the file left alone; --force stores
+    those of the servos both have; the fixture itself takes them."""
+    image = tmp_path / "fx.bin"
+    r = CliRunner().invoke(cli, ["project", "build", str(kxr_project_path), "-o", str(image)])
+    assert r.exit_code == 0, r.output
+    port = f"rcb4emu://?rom={image}"
+    other = tmp_path / "l2.h4p"
+    r = CliRunner().invoke(cli, ["project", "new", "--robot", "kxr-l2", "-o", str(other)])
+    assert r.exit_code == 0, r.output
+    before = other.read_bytes()
+    r = CliRunner().invoke(cli, ["trim", "save", str(other), "--port", port])
+    assert r.exit_code == 1 and "ICS only on the board: [18, 19]" in r.output, r.output
+    assert other.read_bytes() == before
+    r = CliRunner().invoke(cli, ["trim", "save", str(other), "--force", "--port", port])
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "fx.h4p"
+    r = CliRunner().invoke(
+        cli, ["trim", "save", str(kxr_project_path), "-o", str(out), "--port", port]
+    )
+    assert r.exit_code == 0 and "trims of 18 servos stored" in r.output, r.output

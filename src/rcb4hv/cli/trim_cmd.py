@@ -78,16 +78,32 @@ def set_command(conn: Connection, ics: int, value: int) -> None:
 @trim.command("save")
 @click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @output_option("Where to write the project (default: FILE itself, atomically).", required=False)
+@click.option(
+    "--force",
+    is_flag=True,
+    help="Store them even when the board's servos are not the project's.",
+)
 @pass_connection
 @handle_errors
-def save_command(conn: Connection, file: Path, output: Path | None) -> None:
-    """Store the board's trims into project FILE's servo settings."""
+def save_command(conn: Connection, file: Path, output: Path | None, force: bool) -> None:
+    """Store the board's trims into project FILE's servo settings.
+
+    The board's servos must be the project's (the same ICS numbers in use), or its trims
+    would land on other joints: another robot's board is refused unless --force."""
     from rcb4hv.hth4.edit import set_trim
     from rcb4hv.hth4.session import EditSession
 
     session = EditSession.open(file)
     configured = {s.device_number for s in session.project.servos}
+    used = {s.device_number for s in session.project.servos if s.mode != "None"}
     trims = board_trims(conn)
+    if set(trims) != used and not force:
+        only_board, only_file = sorted(set(trims) - used), sorted(used - set(trims))
+        raise ValueError(
+            f"the board's servos are not {file.name}'s (ICS only on the board: "
+            f"{only_board or 'none'}; only in the project: {only_file or 'none'}): is it "
+            "this robot's board? (--force stores the trims of the ICS numbers both have)"
+        )
     for ics, value in sorted(trims.items()):
         if ics in configured:
             session.apply(set_trim, ics, value)
