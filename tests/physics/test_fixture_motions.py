@@ -194,7 +194,7 @@ def test_the_cli_reports_physics_in_json(tmp_path: Path) -> None:
         (["--physics", "--robot", "nao"], "unknown robot 'nao'"),
         (["--physics", "--robot", "khr3hv"], "has no servo at index"),
         (["--physics", "--sequence", "13,200"], "motion slots are 1-120"),
-        (["--what-if", "friction=0.5"], "add --physics"),
+        (["--what-if", "friction=0.5"], "--what-if sets up the robot of --physics: add --physics"),
         (["--physics", "--what-if", "grip=2"], "NAME one of stiffness"),
         (["--physics", "--what-if", "friction=-1"], "a factor of 0.01..100"),
     ],

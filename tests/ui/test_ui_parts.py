@@ -159,3 +159,6 @@ def test_cli_add_motion_refuses_a_button_another_motion_holds(
     r = CliRunner().invoke(cli, [*args, "--button", "UP"])
     assert r.exit_code == 1 and "already starts motion 9" in r.output, r.output
     assert "project bind --force" in r.output and not out.exists()
+    kf.write_text("{not json")
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 1 and f"error: {kf}: not JSON keyframes" in r.output, r.output

@@ -70,7 +70,10 @@ def bind_command(file: Path, slot: int, buttons: str, force: bool, output: Path)
     session = EditSession.open(file)
     session.apply(bind_button, slot, word, force=force)
     session.save(output)
-    click.echo(f"{output}: motion {slot} bound to button word {word:04X}h")
+    if word:
+        click.echo(f"{output}: motion {slot} bound to button word {word:04X}h")
+    else:
+        click.echo(f"{output}: motion {slot} unbound (no remote button starts it)")
 
 
 def _slot_or_none(value: int) -> int | None:

@@ -199,7 +199,10 @@ def simulate(
     if not slots:
         slots = sorted(names) if names else image_slots(image, lay)
     if not physics and (start != "upright" or what_if):
-        raise click.UsageError("--start and --what-if set up the robot of --physics: add --physics")
+        given = [o for o, on in (("--start", start != "upright"), ("--what-if", what_if)) if on]
+        verb = "set" if len(given) > 1 else "sets"
+        why = f"{' and '.join(given)} {verb} up the robot of --physics"
+        raise click.UsageError(f"{why}: add --physics")
     if trace is not None and not physics:
         raise click.UsageError("--trace writes the simulated robot's track: add --physics")
     _check_outputs(file, plot, trace)

@@ -82,7 +82,11 @@ def add_motion_command(
     from rcb4hv.hth4 import load_project
 
     project = load_project(file)
-    frames = parse_keyframes(json.loads(keyframes.read_text(encoding="utf-8")))
+    try:
+        data = json.loads(keyframes.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{keyframes}: not JSON keyframes: {exc}") from None
+    frames = parse_keyframes(data)
     free = free_slots(project)
     if slot is None:
         if not free:
