@@ -186,6 +186,10 @@ def test_cli_servo_motion_button(cli_url: str) -> None:
         7500 + 15 * 8000 / 270
     )
     assert _run("servo", "free", "--port", cli_url, str(k))[0] == 0
+    # the table names the free marker (it printed 8000 among the decimal positions)
+    code, out, _ = _run("servo", "list", "--port", cli_url)
+    row = next(line.split() for line in out.splitlines() if line.split()[:1] == [str(k)])
+    assert row[-2:] == ["free", "free"], out
     assert _run("servo", "hold", "--port", cli_url)[0] == 0
     code, out, _ = _run("motion", "play", "--port", cli_url, "1", "--wait")
     assert code == 0 and "ended" in out

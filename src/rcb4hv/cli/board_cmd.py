@@ -24,7 +24,7 @@ from rcb4hv.cli._util import (
 )
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
 from rcb4hv.files import write_atomic
-from rcb4hv.protocol import POSITION_HOLD, ROM_SIZE, Button
+from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, ROM_SIZE, Button
 from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
 
 LAYOUTS: dict[str, MotionLayout] = {v: ROM_LAYOUTS[v] for v in ("1.3", "2.0", "2.1", "2.2")}
@@ -35,6 +35,16 @@ def _hexdump(address: int, data: bytes) -> None:
         row = data[i : i + 16]
         text = "".join(chr(b) if 0x20 <= b < 0x7F else "." for b in row)
         click.echo(f"{address + i:06X}  {row.hex(' '):<47}  {text}")
+
+
+def _output_text(output: int) -> object:
+    """A servo block's output (+6) for the table: a position, or the word of a marker value
+    (8000h reads as a position beside the decimal ones)."""
+    if output == POSITION_FREE:
+        return "free"
+    if output == POSITION_HOLD:
+        return "hold"
+    return f"{output:04X}h" if output > POSITION_HOLD else output
 
 
 def servo_rows(servos: list[ServoInfo], robot: Robot) -> list[list[object]]:
@@ -51,7 +61,7 @@ def servo_rows(servos: list[ServoInfo], robot: Robot) -> list[list[object]]:
                 b.base,
                 b.measured,
                 f"{deg:+.1f}",
-                f"{b.output:04X}" if b.output >= POSITION_HOLD else b.output,
+                _output_text(b.output),
                 s.state,
             ]
         )
