@@ -200,6 +200,11 @@ def test_cli_servo_motion_button(cli_url: str) -> None:
     assert code == 0 and "UP" in out
 
 
+def test_cli_ram_write_names_bad_hex(cli_url: str) -> None:
+    code, _, err = _run("ram", "write", "--port", cli_url, "0x0462", "GG")
+    assert code == 2 and "Invalid value for DATA: not hex bytes" in err
+
+
 def test_cli_errors_are_one_line(cli_url: str) -> None:
     code, _, err = _run("servo", "move", "--port", cli_url, "0=20000")
     assert code == 1 and err.startswith("error: ") and "Traceback" not in err

@@ -130,3 +130,20 @@ def test_settings_period_sets_the_output_period_and_motions_play_at_its_pace(
     run = run_motions(image, [1], motion_layout=layout, hold=0)
     # slot 1 moves to the home pose in HOME_FRAMES output periods
     assert run.motions[0].result.duration == pytest.approx(30 * ms / 1000, abs=2 * ms / 1000)
+
+
+def test_messages_name_the_stub_and_count_servos_once(tmp_path: Path) -> None:
+    """`project new` printed "(16 servos)" twice (the title has it); `project info` called
+    the start-up stub 3CB80h, HeartToHeart4's "no start-up motion" (nine of Kondo's samples
+    have it), "not the start of a motion slot"."""
+    from dataclasses import replace
+
+    from rcb4hv.cli.project_check_cmd import settings_lines
+
+    out = tmp_path / "n.h4p"
+    code, text = _run("project", "new", "--robot", "kxr-l2", "-o", out)
+    assert code == 0 and text.count("16 servos") == 1, text
+    project = replace(load_project(out), startup_motion_address=0x3CB80)
+    assert settings_lines(project)[0] == (
+        "startup motion: 3CB80h (the start-up stub, a RETURN: no motion)"
+    )

@@ -170,7 +170,10 @@ def ram_read(conn: Connection, address: int, size: int, as_json: bool) -> None:
 @handle_errors
 def ram_write(conn: Connection, address: int, data: str) -> None:
     """Write hex DATA (e.g. "0a ff 10") at ADDRESS."""
-    raw = bytes.fromhex(data.replace(":", " "))
+    try:
+        raw = bytes.fromhex(data.replace(":", " "))
+    except ValueError as exc:
+        raise click.BadParameter(f"not hex bytes ({exc})", param_hint="DATA") from None
     with conn.open() as robot:
         robot.write_ram(address, raw)
     click.echo(f"wrote {len(raw)} byte(s) at {address:04X}")

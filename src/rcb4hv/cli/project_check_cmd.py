@@ -26,10 +26,13 @@ Slot: TypeAlias = Callable[[int], tuple[int, str | None] | None]
 slot starting at an address, None if no slot starts there."""
 
 
-def _target_text(slot_at: Slot, address: int) -> str:
-    """``13B80h (slot 39, NAME)``, ``none`` for a negative address, or what is wrong."""
+def _target_text(slot_at: Slot, address: int, stub: int) -> str:
+    """``13B80h (slot 39, NAME)``, ``none`` for a negative address, the layout's start-up
+    ``stub`` (a RETURN: HeartToHeart4's "no motion"), or what is wrong."""
     if address < 0:
         return "none"
+    if address == stub:
+        return f"{address:05X}h (the start-up stub, a RETURN: no motion)"
     found = slot_at(address)
     if found is None:
         return f"{address:05X}h (not the start of a motion slot)"
@@ -41,20 +44,22 @@ def _target_text(slot_at: Slot, address: int) -> str:
 
 def _settings_lines(
     slot_at: Slot,
+    stub: int,
     startup: int,
     priority: Iterable[tuple[int, str, str, int, int]],
     low_power: tuple[int, int] | None = None,
 ) -> list[str]:
     """The startup (and low-power: address, AD0 value) lines and a line a priority check
     (index, port, compare type, value, address)."""
-    lines = [f"startup motion: {_target_text(slot_at, startup)}"]
+    lines = [f"startup motion: {_target_text(slot_at, startup, stub)}"]
     if low_power is not None:
         address, value = low_power
         at = f" at AD0 <= {value}" if address >= 0 else ""
-        lines.append(f"low-power motion: {_target_text(slot_at, address)}{at}")
+        lines.append(f"low-power motion: {_target_text(slot_at, address, stub)}{at}")
     for i, port, compare, value, address in priority:
         lines.append(
-            f"priority check {i}: {port} {compare} {value} -> {_target_text(slot_at, address)}"
+            f"priority check {i}: {port} {compare} {value} -> "
+            f"{_target_text(slot_at, address, stub)}"
         )
     return lines
 
@@ -68,8 +73,11 @@ def settings_lines(project: Project) -> list[str]:
             return None
         return m.slot, None if m.is_empty else m.name or "unnamed"
 
+    from rcb4hv.project.relocate import project_layout
+
     return _settings_lines(
         slot_at,
+        project_layout(project).startup_stub,
         project.startup_motion_address,
         [
             (i, pm.port, pm.compare_type, pm.value, pm.address)
@@ -97,7 +105,7 @@ def image_settings_lines(image: ImageContents, layout: MotionLayout) -> list[str
         (i, str(p["port"]), str(p["compare_type"]), cast(int, p["value"]), cast(int, p["address"]))
         for i, p in image.priority.items()
     ]
-    return _settings_lines(slot_at, image.startup_motion_address, checks)
+    return _settings_lines(slot_at, layout.startup_stub, image.startup_motion_address, checks)
 
 
 def _short(text: str, width: int) -> str:

@@ -54,7 +54,8 @@ def new_command(robot_name: str, title: str | None, output: Path) -> None:
     if output.exists():
         raise EditError(f"{output} exists; a new project does not overwrite a file")
     save_project(new_project(model, title=title), output)
-    click.echo(f"{output}: new {model.title} project ({len(model.servos)} servos)")
+    count = "" if "servos" in model.title else f" ({len(model.servos)} servos)"
+    click.echo(f"{output}: new {model.title} project{count}")
 
 
 @click.command("bind")

@@ -15,7 +15,6 @@ exist: a typo in the path is refused, not created.
 from __future__ import annotations
 
 import contextlib
-import errno
 import logging
 import time
 from pathlib import Path
@@ -36,9 +35,8 @@ class RomStore:
         directory = self.path.parent
         if not directory.is_dir():
             raise FileNotFoundError(
-                errno.ENOENT,
                 f"no directory {directory} for the ROM image {self.path.name} "
-                "(it is not created: check the path)",
+                "(it is not created: check the path)"
             )
         self.size = size
         self.delay = delay
