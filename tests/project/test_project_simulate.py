@@ -53,6 +53,20 @@ def test_every_fixture_motion_completes_or_waits(
     assert layout.motion_address(40) <= lo < hi < layout.motion_address(41)
 
 
+def test_a_waiting_loop_reports_time_and_instructions_of_one_moment(
+    kxr_image: bytes, kxr_results: list[MotionResult]
+) -> None:
+    """XL2G_292 waits from 1.8 s, but its loop is recognised ~30 virtual seconds later: the
+    instruction count was that of the recognition (166) beside the time of the entry (1.8 s).
+    Both are the entry's now: no more than a run cut at a little after it has executed."""
+    (w,) = [r for r in kxr_results if r.slot == 40]
+    sim = Simulator(kxr_image)
+    sim.boot()
+    cut = sim.play(layout.motion_address(40), slot=40, limit=w.duration + 0.1)
+    assert cut.status == "timeout"
+    assert w.instructions <= cut.instructions
+
+
 def test_fixture_durations_follow_the_poses(
     kxr_project: hth4.Project, kxr_results: list[MotionResult]
 ) -> None:

@@ -312,9 +312,11 @@ class Simulator:
             b.set_buttons(hold)
             held = f"{button_names(hold)} for {hold_for:g} s"
 
-        def result(status: Status, at_us: int | None = None, **kw: Any) -> MotionResult:
+        def result(
+            status: Status, at_us: int | None = None, at_n: int | None = None, **kw: Any
+        ) -> MotionResult:
             t = (self._t_us if at_us is None else at_us) - t0
-            n = b.instructions_executed - i0
+            n = (b.instructions_executed if at_n is None else at_n) - i0
             return MotionResult(slot, address, name, status, t / 1e6, n, held=held, **kw)
 
         hold_us = round(hold_for * 1e6) if hold else None
@@ -369,15 +371,18 @@ class Simulator:
                     watch = Watch(self._t_us, grid)
                 first = watch.check(b, self._t_us)
                 if first is not None:
-                    return self._classify(result, first, self._t_us - first)
+                    return self._classify(result, first, self._t_us - first[0])
                 cap = min(cap, watch.next_look(self._t_us) or grid)
             precise = bool(self._flags()) and self._ends_after_wait()
             self._advance(precise, cap)
 
     def _classify(
-        self, result: Callable[..., MotionResult], entered_us: int, cycle_us: int
+        self, result: Callable[..., MotionResult], entered: tuple[int, int], cycle_us: int
     ) -> MotionResult:
-        """Replay one cycle of a recurring state instruction by instruction; say what it reads."""
+        """Replay one cycle of a recurring state instruction by instruction; say what it reads.
+        ``entered``: the time and instruction count at which the state first recurred from,
+        which the result reports (both at the same moment)."""
+        entered_us, entered_n = entered
         b = self.board
         end = self._t_us + cycle_us
         pcs: dict[int, int] = {}
@@ -407,9 +412,11 @@ class Simulator:
                         inputs.append(name)
         loop = (min(pcs), max(a + n - 1 for a, n in pcs.items())) if pcs else None
         if inputs:
-            return result("waiting", entered_us, loop=loop, inputs=tuple(inputs), pc=b.pc)
+            return result(
+                "waiting", entered_us, entered_n, loop=loop, inputs=tuple(inputs), pc=b.pc
+            )
         sensors = mixed_sensors(b)
         if sensors and pcs:
-            return result("holding", entered_us, loop=loop, inputs=sensors, pc=b.pc)
+            return result("holding", entered_us, entered_n, loop=loop, inputs=sensors, pc=b.pc)
         why = "endless loop" if pcs else "update flags that never clear"
-        return result("stalled", entered_us, loop=loop, error=why, pc=b.pc)
+        return result("stalled", entered_us, entered_n, loop=loop, error=why, pc=b.pc)

@@ -43,20 +43,22 @@ class Watch:
 
     start_us: int
     grid_us: int
-    seen: dict[int, int] = field(default_factory=dict)
+    seen: dict[int, tuple[int, int]] = field(default_factory=dict)
+    """State hash -> (time, instructions executed) of the first look at it."""
 
     def next_look(self, t_us: int) -> int:
         """Microseconds from ``t_us`` to the next look (0 if ``t_us`` is one)."""
         return -(t_us - self.start_us) % self.grid_us
 
-    def check(self, board: Board, t_us: int) -> int | None:
-        """The time of an earlier look at the same state, or None."""
+    def check(self, board: Board, t_us: int) -> tuple[int, int] | None:
+        """The time and the board's instruction count of an earlier look at the same state,
+        or None."""
         if (t_us - self.start_us) % self.grid_us:
             return None
         key = hash((bytes(board.ram), tuple(board.call_stack)))
         first = self.seen.get(key)
         if first is None:
-            self.seen[key] = t_us
+            self.seen[key] = (t_us, board.instructions_executed)
         return first
 
 
