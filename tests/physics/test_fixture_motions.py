@@ -225,6 +225,11 @@ def test_what_if_plays_on_the_changed_model_and_says_so() -> None:
     assert changed["motions"][0]["physics"] != plain["motions"][0]["physics"]
     text = CliRunner().invoke(cli, [*args[:-1], "--what-if", "friction=0.5"]).output
     assert "what-if: friction=0.5 (not the documented model)" in text
+    assert "then on flat ground" in text
+    # a tilted floor is not "flat ground" in the header (it said so, the tilt a line below)
+    tilted = ["project", "simulate", str(PROJECT), "--physics", "--motion", "39"]
+    text = CliRunner().invoke(cli, [*tilted, "--what-if", "floor_tilt_deg=2"]).output
+    assert "then on ground tilted 2°" in text, text
 
 
 def test_without_mujoco_the_cli_says_which_extra(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -83,8 +83,10 @@ def print_physics(run: SimulationRun, as_json: bool) -> None:
         return
     setup = run.physics
     assert setup is not None
+    tilt = dict(setup.what_if).get("floor_tilt_deg", 0.0)
+    ground = f"ground tilted {tilt:g}°" if tilt else "flat ground"
     click.echo(
-        f"robot {setup.robot} ({setup.engine}): boot {run.boot.status}, then on flat ground "
+        f"robot {setup.robot} ({setup.engine}): boot {run.boot.status}, then on {ground} "
         f"({setup.start}), settled {setup.settled_pose} after {setup.settle_s:g} s "
         f"({run.virtual_s:.3f} s virtual in {run.wall_s:.3f} s)"
     )

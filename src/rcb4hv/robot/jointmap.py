@@ -216,7 +216,8 @@ def load_urdf_robot(
         if not map_path.is_file():
             raise RobotModelError(
                 f"{path}: a URDF robot needs a joint map (servo index, sign, offset per joint); "
-                f"none at {map_path}"
+                f"none at {map_path} (`rcb4hv robot export NAME --joint-map FILE` writes one for "
+                "a built-in model; docs/robots.md shows its form)"
             )
         data = parse_joint_map(map_path.read_text(encoding="utf-8"), str(map_path))
     if not urdf_path.is_file():
