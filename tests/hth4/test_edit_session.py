@@ -158,7 +158,11 @@ def test_diff_names_exactly_the_changes(copy: Path) -> None:
         ("motion-added", 73, None, None),
     ]
     assert changes[1]["old"] == 7900 and changes[1]["new"] == 7700
-    assert "motion 73 (mirror): new motion, 4 poses" in changes[3]["text"]
+    # the size `project info` gives the motion: its frames, not HeartToHeart4's FF end marker
+    assert changes[3]["text"].endswith(f"new motion, 4 poses, {q.motion(73).code_size} bytes")
+    assert len(q.motion(73).rom_bytes()) == q.motion(73).code_size + 1
+    with pytest.raises(EditError, match="leave out the target slot"):
+        mirror_motion(p, 69, kxr_like(), to=69)
 
 
 def test_a_mixing_rate_is_what_the_block_can_hold(copy: Path) -> None:

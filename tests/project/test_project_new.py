@@ -107,6 +107,9 @@ def test_settings_refuse_a_check_that_cannot_build_or_never_fires(tmp_path: Path
         set_priority(load_project(base), 0, 1, "AD3", "Same", 2)
     code, text = _run("project", "settings", base, "--low-power", 1, "-o", out)
     assert code == 1 and "would never run" in text, text
+    # a channel the board has not: said so (it was "not ICS.N=SOURCE*RATE")
+    code, text = _run("project", "settings", base, "--mixing", "14.1=AD11*8", "-o", out)
+    assert code == 2 and "the board has AD0-AD10" in text, text
     assert not out.exists()
     code, text = _run("project", "settings", base, "--priority", "0=1,ad3,LessThan,2", "-o", out)
     assert code == 0, text

@@ -114,7 +114,7 @@ def _pair(text: str, what: str) -> tuple[str, str]:
     metavar="I=SLOT,PORT,COMPARE,VALUE",
     help="Priority check I (0-12) calls SLOT when PORT (Battery, AD0-AD10, PA1-PA4) compares "
     "COMPARE (Equals, LessThanOrEqualTo, ...) to VALUE, e.g. 0=2,Battery,LessThanOrEqualTo,223; "
-    "I=0 clears it.",
+    "I=0 (0 after the =, e.g. 3=0) clears check I.",
 )
 @_OUT
 @handle_errors
@@ -145,7 +145,11 @@ def settings_command(
         ics, _, which = key.partition(".")
         source, _, rate = value.partition("*")
         try:
-            args = (int(ics), int(which or "1"), mixing_source(source), int(rate or "1"))
+            address = mixing_source(source)
+        except EditError as exc:
+            raise click.BadParameter(f"--mixing: {exc}") from None
+        try:
+            args = (int(ics), int(which or "1"), address, int(rate or "1"))
         except ValueError:
             raise click.BadParameter(f"--mixing: {text!r} is not ICS.N=SOURCE*RATE") from None
         session.apply(set_mixing, *args)

@@ -137,8 +137,7 @@ def _motion_changes(slot: int, a: Motion | None, b: Motion | None) -> list[Chang
         if b is None or b.is_empty:
             return _fields(slot, a, b, ("name", "button_data", "compare_type", *_MOTION_FIELDS))
         n = sum(1 for x in motion_blocks(b) if x.pose is not None)
-        size = len(b.rom_bytes())
-        text = f"{_label(b)}: new motion, {n} poses, {size} bytes"
+        text = f"{_label(b)}: new motion, {n} poses, {b.code_size} bytes"
         return [Change("motion-added", text, slot=slot, new=b.name)]
     if b is None or b.is_empty:
         return [Change("motion-removed", f"{_label(a)}: removed", slot=slot, old=a.name)]

@@ -254,6 +254,11 @@ def mirror_motion(
     change = mirror_motion_entries(m, model, checks)
     if to is None:
         return apply_entry_edit(project, slot, change)
+    if to == slot:
+        raise EditError(
+            f"motion {slot} cannot be mirrored into its own slot as a new motion: leave out "
+            "the target slot (--to) to mirror it in place"
+        )
     target = _free_target(project, to)
     mirrored = _shift(replace(m, frames=change.entries), target)
     if sum(map(len, mirrored.frames)) > slot_size(target):

@@ -243,7 +243,9 @@ def mixing_source(text: str) -> int | None:
     t = text.strip().upper()
     if t in ("", "NONE"):
         return None
-    if t.startswith("AD") and t[2:].isdigit() and int(t[2:]) < ADDR.AD_COUNT:
+    if t.startswith("AD") and t[2:].isdigit():
+        if int(t[2:]) >= ADDR.AD_COUNT:
+            raise EditError(f"mixing source {text!r}: the board has AD0-AD{ADDR.AD_COUNT - 1}")
         return int(ADDR.AD_VALUES + 2 * int(t[2:]))
     try:
         return int(t[:-1], 16) if t.endswith("H") else int(t, 0)
