@@ -41,7 +41,9 @@ def register(project: click.Group) -> None:
 
 @click.command("new")
 @click.option("--robot", "robot_name", required=True, metavar="NAME", help="Robot model.")
-@click.option("--title", default=None, help="Project title (default: the model's).")
+@click.option(
+    "--title", default=None, help="Project title (default: the model's name, e.g. kxr-l2)."
+)
 @_OUT
 @handle_errors
 def new_command(robot_name: str, title: str | None, output: Path) -> None:
