@@ -26,7 +26,7 @@ import serial
 
 from rcb4hv.errors import TransportError
 from rcb4hv.transport import DEFAULT_BAUD, resolve_port
-from rcb4hv.transport.serial_port import PORT_ERRORS
+from rcb4hv.transport.serial_port import set_port_rate
 
 __all__ = ["AsyncTransport", "PolledTransport", "StreamTransport", "open_async_transport"]
 
@@ -34,8 +34,6 @@ log = logging.getLogger(__name__)
 
 POLL_INTERVAL: Final = 0.001
 """Seconds between two polls of a port without a file descriptor."""
-RATE_ERRORS: Final[tuple[type[BaseException], ...]] = (*PORT_ERRORS, ValueError)
-"""What setting a port's rate may raise (termios.error too, which is not an OSError)."""
 
 
 class AsyncTransport(abc.ABC):
@@ -182,7 +180,7 @@ class StreamTransport(AsyncTransport):
             # blocking client uses, takes any rate), so baud detection runs its ACK checks
             log.debug("%s: %d baud is the far end's setting", self.url, baudrate)
             return
-        _set_rate(self._port, baudrate, self.url)
+        set_port_rate(self._port, baudrate, self.url)
 
     async def close(self) -> None:
         if not self._transport.is_closing():
@@ -240,7 +238,7 @@ class PolledTransport(AsyncTransport):
             raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
 
     def set_baudrate(self, baudrate: int) -> None:
-        _set_rate(self._port, baudrate, self.url)
+        set_port_rate(self._port, baudrate, self.url)
 
     async def close(self) -> None:
         with contextlib.suppress(OSError, serial.SerialException):
@@ -252,18 +250,6 @@ class PolledTransport(AsyncTransport):
             self._port.open()
         except (OSError, ValueError, serial.SerialException) as exc:
             raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
-
-
-def _set_rate(port: serial.Serial, baudrate: int, url: str) -> None:
-    """Set ``port``'s rate as :meth:`rcb4hv.transport.SerialTransport.set_baudrate` does: not
-    again at the rate it has (a second tcsetattr at a custom rate is refused by some drivers,
-    ptys included), and every failure (termios.error too) a TransportError."""
-    if port.baudrate == baudrate:
-        return
-    try:
-        port.baudrate = baudrate
-    except RATE_ERRORS as exc:
-        raise TransportError(f"{url}: cannot set {baudrate} baud: {exc}") from exc
 
 
 def _has_fd(port: serial.Serial) -> bool:

@@ -8,10 +8,10 @@ import sys
 
 import click
 
-from rcb4hv.errors import ProtocolError
-from rcb4hv.protocol import decode_command
+from rcb4hv.errors import ChecksumError, FrameError, ProtocolError
+from rcb4hv.protocol import NEED_DATA, FrameDecoder, decode_command
 from rcb4hv.protocol.describe import command_fields, describe_command
-from rcb4hv.protocol.frame import MIN_FRAME_SIZE, checksum, sum_ok
+from rcb4hv.protocol.frame import checksum
 
 _HEX_NOISE = re.compile(r"0x|[\s,:;\-]", re.IGNORECASE)
 
@@ -45,13 +45,16 @@ def _skipped(offset: int, data: bytes) -> dict[str, object]:
 
 
 def decode_stream(data: bytes) -> tuple[list[dict[str, object]], list[str]]:
-    """Split ``data`` into frames and decode each, resynchronising after a bad one.
+    """Split ``data`` into frames (:class:`FrameDecoder`, resynchronising a frame at a time)
+    and decode each, going on after a bad one.
 
     Returns the entries in order (a frame that does not decode, or bytes no frame starts at,
     is an entry with an ``error``) and the errors, each prefixed with its byte offset. A
-    frame with a bad checksum is skipped whole (its SIZE byte is trusted) and decoding goes
-    on after it; a byte that cannot start a frame is skipped alone.
+    frame with a bad checksum is skipped whole (its SIZE byte is trusted); a byte that cannot
+    start a frame is skipped alone, a run of them reported once.
     """
+    decoder = FrameDecoder(max_size=255, resync="frame")
+    decoder.receive_data(data)
     out: list[dict[str, object]] = []
     errors: list[str] = []
     skipped = bytearray()
@@ -64,44 +67,46 @@ def decode_stream(data: bytes) -> tuple[list[dict[str, object]], list[str]]:
             skipped.clear()
 
     offset = 0
-    while offset < len(data):
-        size = data[offset]
-        if size < MIN_FRAME_SIZE:
-            skipped.append(size)
+    while True:
+        try:
+            frame = decoder.next_frame()
+        except ChecksumError as exc:  # the decoder dropped the frame its SIZE byte spans
+            flush(offset)
+            bad = exc.frame
+            why = f"bad checksum {bad[-1]:02X}, the sum of the other bytes is "
+            why += f"{checksum(bad[:-1]):02X}"
+            out.append({"offset": offset, "hex": bad.hex(" ").upper(), "error": why})
+            errors.append(f"byte {offset}: {bad.hex(' ').upper()}: {why}")
+            offset += len(bad)
+            continue
+        except FrameError:  # a SIZE byte that cannot start a frame: dropped alone
+            skipped.append(data[offset])
             offset += 1
             continue
         flush(offset)
-        frame = data[offset : offset + size]
-        if len(frame) < size:
-            why = f"truncated frame (size byte says {size}, {len(frame)} given)"
-            errors.append(f"byte {offset}: {why} {frame.hex(' ').upper()}")
-            out.append({"offset": offset, "hex": frame.hex(" ").upper(), "error": why})
-            break
+        if frame is NEED_DATA:
+            rest = decoder.reset()
+            if rest:
+                why = f"truncated frame (size byte says {rest[0]}, {len(rest)} given)"
+                errors.append(f"byte {offset}: {why} {rest.hex(' ').upper()}")
+                out.append({"offset": offset, "hex": rest.hex(" ").upper(), "error": why})
+            return out, errors
+        assert isinstance(frame, bytes)
         entry: dict[str, object] = {"offset": offset, "hex": frame.hex(" ").upper()}
-        if not sum_ok(frame):
-            why = (
-                f"bad checksum {frame[-1]:02X}, the sum of the other bytes is "
-                f"{checksum(frame[:-1]):02X}"
-            )
-            entry["error"] = why
-            errors.append(f"byte {offset}: {frame.hex(' ').upper()}: {why}")
-        else:
-            try:
-                cmd = decode_command(frame)
-            except ProtocolError as exc:
-                reply = _reply_text(frame)
-                if reply is None:
-                    entry["error"] = str(exc)
-                    errors.append(f"byte {offset}: {frame.hex(' ').upper()}: {exc}")
-                else:
-                    entry.update({"reply": reply, "text": reply})
+        try:
+            cmd = decode_command(frame)
+        except ProtocolError as exc:
+            reply = _reply_text(frame)
+            if reply is None:
+                entry["error"] = str(exc)
+                errors.append(f"byte {offset}: {frame.hex(' ').upper()}: {exc}")
             else:
-                entry.update(command_fields(cmd))
-                entry["text"] = describe_command(cmd)
+                entry.update({"reply": reply, "text": reply})
+        else:
+            entry.update(command_fields(cmd))
+            entry["text"] = describe_command(cmd)
         out.append(entry)
-        offset += size
-    flush(offset)
-    return out, errors
+        offset += len(frame)
 
 
 @click.command("decode")

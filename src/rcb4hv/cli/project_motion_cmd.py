@@ -13,7 +13,7 @@ from rcb4hv.errors import EditError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4.blocks import dump_program, load_program, motion_program, put_program
 from rcb4hv.hth4.blocks.flowxml import motion_xml, put_flowchart
-from rcb4hv.hth4.edit import bind_button
+from rcb4hv.hth4.edit import bind_button, binding_holders
 from rcb4hv.hth4.model import Project
 from rcb4hv.hth4.motionlist import button_label
 from rcb4hv.hth4.session import EditSession
@@ -80,17 +80,11 @@ def _drop_taken_bindings(session: EditSession, slots: list[int]) -> list[str]:
     notes = []
     for slot in slots:
         m = session.project.motion(slot)
-        if m is None or m.is_empty or not m.button_data:
+        if m is None or m.is_empty:
             continue
-        holder = next(
-            (
-                o
-                for o in session.project.used_motions
-                if o.slot not in slots and o.button == m.button
-            ),
-            None,
-        )
-        if holder is not None:
+        holders = binding_holders(session.project, *m.button, besides=slots)
+        if holders:
+            holder = holders[0]
             session.apply(bind_button, slot, 0)
             notes.append(
                 f"motion {slot}: {button_label(m.button_data)} already starts motion "

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import bisect
 import logging
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import replace
 
 from rcb4hv.errors import EditError
@@ -48,6 +48,7 @@ __all__ = [
     "TRIM_LIMIT",
     "apply_entry_edit",
     "bind_button",
+    "binding_holders",
     "delete_pose",
     "duplicate_pose",
     "insert_pose",
@@ -301,6 +302,19 @@ def move_motion(project: Project, slot: int, to: int) -> Project:
     return retarget_project(swapped, where)
 
 
+def binding_holders(
+    project: Project, button: int, compare_type: str = "Equals", *, besides: Iterable[int] = ()
+) -> list[Motion]:
+    """The used motions a remote ``button`` word (``compare_type``) starts, but for the slots
+    ``besides``; none for word 0 (no binding)."""
+    skip = set(besides)
+    return [
+        o
+        for o in project.used_motions
+        if button and o.slot not in skip and o.button == (button, compare_type)
+    ]
+
+
 def bind_button(
     project: Project,
     slot: int,
@@ -315,11 +329,7 @@ def bind_button(
     m = used_motion(project, slot)
     if isinstance(button, bool) or not isinstance(button, int) or not 0 <= button <= 0xFFFF:
         raise EditError(f"the button word is 16 bits (0..65535), not {button!r}")
-    holders = [
-        o
-        for o in project.used_motions
-        if button and o.slot != slot and o.button == (button, compare_type)
-    ]
+    holders = binding_holders(project, button, compare_type, besides=(slot,))
     if holders and not force:
         other = holders[0]
         raise EditError(

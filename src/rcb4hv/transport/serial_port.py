@@ -28,6 +28,7 @@ __all__ = [
     "find_kondo_ports",
     "port_errors",
     "resolve_port",
+    "set_port_rate",
 ]
 
 log = logging.getLogger(__name__)
@@ -61,6 +62,21 @@ def port_errors() -> tuple[type[BaseException], ...]:
 
 
 PORT_ERRORS: Final = port_errors()
+_RATE_ERRORS: Final[tuple[type[BaseException], ...]] = (*PORT_ERRORS, ValueError)
+
+
+def set_port_rate(port: serial.Serial, baudrate: int, url: str) -> None:
+    """Set ``port``'s rate (both faces' transports): not again at the rate it has (a second
+    tcsetattr at a custom rate is refused by some drivers, ptys included), and every failure
+    (termios.error and pyserial's ValueError for a rate it rejects too) a TransportError."""
+    if port.baudrate == baudrate:
+        return
+    try:
+        port.baudrate = baudrate
+    except _RATE_ERRORS as exc:
+        raise TransportError(f"{url}: cannot set {baudrate} baud: {exc}") from exc
+
+
 _POSIX_SERIAL: Final[type | None] = getattr(getattr(serial, "serialposix", None), "Serial", None)
 
 
@@ -207,12 +223,7 @@ class SerialTransport(Transport):
         return int(self.port.baudrate)
 
     def set_baudrate(self, baudrate: int) -> None:
-        if self.port.baudrate == baudrate:
-            return  # a second tcsetattr at a custom rate is refused by some drivers
-        try:
-            self.port.baudrate = baudrate
-        except PORT_ERRORS as exc:
-            raise TransportError(f"{self.url}: cannot set {baudrate} baud: {exc}") from exc
+        set_port_rate(self.port, baudrate, self.url)
 
     def write(self, data: bytes) -> None:
         fd = self._raw_fd
