@@ -100,3 +100,19 @@ def test_numbers_that_mean_nothing_are_refused(
     sequence was skipped."""
     r = CliRunner().invoke(cli, [a.format(fx=kxr_project_path) for a in args])
     assert r.exit_code == 2 and said in r.output, r.output
+
+
+def test_a_list_given_to_a_repeatable_option_says_how_to_repeat_it(tmp_path: Path) -> None:
+    # click's repeatable options take one value each: `--motion 9 10` leaves 10 over
+    (tmp_path / "x.h4p").write_text("")
+    r = CliRunner().invoke(
+        cli, ["project", "simulate", str(tmp_path / "x.h4p"), "--motion", "9", "10", "11"]
+    )
+    assert r.exit_code == 2
+    assert "unexpected extra arguments (10 11)" in r.output
+    assert "--motion 9 --motion 10 --motion 11" in r.output
+    # an extra argument after an option that takes one value gets no such hint
+    r = CliRunner().invoke(cli, ["project", "simulate", str(tmp_path / "x.h4p"), "--json", "9"])
+    assert r.exit_code == 2
+    assert "unexpected extra argument (9)" in r.output
+    assert "repeat" not in r.output

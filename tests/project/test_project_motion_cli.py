@@ -116,6 +116,14 @@ def test_one_of_motion_or_all(kxr_project_path: Path, tmp_path: Path) -> None:
     assert code == 2 and "--motion N or --all" in out
 
 
+def test_an_empty_slot_has_nothing_to_export(kxr_project_path: Path, tmp_path: Path) -> None:
+    # slot 19 of the fixture is empty: exported, it was an empty program with exit 0
+    code, out = _run("project", "motion-export", kxr_project_path, "--motion", 19, "-o",
+                     tmp_path / "m19.json")  # fmt: skip
+    assert code == 1 and "motion slot 19 is empty" in out
+    assert not (tmp_path / "m19.json").exists()
+
+
 def test_a_copy_does_not_take_the_originals_button(kxr_project_path: Path, tmp_path: Path) -> None:
     """docs/from-hth4.md's "copy a motion": motion 9 (bound to UP) exported and imported into
     free slot 18 gave both UP, so the copy never played from the remote. The copy comes in
@@ -134,3 +142,23 @@ def test_a_copy_does_not_take_the_originals_button(kxr_project_path: Path, tmp_p
     p = load_project(result)
     assert p.motion(9).button_data == 1 and p.motion(18).button_data == 0
     assert p.motion(18).name == p.motion(9).name
+
+
+def test_a_motion_of_another_robot_is_named_so(kxr_project_path: Path, tmp_path: Path) -> None:
+    """motion-import of the KXR fixture's motions into a KHR-3HV project said nothing, though
+    the board skips the servos the KHR-3HV's table has not. Servos the project's own motions
+    already move without listing them (the fixture's ICS 0 and 1) are not news."""
+    khr3 = tmp_path / "k3.h4p"
+    assert _run("project", "new", "--robot", "khr3hv", "-o", khr3)[0] == 0
+    code, out = _run("project", "motion-export", kxr_project_path, "--motion", TURN_LEFT,
+                     "-o", tmp_path / "t.json")  # fmt: skip
+    assert code == 0, out
+    r = CliRunner().invoke(cli, ["project", "motion-import", str(khr3), str(tmp_path / "t.json"),
+                                 "--motion", "5", "-o", str(tmp_path / "k3t.h4p")])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "motion 5 moves servos this project's servo table has not (ICS " in r.stderr
+    r = CliRunner().invoke(cli, ["project", "motion-import", str(kxr_project_path),
+                                 str(tmp_path / "t.json"), "--motion", str(TURN_LEFT),
+                                 "-o", str(tmp_path / "same.h4p")])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "servo table" not in r.stderr

@@ -19,6 +19,7 @@ from rcb4hv.hth4.robotpick import project_model
 from rcb4hv.project.check import check_project
 from rcb4hv.project.run import run_motions
 from rcb4hv.protocol.memory import Button
+from rcb4hv.protocol.memory.map import SystemRegister
 from rcb4hv.robot.builtin import BUILTIN, load_builtin
 
 
@@ -150,3 +151,20 @@ def test_messages_name_the_stub_and_count_servos_once(tmp_path: Path) -> None:
     assert settings_lines(project)[0] == (
         "startup motion: 3CB80h (the start-up stub, a RETURN: no motion)"
     )
+
+
+def test_diff_says_what_a_settings_change_means(tmp_path: Path) -> None:
+    """`project diff` printed the output period as the Config bytes (1B 82 -> 2B 82) and an
+    AD reference as 38 bytes of which one changed; it names the period and the channel."""
+    base = tmp_path / "base.h4p"
+    base.write_bytes(dump_project(new_project(load_builtin("kxr-l2"), date="2026-01-01T00:00:00")))
+    out = tmp_path / "out.h4p"
+    code, text = _run(
+        "project", "settings", base, "--period", 20, "--ad-reference", "3=100", "-o", out
+    )  # fmt: skip
+    assert code == 0, text
+    before = load_project(base)
+    was = SystemRegister.from_word(before.system_register).frame_period_ms
+    changes = {c.field: c.text for c in diff_projects(before, load_project(out))}
+    assert f"(frame_period_ms {was} -> 20)" in changes["config"]
+    assert changes["adc_reference"].endswith(f"AD3 {before.adc_reference_words[3]} -> 100")

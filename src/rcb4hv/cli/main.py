@@ -37,7 +37,47 @@ COMMAND_MODULES = (
 )
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+def repeat_hint(exc: click.UsageError, argv: list[str]) -> str | None:
+    """How to give a repeatable option several values, when they were given as one list.
+
+    ``--motion 9 10`` leaves ``10`` over ("Got unexpected extra argument (10)"); click's
+    repeatable options take one value each (``--motion 9 --motion 10``).
+    """
+    if exc.ctx is None or not exc.message.startswith("Got unexpected extra argument"):
+        return None
+    extra = exc.message.rpartition("(")[2].rstrip(")").split()
+    if not extra:
+        return None
+    for at in range(1, len(argv) - len(extra) + 1):
+        if argv[at : at + len(extra)] != extra:
+            continue
+        name = argv[at - 2] if at >= 2 else ""
+        for param in exc.ctx.command.params:
+            if isinstance(param, click.Option) and param.multiple and name in param.opts:
+                values = [argv[at - 1], *extra]
+                spelled = " ".join(f"{name} {value}" for value in values)
+                return f"{name} takes one value; repeat it for each: {spelled}"
+    return None
+
+
+class _Cli(click.Group):
+    """The root group: a usage error of a repeatable option given a list says how to repeat."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        ctx.meta["rcb4hv.argv"] = list(args)
+        return super().parse_args(ctx, args)
+
+    def invoke(self, ctx: click.Context) -> object:
+        try:
+            return super().invoke(ctx)
+        except click.UsageError as exc:
+            hint = repeat_hint(exc, ctx.meta.get("rcb4hv.argv", []))
+            if hint is not None:
+                exc.message = f"{exc.message}\n{hint}"
+            raise
+
+
+@click.group(cls=_Cli, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="rcb4hv")
 @click.option("-v", "--verbose", count=True, help="Log more (-v info, -vv debug).")
 def cli(verbose: int) -> None:

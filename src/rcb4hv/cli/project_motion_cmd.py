@@ -13,10 +13,11 @@ from rcb4hv.errors import EditError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4.blocks import dump_program, load_program, motion_program, put_program
 from rcb4hv.hth4.blocks.flowxml import motion_xml, put_flowchart
-from rcb4hv.hth4.edit import bind_button, binding_holders
+from rcb4hv.hth4.edit import bind_button, binding_holders, used_motion
 from rcb4hv.hth4.model import Project
 from rcb4hv.hth4.motionlist import button_label
 from rcb4hv.hth4.session import EditSession
+from rcb4hv.project.check import unlisted_servos
 
 __all__ = ["register"]
 
@@ -51,6 +52,7 @@ def export_command(file: Path, slot: int | None, every: bool, output: Path | Non
     session = EditSession.open(file)
     project = session.project
     if slot is not None:
+        used_motion(project, slot)  # an empty slot has no program to export (as motion-xml)
         text = dump_program(motion_program(project, slot))
         if output is None:
             click.echo(text, nl=False)
@@ -94,6 +96,32 @@ def _drop_taken_bindings(session: EditSession, slots: list[int]) -> list[str]:
     return notes
 
 
+def _unlisted(project: Project, slots: list[int]) -> dict[int, list[int]]:
+    return {
+        slot: unlisted_servos(project, slot)
+        for slot in slots
+        if project.motion(slot) is not None and not project.motion(slot).is_empty
+    }
+
+
+def _unlisted_notes(before: Project, after: Project, slots: list[int]) -> list[str]:
+    """A note when imported motions move servos the project has not and none of its motions
+    moved before: the board skips them, so a program of another robot's project plays only
+    in part. (Kondo's projects move a servo or two they do not list.)"""
+    used = [m.slot for m in before.used_motions]
+    known = {k for ks in _unlisted(before, used).values() for k in ks}
+    new = {slot: set(ks) - known for slot, ks in _unlisted(after, slots).items()}
+    at = [slot for slot, ks in new.items() if ks]
+    if not at:
+        return []
+    ics = ", ".join(map(str, sorted(set().union(*new.values()))))
+    who = f"motion {at[0]} moves" if len(at) == 1 else f"{len(at)} of the imported motions move"
+    return [
+        f"{who} servos this project's servo table has not (ICS {ics}; the board skips them): "
+        "a program of another robot? `project check` lists each"
+    ]
+
+
 @click.command("motion-import")
 @click.argument("file", type=_FILE)
 @click.argument("program", type=click.Path(exists=True, path_type=Path))
@@ -109,6 +137,7 @@ def import_command(file: Path, program: Path, slot: int | None, every: bool, out
     motion."""
     _one_or_all(slot, every)
     session = EditSession.open(file)
+    before = session.project
     if slot is not None:
         if program.is_dir():
             raise click.UsageError("--motion N takes one program file; --all takes a directory")
@@ -126,7 +155,9 @@ def import_command(file: Path, program: Path, slot: int | None, every: bool, out
             done.append(int(m[1]))
         if not done:
             raise EditError(f"{program}: no NNN.json or NNN.xml files")
-    for note in _drop_taken_bindings(session, done):
+    notes = _drop_taken_bindings(session, done)
+    notes += _unlisted_notes(before, session.project, done)
+    for note in notes:
         click.echo(note, err=True)
     changed = session.changed_slot_numbers  # against the file as loaded, so before saving
     emptied = sorted(set(changed) - {m.slot for m in session.changed_motions})

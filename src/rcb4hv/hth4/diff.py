@@ -21,6 +21,7 @@ from typing import Any
 
 from rcb4hv.hth4.model import Motion, PriorityMotionSlot, Project, ServoConfig
 from rcb4hv.hth4.poses import Block, Pose, motion_blocks
+from rcb4hv.protocol.memory.map import SystemRegister
 
 __all__ = ["Change", "diff_projects"]
 
@@ -70,7 +71,9 @@ def diff_projects(a: Project, b: Project) -> list[Change]:
             continue
         old, new = getattr(a, f.name), getattr(b, f.name)
         if old != new:
-            text = f"project setting {f.name}: {_short(old)} -> {_short(new)}"
+            text = _setting_text(a, b, f.name)
+            if text is None:
+                text = f"project setting {f.name}: {_short(old)} -> {_short(new)}"
             out.append(Change("setting", text, field=f.name, old=_text(old), new=_text(new)))
     out.extend(_priority_changes(a.priority_motions, b.priority_motions))
     out.extend(_servo_changes(a.servos, b.servos))
@@ -79,6 +82,24 @@ def diff_projects(a: Project, b: Project) -> list[Change]:
     for slot in sorted(old_m.keys() | new_m.keys()):
         out.extend(_motion_changes(slot, old_m.get(slot), new_m.get(slot)))
     return out
+
+
+def _setting_text(a: Project, b: Project, name: str) -> str | None:
+    """The system register and the AD references in words, not bytes (None: bytes)."""
+    if name == "config":
+        try:
+            ra, rb = SystemRegister.from_word(a.system_register), b.system_register
+            da, db = ra.describe(), SystemRegister.from_word(rb).describe()
+        except ValueError:
+            return None
+        moved = [f"{k} {da[k]} -> {db[k]}" for k in da if k != "word" and da[k] != db[k]]
+        head = f"project setting config: system register {da['word']}h -> {db['word']}h"
+        return head + (f" ({', '.join(moved)})" if moved else " (reserved bits)")
+    if name == "adc_reference" and len(a.adc_reference) == len(b.adc_reference):
+        pairs = zip(a.adc_reference_words, b.adc_reference_words, strict=True)
+        moved = [f"AD{ch} {x} -> {y}" for ch, (x, y) in enumerate(pairs) if x != y]
+        return f"project setting adc_reference: {', '.join(moved)}" if moved else None
+    return None
 
 
 def _short(value: object, width: int = 60) -> str:

@@ -75,7 +75,7 @@ from rcb4hv.protocol.ranges import (
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom import layout
 
-__all__ = ["Finding", "Severity", "check_project"]
+__all__ = ["Finding", "Severity", "check_project", "unlisted_servos"]
 
 Severity = Literal["error", "warning"]
 KRI3_ICS: Final = 35
@@ -227,6 +227,19 @@ def _moves(cmd: object) -> list[tuple[int, int]]:
     if isinstance(cmd, RunSeriesServo):
         return [(k, p) for k, _, p in cmd.moves]
     return []
+
+
+def unlisted_servos(project: Project, slot: int) -> list[int]:
+    """The ICS numbers motion ``slot`` moves, stretches or speeds that the project's servo
+    table lacks: the board skips them (``unknown-ics``), as in a motion of another robot."""
+    allocated = {s.device_number for s in project.servos if s.in_use} | {KRI3_ICS}
+    found: set[int] = set()
+    for _, cmd in motion_code(project.motion(slot)).instructions:
+        if isinstance(cmd, (SetStretch, SetSpeed)):
+            found.update(k for k, _ in cmd.values)
+        else:
+            found.update(k for k, _ in _moves(cmd))
+    return sorted(found - allocated)
 
 
 def _limit_findings(
