@@ -72,9 +72,9 @@ class _Cli(click.Group):
             return super().invoke(ctx)
         except click.UsageError as exc:
             hint = repeat_hint(exc, ctx.meta.get("rcb4hv.argv", []))
-            if hint is not None:
-                exc.message = f"{exc.message}\n{hint}"
-            raise
+            if hint is None:
+                raise
+            raise click.UsageError(f"{exc.message}\n{hint}", exc.ctx) from None
 
 
 @click.group(cls=_Cli, context_settings={"help_option_names": ["-h", "--help"]})
