@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -223,6 +224,11 @@ def test_cli_demo_writes_a_plot(tmp_path: Path) -> None:
     assert code == 0, stdout
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "servos found" in stdout and str(out.resolve()) in stdout
+    # "in 0.8 s ... done after": at --speed 4 the emulator's clock runs 4x the wall's, and the
+    # move's time is told on the board's clock (it printed 0.21 s for the 0.8 s move)
+    done = re.search(r"done after ([0-9.]+) s on the board's clock \(([0-9.]+) s at x4\)", stdout)
+    assert done is not None, stdout
+    assert float(done[1]) >= 0.75 and float(done[1]) == pytest.approx(4 * float(done[2]), abs=0.03)
 
 
 # ---------------------------------------------------------------------------- hardware
