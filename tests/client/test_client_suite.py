@@ -313,7 +313,7 @@ def test_a_motion_that_stops_the_program_is_reported_at_once(rig: Rig) -> None:
     status = r.motion_status()
     assert status.rom_error and not status.running
     assert status.state == "stopped by a ROM error" and r.current_motion() is None
-    r.stop_motion()  # the program runs on; ROMERR, set until the main loop rewrites the register, is no error
+    r.stop_motion()  # the program runs on; ROMERR (until the main loop rewrites it) is no error
     r.play_motion(1, wait=True, timeout=30.0)
     assert r.motion_status().state == "idle"
     # HeartToHeart4's main loop begins by writing the system register: that clears ROMERR
