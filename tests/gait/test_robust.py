@@ -28,7 +28,7 @@ KXR = load_builtin("kxr-l2")
 
 def _walk_image(lean: float = 0.0) -> tuple[bytes, MotionLayout]:
     params = replace(default_params(KXR, "forward", steps=1), lean=lean)
-    motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
+    motion = walk_motion(KXR, walk(KXR, params), slot=2, name="walk").motion
     return project_image(add_motion(new_project(KXR), motion))
 
 
@@ -93,7 +93,7 @@ def test_a_torso_leant_far_forward_falls_where_the_upright_walk_does_not(
 
 def test_the_cli_prints_the_json_of_the_issue(tmp_path: Path) -> None:
     params = default_params(KXR, "forward", steps=1)
-    motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
+    motion = walk_motion(KXR, walk(KXR, params), slot=2, name="walk").motion
     path = tmp_path / "walk.h4p"
     save_project(add_motion(new_project(KXR), motion), path)
     args = ["project", "robust", str(path), "--motion", "2", "--trials", "2", "--json"]

@@ -39,7 +39,7 @@ def test_a_generated_walk_goes_the_commanded_way_without_falling(
     direction: str, axis: int, sign: int
 ) -> None:
     params = default_params(KXR, direction, steps=2)  # type: ignore[arg-type]
-    motion, _ = walk_motion(KXR, walk(KXR, params), slot=2, name="walk")
+    motion = walk_motion(KXR, walk(KXR, params), slot=2, name="walk").motion
     image, layout = project_image(add_motion(new_project(KXR), motion))
     (run,) = run_motions(image, [2], motion_layout=layout, robot=KXR).motions
     out = run.outcome
@@ -56,7 +56,7 @@ def test_a_generated_turn_turns_the_commanded_way_without_falling(
     """On the KHR-3HV's 22-servo build (hip yaw joints): 2 steps of 10°."""
     khr = load_builtin("khr3hv-22")
     params = default_params(khr, direction, steps=2)  # type: ignore[arg-type]
-    motion, _ = walk_motion(khr, walk(khr, params), slot=2, name="turn")
+    motion = walk_motion(khr, walk(khr, params), slot=2, name="turn").motion
     image, layout = project_image(add_motion(new_project(khr), motion))
     (run,) = run_motions(image, [2], motion_layout=layout, robot=khr).motions
     out = run.outcome
@@ -135,12 +135,14 @@ def test_play_sends_every_pose_and_waits_out_each_move() -> None:
             sent.append((speed, dict(positions)))
 
     w = walk(KXR, default_params(KXR, "forward", steps=1))
-    motion, every = walk_motion(KXR, w, slot=2, name="walk")
+    motion, every, _, _ = walk_motion(KXR, w, slot=2, name="walk")
     n = play_motion(Client(), motion, 15, waited.append)
     assert n == len(sent) > 10
     assert len(sent[0][1]) == len(KXR.servos)  # the first pose names every servo
-    assert all(speed == every for speed, _ in sent[1:-1])
-    assert sum(waited) == pytest.approx(0.5 + (len(w.poses) - 1) * 0.015, abs=0.02)
+    # a pose ``every`` samples on is stored with speed every - 1: the board takes N + 1
+    # output periods for a move of speed N (spec 9), and the host waits as long
+    assert all(speed == every - 1 for speed, _ in sent[1:-1])
+    assert sum(waited) == pytest.approx(0.51 + (len(w.poses) - 1) * 0.015, abs=1e-9)
 
 
 @pytest.mark.parametrize("name", ["khr3hv", "khr3hv-22", "kxr-l2"])
@@ -197,3 +199,49 @@ def test_a_biped_with_a_wheel_behind_each_ankle_walks_on_its_feet() -> None:
     assert w.missed == 0
     with pytest.raises(RobotModelError, match="walks are generated for two-legged robots"):
         walk(load_robot("kxr:L6"), default_params(load_robot("kxr-l2"), "forward"))
+
+
+def test_a_long_walk_loops_its_settled_cycle_and_goes_its_distance() -> None:
+    """40 steps stored as one chain kept a pose every 21 output periods (under two a step)
+    and went 0.81 m of 1.16 commanded, 0.11 m sideways. The settled cycle of two steps is
+    stored once and looped in COUNTER10, as Kondo's walks loop."""
+    from rcb4hv.gait.motion import CYCLE_TOLERANCE, LOOP_COUNTER, steady_loop
+    from rcb4hv.hth4.blocks import motion_program
+
+    params = default_params(KXR, "forward", steps=40)
+    w = walk(KXR, params)
+    values = [KXR.motion_values(p) for p in w.poses]
+    stored = walk_motion(KXR, w, slot=2, name="walk")
+    loop = stored.loop
+    assert loop is not None and loop == steady_loop(w, values)
+    assert stored.every <= 5 and loop.repeats >= 15
+    # the unrolled moves last the walk, and each stored cycle pose is the walk's own sample
+    # wherever the loop plays it (within the tolerance that makes the cycles one)
+    assert sum(m.speed + 1 for m in stored.moves[1:]) == len(w.poses) - 1
+    for k in range(loop.repeats):
+        here = loop.start + k * loop.length + stored.every
+        assert all(abs(values[here][i] - values[loop.start + stored.every][i])
+                   <= CYCLE_TOLERANCE for i in values[here])  # fmt: skip
+    project = add_motion(new_project(KXR), stored.motion)
+    kinds = [b.kind for b in motion_program(project, 2).blocks]
+    assert kinds.count("counter_set") == 1 and "counter_loop" in kinds and "jump" in kinds
+    program = motion_program(project, 2).blocks
+    assert program[kinds.index("counter_set")].fields == {
+        "counter": LOOP_COUNTER, "value": loop.repeats
+    }  # fmt: skip
+    image, layout = project_image(project)
+    (run,) = run_motions(image, [2], motion_layout=layout, robot=KXR).motions
+    out = run.outcome
+    # on the board's clock the walk lasts as long as its samples (it took 27.3 s of 21.8 when
+    # each pose cost one period more than the walk's own spacing)
+    assert run.result.duration == pytest.approx(0.51 + (len(w.poses) - 1) * 0.015, abs=0.05)
+    assert out is not None and not out.fell and out.end_pose == "upright"
+    assert out.dx_m >= 0.9 * params.commanded and abs(out.dy_m) < 0.05
+
+
+def test_a_short_walk_has_no_cycle_to_loop() -> None:
+    from rcb4hv.gait.motion import steady_loop
+
+    w = walk(KXR, default_params(KXR, "forward", steps=2))
+    assert steady_loop(w, [KXR.motion_values(p) for p in w.poses]) is None
+    assert walk_motion(KXR, w, slot=2, name="walk").loop is None

@@ -94,17 +94,19 @@ def gait_command(
         if not free:
             raise ValueError(f"{into} has no free motion slot")
         slot = free[0]
-    motion, every = walk_motion(
+    stored = walk_motion(
         model, w, slot=slot, name=name or f"gait {direction}", period=period,
         button=parse_buttons(button) if button else 0,
         layout=project_layout(project) if project is not None else None,
     )  # fmt: skip
+    motion, every, loop = stored.motion, stored.every, stored.loop
     summary = {
         "robot": model.name, "direction": direction, "steps": steps, "slot": slot,
         "stride_m": params.stride, "turn_deg": params.turn, "lift_m": params.lift,
         "width_m": params.width, "step_time_s": params.step_time,
         "commanded": params.commanded, "seconds": len(w.poses) * period / 1000.0,
-        "periods_per_pose": every, "ik_missed": w.missed, "ik_worst_mm": w.worst_error * 1000,
+        "periods_per_pose": every, "looped_cycles": 0 if loop is None else loop.repeats,
+        "ik_missed": w.missed, "ik_worst_mm": w.worst_error * 1000,
     }  # fmt: skip
     if project is not None and into is not None:
         data = dump_project(add_motion(project, motion, replace_used=replace))
@@ -112,11 +114,11 @@ def gait_command(
             raise ValueError("the new project does not round-trip; nothing written")
         write_atomic(into, data)
     if play:
-        from rcb4hv.gait.motion import play_motion
+        from rcb4hv.gait.motion import play_moves
 
         robot = open_robot(port, baud, timeout)
         try:
-            play_motion(robot.client, motion, period, time.sleep)
+            play_moves(robot.client, stored.moves, period, time.sleep)
         finally:
             robot.close()
     if as_json:
@@ -127,6 +129,7 @@ def gait_command(
     click.echo(
         f"{where}: {model.name} {direction}, {steps} steps, {params.commanded:.3g}{unit} "
         f"commanded, {summary['seconds']:.2f} s, a pose every {every} output periods"
+        + ("" if loop is None else f", its middle {loop.repeats} cycles of two steps looped")
     )
 
 
@@ -205,10 +208,10 @@ def tune_command(
     if slot is None:
         free = free_slots(project)
         slot = free[0] if free else 2
-    motion, _ = walk_motion(
+    motion = walk_motion(
         model, walk(model, best.params, period / 1000.0), slot=slot, name=f"tuned {direction}",
         period=period, layout=project_layout(project),
-    )  # fmt: skip
+    ).motion  # fmt: skip
     write_atomic(into, dump_project(add_motion(project, motion)))
     doc = {
         "robot": model.name, "trials": trials, "seed": seed, "interrupted": result.interrupted,

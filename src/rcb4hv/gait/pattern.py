@@ -27,6 +27,7 @@ __all__ = [
     "Footstep",
     "GaitParams",
     "Trajectory",
+    "phase_samples",
     "plan_footsteps",
     "trajectory",
 ]
@@ -140,6 +141,21 @@ class Trajectory:
     right: Array
 
 
+def phase_samples(p: GaitParams, dt: float) -> tuple[int, int, int, int]:
+    """Samples of ``dt`` seconds in each phase of ``p``'s walk: the hold before the first
+    step, a step's double and single support, and the hold after the closing shift. Step
+    ``k`` (0-based, of :func:`plan_footsteps`) starts at sample ``hold + k * (double +
+    single)``."""
+    tds = p.step_time * p.double_support
+    tss = p.step_time - tds
+    return (
+        round(START_HOLD_S / dt),
+        max(1, round(tds / dt)),
+        max(1, round(tss / dt)),
+        round(END_HOLD_S / dt),
+    )
+
+
 def _smooth(s: Array) -> Array:
     """Minimum-jerk profile 0 -> 1 (zero speed and acceleration at both ends)."""
     return np.asarray(s**3 * (10.0 - 15.0 * s + 6.0 * s * s), dtype=np.float64)
@@ -162,10 +178,7 @@ def trajectory(
 
     feet = {1: np.array([start[0].x, start[0].y, 0.0, 0.0]),
             -1: np.array([start[1].x, start[1].y, 0.0, 0.0])}  # fmt: skip
-    tds = p.step_time * p.double_support
-    tss = p.step_time - tds
-    n_hold, n_ds, n_ss = round(START_HOLD_S / dt), max(1, round(tds / dt)), max(1, round(tss / dt))
-    n_end = round(END_HOLD_S / dt)
+    n_hold, n_ds, n_ss, n_end = phase_samples(p, dt)
     zmp: list[Array] = []
     left: list[Array] = []
     right: list[Array] = []

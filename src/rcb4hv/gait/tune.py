@@ -175,7 +175,7 @@ def tune(
             for x in xs:
                 p = _params(base, x)
                 w = walk(model, p, period_ms / 1000.0)
-                motion, _ = walk_motion(model, w, slot=2, name="tune", period=period_ms)
+                motion = walk_motion(model, w, slot=2, name="tune", period=period_ms).motion
                 project = set_output_period(new_project(model), period_ms)
                 image, layout = project_image(add_motion(project, motion))
                 (row,) = go(

@@ -38,8 +38,10 @@ __all__ = [
     "flowchart_from_keyframes",
     "free_slots",
     "keyframe_frames",
+    "motion_from_frames",
     "motion_from_keyframes",
     "now_text",
+    "pose_commands",
 ]
 
 END_MARKER = Return().encode() + b"\xff"
@@ -84,9 +86,11 @@ def _speed(time_s: float, period_ms: int, index: int) -> int:
     return frames
 
 
-def _pose_commands(
+def pose_commands(
     keyframes: Sequence[Keyframe], period_ms: int, changed_only: bool = False
 ) -> list[RunConstFrameServo]:
+    """One RunConstFrameServo per keyframe (its time in output periods of ``period_ms``); the
+    first keyframe must name every servo; ``changed_only``: see :func:`keyframe_frames`."""
     if not keyframes:
         raise ValueError("no keyframes")
     if period_ms not in FRAME_PERIODS_MS:
@@ -115,7 +119,7 @@ def keyframe_frames(
     only its own keyframe's servos (the others hold, as on the board), so a long motion of
     few moving servos fits a slot.
     """
-    frames = [c.encode() for c in _pose_commands(keyframes, period_ms, changed_only)]
+    frames = [c.encode() for c in pose_commands(keyframes, period_ms, changed_only)]
     frames += [Return().encode(), END_MARKER]
     if sum(map(len, frames)) > MOTION_SIZE:
         raise ValueError(
@@ -148,6 +152,24 @@ def motion_from_keyframes(
     """A project motion for ``slot`` that plays ``keyframes``, stored for ``layout`` (the
     project's HeartToHeart4 version; 2.2 by default); ``button`` binds it to a remote button
     word (0: none); ``changed_only``: see :func:`keyframe_frames`."""
+    frames = keyframe_frames(keyframes, period_ms, changed_only=changed_only)
+    return motion_from_frames(
+        frames, slot=slot, name=name, button=button, compare_type=compare_type, date=date,
+        layout=layout,
+    )  # fmt: skip
+
+
+def motion_from_frames(
+    frames: Sequence[bytes],
+    *,
+    slot: int,
+    name: str,
+    button: int = 0,
+    compare_type: str = "Equals",
+    date: str | None = None,
+    layout: MotionLayout = HTH4_22,
+) -> Motion:
+    """A project motion for ``slot`` of ``layout`` holding the stored ``frames`` as given."""
     if not 1 <= slot <= layout.motion_count:
         raise ValueError(f"motion slot must be 1..{layout.motion_count}, not {slot}")
     if not 0 <= button <= 0xFFFF:
@@ -161,7 +183,7 @@ def motion_from_keyframes(
         date=date or now_text(),
         button_data=button,
         compare_type=compare_type,
-        frames=keyframe_frames(keyframes, period_ms, changed_only=changed_only),
+        frames=tuple(frames),
         address=layout.address(slot),
     )
 
@@ -173,7 +195,7 @@ def flowchart_from_keyframes(
     new_guid: Callable[[], str] = lambda: str(uuid.uuid4()),
 ) -> Flowchart:
     """The HeartToHeart4 flowchart of the motion: a chain of ``Pos`` boxes."""
-    commands = _pose_commands(keyframes, period_ms)
+    commands = pose_commands(keyframes, period_ms)
     boxes = [Point(ORIGIN.x + STEP_X * i, ORIGIN.y) for i in range(len(commands))]
     centre = [Point(b.x + BOX.width // 2, b.y + BOX.height // 2) for b in boxes]
     lines = tuple(

@@ -46,10 +46,10 @@ def generate_walk(
         raise ValueError("the project has no free motion slot")
     params = default_params(model, direction, steps=steps, stride=stride, turn=turn)
     period = period_ms(base)
-    motion, _ = walk_motion(
+    motion = walk_motion(
         model, walk(model, params, period / 1000.0), slot=free[0], name=f"gait {direction}",
         period=period, layout=project_layout(base),
-    )  # fmt: skip
+    ).motion  # fmt: skip
     out = add_motion(base, motion)
     image, layout = project_image(out)
     run = run_motions(image, [free[0]], motion_layout=layout, robot=model)

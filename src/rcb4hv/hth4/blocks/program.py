@@ -20,6 +20,7 @@ JUMP itself (then they stay two blocks, so that branch keeps its target).
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 from rcb4hv.errors import EditError
@@ -30,7 +31,14 @@ from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.motioncode import slot_size
 from rcb4hv.protocol import Call, Jump
 
-__all__ = ["Program", "block_spans", "compile_program", "motion_program", "put_program"]
+__all__ = [
+    "Program",
+    "block_spans",
+    "compile_blocks",
+    "compile_program",
+    "motion_program",
+    "put_program",
+]
 
 
 @dataclass(frozen=True)
@@ -125,7 +133,7 @@ def motion_program(project: Project, slot: int) -> Program:
     )
 
 
-def _resolver(project: Project, addresses: dict[str, int], starts: list[int]) -> Resolver:
+def _resolver(project: Project | None, addresses: dict[str, int], starts: list[int]) -> Resolver:
     def resolve(target: Json, where: str) -> int:
         if isinstance(target, str):
             if target not in addresses:
@@ -139,6 +147,8 @@ def _resolver(project: Project, addresses: dict[str, int], starts: list[int]) ->
             slot, off = target.get("motion"), target.get("offset", 0)
             if not isinstance(slot, int) or not isinstance(off, int) or off < 0:
                 raise EditError(f"{where}: expected {{'motion': N, 'offset': K}}, not {target!r}")
+            if project is None:
+                raise EditError(f"{where}: a branch to another motion needs its project")
             try:
                 return project.motion(slot).address + off
             except KeyError:
@@ -162,11 +172,23 @@ def compile_program(project: Project, slot: int, program: Program) -> tuple[byte
     """The stored entries of ``program`` laid out at slot ``slot`` of ``project`` (EditError
     naming the block and field for anything that does not encode, or if it does not fit)."""
     try:
-        base = project.motion(slot).address
+        motion = project.motion(slot)
     except KeyError:
         raise EditError(f"the project has no motion slot {slot}") from None
+    entries = compile_blocks(program.blocks, motion.address, project)
+    size, room = sum(map(len, entries)), slot_size(motion)
+    if size > room:
+        raise EditError(f"motion {slot}: {size} bytes do not fit its {room}-byte slot")
+    return entries
+
+
+def compile_blocks(
+    blocks: Sequence[Block], base: int, project: Project | None = None
+) -> tuple[bytes, ...]:
+    """The entries of ``blocks`` laid out from ROM address ``base``; branches by label or
+    index resolve within them, to another motion (``{"motion": N}``) through ``project``."""
     labels: dict[str, int] = {}
-    for n, b in enumerate(program.blocks):
+    for n, b in enumerate(blocks):
         if b.label is not None:
             if b.label in labels:
                 raise EditError(f"blocks[{n}].label: {b.label!r} is used twice")
@@ -176,17 +198,14 @@ def compile_program(project: Project, slot: int, program: Program) -> tuple[byte
         return 0
 
     starts = [base]
-    for n, b in enumerate(program.blocks):
+    for n, b in enumerate(blocks):
         made = encode_block(b, placeholder, f"blocks[{n}]", starts[-1])
         starts.append(starts[-1] + sum(map(len, made)))
     addresses = {label: starts[n] for label, n in labels.items()}
     resolve = _resolver(project, addresses, starts)
     entries: list[bytes] = []
-    for n, b in enumerate(program.blocks):
+    for n, b in enumerate(blocks):
         entries.extend(encode_block(b, resolve, f"blocks[{n}]", starts[n]))
-    size, room = starts[-1] - base, slot_size(project.motion(slot))
-    if size > room:
-        raise EditError(f"motion {slot}: {size} bytes do not fit its {room}-byte slot")
     return tuple(entries)
 
 
