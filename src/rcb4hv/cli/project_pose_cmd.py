@@ -95,8 +95,8 @@ def ease_command(
     """Ease the move into pose --pose of motion --motion over --over poses and write -o.
 
     The board moves linearly from pose to pose; the move into --pose is split into --over
-    moves along an easing curve (same total frames, same end pose), so the servos start and
-    stop gently."""
+    moves along an easing curve (the same time on the board, the same end pose), so the
+    servos start and stop gently."""
     from rcb4hv.errors import NoRobotModelError
     from rcb4hv.hth4.ease import ease_pose
     from rcb4hv.hth4.poses import Checks

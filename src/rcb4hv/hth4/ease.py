@@ -3,8 +3,11 @@
 The board moves every servo linearly from one pose to the next over the pose's frame count
 (spec 8: RunConstFrameServo), so a move starts and stops at full speed. Easing splits the
 move into pose ``I`` into ``K`` shorter linear moves whose end points follow an easing curve
-of time: the same total frames, the same start and end, but the speed rises from rest and
-falls back to it. :func:`eased_poses` computes the poses (so the editor can preview them in
+of time: the same time on the board, the same start and end, but the speed rises from rest
+and falls back to it. The board takes N + 1 output periods for a pose of N frames (spec 9:
+the update flag clears the period after the move ends, and only then does the program
+fetch the next pose), so the move of F frames lasts F + 1 periods and its K poses share
+those: their frames add up to F + 1 - K. :func:`eased_poses` computes the poses (so the editor can preview them in
 3D); :func:`ease_pose` writes them into the motion (``K - 1`` new poses inserted before pose
 ``I``, whose frame count becomes the last segment's).
 
@@ -58,17 +61,19 @@ def eased_poses(
     if over < 2:
         raise EditError(f"easing needs 2 or more poses, not {over}")
     target = poses[index]
-    if over > target.frames:
+    periods = target.frames + 1  # on the board (module docstring)
+    if 2 * over > periods:
         raise EditError(
             f"motion {motion.slot} pose {index + 1} moves over {target.frames} frames: it "
-            f"cannot be split into {over} poses of one frame or more"
+            f"cannot be split into {over} poses of one frame or more (each takes its frames "
+            f"+ 1 output periods on the board; at most {periods // 2} poses)"
         )
     start = _before(motion, index)
     ease = CURVES[curve]
     out: list[tuple[int, dict[int, int]]] = []
     done = 0
     for k in range(1, over + 1):
-        end = round(target.frames * k / over)
+        end = round(periods * k / over)
         s = ease(k / over)
         values: dict[int, int] = {}
         for ics, b in target.values.items():
@@ -77,7 +82,7 @@ def eased_poses(
                 values[ics] = b
             else:
                 values[ics] = round(a + (b - a) * s)
-        out.append((end - done, values if k < over else dict(target.values)))
+        out.append((end - done - 1, values if k < over else dict(target.values)))
         done = end
     return out
 
