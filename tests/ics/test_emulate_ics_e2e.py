@@ -88,8 +88,11 @@ def test_the_cli_over_the_pty(pty_bus: str, tmp_path: Path) -> None:
         100,
     ]
     assert json.loads(ics("position", "--id", "3", "--move", "8000")) == {"id": 3, "position": 7500}
-    # two servos on the bus: an ID read collides (E0h & E3h = E0h reads as 0)
-    assert json.loads(ics("id")) == {"id": 0}
+    # two servos on the bus: an ID read collides (E0h & E3h = E0h reads as 0, which is a
+    # servo here): the ID read probes the IDs another servo could have, and says so
+    result = runner.invoke(cli, ["ics", "--port", pty_bus, "id"])
+    assert result.exit_code == 1
+    assert "servos 0, 3 answer" in result.stderr
 
 
 def test_cli_id_set_with_one_servo() -> None:

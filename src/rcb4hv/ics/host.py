@@ -242,21 +242,35 @@ class IcsBus:
             found.append(i)
         return found
 
-    def read_id(self) -> int:
+    def read_id(self, *, alone: bool = True) -> int:
         """The ID of the one servo on the bus, checked: that ID answers a stretch read. With
         several servos the answers collide on the wire and AND into an ID none of them may
-        have: :class:`~rcb4hv.errors.IcsError` then, not a wrong ID."""
+        have: :class:`~rcb4hv.errors.IcsError` then, not a wrong ID. The AND may also be the
+        ID of one of them (IDs 1 and 3 read as 1), so with ``alone`` (the default) every ID
+        another servo could have (the IDs holding every bit of the one read) is probed too,
+        and an answer is an IcsError naming the servos: up to 31 stretch reads, about 3 s
+        when the ID read is 0."""
         command = encode_id_read()
         reply = decode_reply(command, self.link.exchange(command))
         assert isinstance(reply, IdReply)
+        got = reply.servo_id
         try:
-            self.servo(reply.servo_id).stretch()
+            self.servo(got).stretch()
         except IcsNoReply:
             raise IcsError(
-                f"the ID read back, {reply.servo_id}, does not answer: more than one servo on "
+                f"the ID read back, {got}, does not answer: more than one servo on "
                 "the line? Connect only the one to read (or rename)"
             ) from None
-        return reply.servo_id
+        if alone:
+            others = self.scan(i for i in range(MAX_ID + 1) if i != got and i & got == got)
+            if others:
+                ids = ", ".join(map(str, sorted([got, *others])))
+                raise IcsError(
+                    f"servos {ids} answer: an ID read reaches every servo on the line, so it "
+                    "reads none of them; connect only the one to read or rename, or name a "
+                    "servo by its ID"
+                )
+        return got
 
     def write_id(self, new_id: int) -> int:
         """Give the one servo on the bus ``new_id`` (every servo on the bus takes it); verify
@@ -264,7 +278,7 @@ class IcsBus:
         command = encode_id_write(new_id)
         reply = decode_reply(command, self.link.exchange(command))
         assert isinstance(reply, IdReply)
-        back = self.read_id()
+        back = self.read_id(alone=False)  # the bus was checked before the rename
         if back != new_id:
             raise IcsError(f"the servo answers ID {back} after being given {new_id}")
         return back
