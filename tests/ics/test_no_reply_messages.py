@@ -54,3 +54,16 @@ def test_through_a_board_the_nak_names_the_servo_and_the_line() -> None:
     out = _error(["--via-board", "--port", "rcb4emu://", "--line", "4", "get", "--id", "3"])
     assert "servo 3 does not answer on the SIO line of ICS 4" in out
     assert "0Eh: NAK" in out and "a3 00" in out
+
+
+def test_two_servos_answering_the_id_read_are_named_not_renamed() -> None:
+    """IDs 1 and 3 AND into 1, a servo on the bus: the read looked right and `id --set 5`
+    renamed both. The read probes the IDs a second servo could have (those holding 1's bit)."""
+    from rcb4hv.errors import IcsError
+
+    with IcsBus.open("icsemu://?ids=1,3") as bus:
+        with pytest.raises(IcsError, match="servos 1, 3 answer"):
+            bus.read_id()
+        assert bus.scan(range(6)) == [1, 3]  # nothing renamed
+    with IcsBus.open("icsemu://?ids=3") as bus:
+        assert bus.read_id() == 3
