@@ -140,8 +140,12 @@ def test_cli_check_balance_reports_poses_that_cannot_stand(kxr_project_path: Pat
     )
     assert out.exit_code == 0, out.output
     found = [f for f in json.loads(out.output)["findings"] if f["code"] == "pose-cannot-stand"]
-    assert any(f["slot"] == 11 and "pose 2 cannot stand" in f["reason"] for f in found)
+    assert any(f["slot"] == 11 and "pose 2: cannot stand" in f["reason"] for f in found)
     assert not any(f["slot"] == 39 for f in found)  # the home position stands
+    # a pose inside the support but short of the reserve was "-5 mm outside the support"
+    edge = [f["reason"] for f in found if "pose 5:" in f["reason"] and f["slot"] == 1]
+    assert edge == ["motion 1 pose 5: at the edge: centre of mass only 5 mm inside the "
+                    "support; standing still takes 6 mm (r_foot)"]  # fmt: skip
 
 
 @pytest.mark.parametrize("build", ["R4LL", "L6", "L4T", "L4N", "L4D"])

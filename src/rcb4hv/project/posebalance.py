@@ -82,8 +82,7 @@ def balance_findings(project: Project, model: RobotModel) -> list[Finding]:
                         m.name or "",
                         m.address,
                         "",
-                        f"{where} cannot stand still: its centre of mass is "
-                        f"{-b.margin_m * 1000:.0f} mm outside the support ({touching})",
+                        f"{where}: {b.margin_text} ({touching})",
                     )
                 )
             for joint in b.overloaded:

@@ -102,6 +102,22 @@ class PoseBalance:
         return self.margin_m > STABILITY_RESERVE_M
 
     @property
+    def margin_text(self) -> str:
+        """The margin in words, true on either side of the reserve: "stands: centre of mass
+        12 mm inside the support", "at the edge: centre of mass only 5 mm inside the support;
+        standing still takes 6 mm" or "cannot stand still: centre of mass 3 mm outside the
+        support". The one wording of the editor's line and of ``project check --balance``."""
+        mm = self.margin_m * 1000
+        if self.balanced:
+            return f"stands: centre of mass {mm:.0f} mm inside the support"
+        if self.margin_m >= 0:
+            return (
+                f"at the edge: centre of mass only {mm:.0f} mm inside the support; standing "
+                f"still takes {STABILITY_RESERVE_M * 1000:.0f} mm"
+            )
+        return f"cannot stand still: centre of mass {-mm:.0f} mm outside the support"
+
+    @property
     def overloaded(self) -> list[str]:
         """Joints whose static load exceeds the servo's stall torque."""
         return sorted(j for j, r in self.torque_ratio.items() if r > 1.0)
