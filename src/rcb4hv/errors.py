@@ -29,6 +29,8 @@
     │                              unknown robot name, a link without inertia, a joint map
     │                              naming an unknown joint or a servo the project lacks);
     │                              also a ValueError
+    ├── GaitError                  a walk that cannot be made (parameters out of range, no
+    │                              motion slot it fits); also a ValueError
     ├── PhysicsError               the physics simulation cannot run
     │   └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
     │                              ImportError
@@ -53,6 +55,7 @@ __all__ = [
     "EmulatedCommandError",
     "EmulatedReset",
     "FrameError",
+    "GaitError",
     "Hth4FormatError",
     "IcsError",
     "IcsNoReply",
@@ -208,6 +211,10 @@ class AmbiguousRobotError(NoRobotModelError):
     def __init__(self, message: str, candidates: tuple[str, ...] = ()) -> None:
         super().__init__(message)
         self.candidates = candidates
+
+
+class GaitError(Rcb4Error, ValueError):
+    """A walk that cannot be made: parameters out of range, or no motion slot it fits."""
 
 
 class PhysicsError(Rcb4Error):

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -245,3 +246,41 @@ def test_a_short_walk_has_no_cycle_to_loop() -> None:
     w = walk(KXR, default_params(KXR, "forward", steps=2))
     assert steady_loop(w, [KXR.motion_values(p) for p in w.poses]) is None
     assert walk_motion(KXR, w, slot=2, name="walk").loop is None
+
+
+def test_walk_errors_are_typed_and_said_at_once() -> None:
+    """Gait parameter errors were builtin ValueErrors; 300 steps ran 18 s before refusing,
+    a 1e9 s step asked for 124 GiB and ``period_s=0`` divided by zero."""
+    from rcb4hv.errors import GaitError, Rcb4Error
+
+    assert issubclass(GaitError, Rcb4Error) and issubclass(GaitError, ValueError)
+    with pytest.raises(GaitError, match=r"1\.\.200 steps, not 300"):
+        default_params(KXR, "forward", steps=300)
+    with pytest.raises(GaitError, match="at most 5 s"):
+        default_params(KXR, "forward", steps=2, step_time=1e9)
+    with pytest.raises(GaitError, match="period_s"):
+        walk(KXR, default_params(KXR, "forward", steps=2), period_s=0)
+    w = walk(KXR, default_params(KXR, "forward", steps=1))
+    with pytest.raises(GaitError, match="output period"):
+        walk_motion(KXR, w, slot=2, name="w", period=13)
+    with pytest.raises(ValueError, match="motion slot must be") as info:
+        walk_motion(KXR, w, slot=0, name="w")
+    assert "servo's travel" not in str(info.value)  # said of every ValueError before
+
+
+def test_a_walk_is_not_played_on_another_robots_board(tmp_path: Path) -> None:
+    """`gait --port` played the KXR-L2's walk on the emulator's default board, whose servos
+    are another robot's (its legs' values on other joints); `--json` named slot 2 though
+    nothing was stored."""
+    r = CliRunner().invoke(
+        cli, ["gait", "--robot", "kxr-l2", "--steps", "1", "--port", "rcb4emu://", "--json"]
+    )
+    assert r.exit_code == 1 and "the board has no servo at ICS 8, 9" in r.output
+    rom = tmp_path / "kxr.rom"  # a board holding a KXR-L2 project
+    rom.write_bytes(project_image(new_project(KXR))[0])
+    r = CliRunner().invoke(
+        cli, ["gait", "--robot", "kxr-l2", "--steps", "1", "--port",
+              f"rcb4emu://?speed=50&rom={rom}", "--json"],
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.output)["slot"] is None

@@ -11,8 +11,10 @@ from typing import get_args
 import click
 
 from rcb4hv.cli._util import MOTION_SLOT, connection_options, handle_errors, open_robot
+from rcb4hv.errors import GaitError, RobotModelError
 from rcb4hv.files import write_atomic
 from rcb4hv.gait.pattern import Direction
+from rcb4hv.robot.model import RobotModel
 
 DIRECTION = click.option(
     "--direction", type=click.Choice(list(get_args(Direction))), default="forward",
@@ -92,7 +94,7 @@ def gait_command(
     if slot is None:
         free = free_slots(project) if project is not None else [2]
         if not free:
-            raise ValueError(f"{into} has no free motion slot")
+            raise GaitError(f"{into} has no free motion slot")
         slot = free[0]
     stored = walk_motion(
         model, w, slot=slot, name=name or f"gait {direction}", period=period,
@@ -101,7 +103,8 @@ def gait_command(
     )  # fmt: skip
     motion, every, loop = stored.motion, stored.every, stored.loop
     summary = {
-        "robot": model.name, "direction": direction, "steps": steps, "slot": slot,
+        "robot": model.name, "direction": direction, "steps": steps,
+        "slot": slot if into is not None else None,
         "stride_m": params.stride, "turn_deg": params.turn, "lift_m": params.lift,
         "width_m": params.width, "step_time_s": params.step_time,
         "commanded": params.commanded, "seconds": len(w.poses) * period / 1000.0,
@@ -118,6 +121,7 @@ def gait_command(
 
         robot = open_robot(port, baud, timeout)
         try:
+            _check_board(robot.servo_ids(), model)
             play_moves(robot.client, stored.moves, period, time.sleep)
         finally:
             robot.close()
@@ -131,6 +135,17 @@ def gait_command(
         f"commanded, {summary['seconds']:.2f} s, a pose every {every} output periods"
         + ("" if loop is None else f", its middle {loop.repeats} cycles of two steps looped")
     )
+
+
+def _check_board(board: list[int], model: RobotModel) -> None:
+    """Refuse to play ``model``'s walk on a board that has not its servos (a KXR-L2 walk on
+    a KHR-3HV board sends every leg value to the wrong joint)."""
+    missing = sorted({s.index for s in model.servos} - set(board))
+    if missing:
+        raise RobotModelError(
+            f"the board has no servo at ICS {', '.join(map(str, missing))}, which "
+            f"{model.name}'s walk drives: is it the robot the walk is for? (--robot)"
+        )
 
 
 @gait_command.command("tune")

@@ -15,7 +15,7 @@ import logging
 import math
 from dataclasses import dataclass
 
-from rcb4hv.errors import RobotModelError
+from rcb4hv.errors import GaitError, RobotModelError
 from rcb4hv.gait.pattern import Direction, GaitParams, Trajectory, trajectory
 from rcb4hv.robot.geometry import CONTACT_TOLERANCE_M, geom_points, stance
 from rcb4hv.robot.ik import effectors, limb, solve_feet
@@ -163,7 +163,7 @@ def default_params(
         ("lift", lift, 0.5 * body.leg),
     ):
         if value is not None and value > most:
-            raise ValueError(
+            raise GaitError(
                 f"{what} {value:g} m is more than {model.name}'s legs can make (at most "
                 f"{most:.3f} m; its leg is {body.leg:.3f} m)"
             )
@@ -211,6 +211,8 @@ def walk(model: RobotModel, params: GaitParams, period_s: float = 0.015) -> Walk
     """Generate ``params``' walk for ``model``, one pose per ``period_s`` (the board's
     output period). The torso stays upright at its walking height and turns with the feet;
     it moves so that the model's centre of mass follows the preview controller's CoM."""
+    if not (math.isfinite(period_s) and 0.001 <= period_s <= 0.1):
+        raise GaitError(f"period_s is the output period in seconds (0.010-0.025), not {period_s!r}")
     body = Body.of(model)
     if params.direction.startswith("turn") and len(limb(model, body.left)) < 6:
         raise RobotModelError(

@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple, Protocol
 
-from rcb4hv.errors import EditError
+from rcb4hv.errors import EditError, GaitError
 from rcb4hv.gait.generate import Walk
 from rcb4hv.gait.pattern import phase_samples, plan_footsteps
 from rcb4hv.hth4.blocks.kinds import Block
@@ -36,7 +36,7 @@ from rcb4hv.hth4.keyframes import (
 )
 from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.newproject import new_project
-from rcb4hv.protocol import RunConstFrameServo, SystemRegister
+from rcb4hv.protocol import FRAME_PERIODS_MS, RunConstFrameServo, SystemRegister
 from rcb4hv.robot.ik import limb
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom.layout import HTH4_22, MOTION_SIZE, MotionLayout
@@ -211,15 +211,18 @@ def walk_motion(
     """The walk as a motion for ``slot``: one chain of poses, or its settled cycle in a loop
     when that keeps more of them (module docstring)."""
     lay = HTH4_22 if layout is None else layout
+    if period not in FRAME_PERIODS_MS:
+        raise GaitError(f"the output period is one of {FRAME_PERIODS_MS} ms, not {period!r}")
+    motion_from_frames((), slot=slot, name=name, button=button, layout=lay)  # checks them
     chain: tuple[tuple[bytes, ...], tuple[RunConstFrameServo, ...], int] | None = None
     for every in range(2, 64):
-        kfs = walk_keyframes(model, w, period, every)
         try:
+            kfs = walk_keyframes(model, w, period, every)
             frames = keyframe_frames(kfs, period, changed_only=True)
         except ValueError as e:
             if "a motion slot holds" in str(e):
                 continue
-            raise ValueError(
+            raise GaitError(
                 f"{e}: the walk takes a joint past its servo's travel; a smaller lift, turn, "
                 "stride or width"
             ) from None
@@ -238,7 +241,7 @@ def walk_motion(
                 found = (entries, moves, every, loop)
                 break
     if found is None:
-        raise ValueError("the walk does not fit a motion slot; take fewer steps")
+        raise GaitError("the walk does not fit a motion slot; take fewer steps")
     motion = motion_from_frames(found[0], slot=slot, name=name, button=button, layout=lay)
     return StoredWalk(replace(motion, date=now_text()), found[2], found[3], found[1])
 

@@ -19,6 +19,7 @@ from typing import Literal
 
 import numpy as np
 
+from rcb4hv.errors import GaitError
 from rcb4hv.gait.preview import Array, PreviewController
 
 __all__ = [
@@ -40,6 +41,11 @@ START_HOLD_S = 0.3
 """Standing still before the first weight shift (s): a documented choice."""
 END_HOLD_S = 0.6
 """Standing still after the last step while the CoM settles over both feet (s)."""
+MAX_STEPS = 200
+MAX_STEP_TIME_S = 5.0
+"""The longest walk generated: 200 steps (about 20 s to compute; the CLI and the Walk page
+take 40) of at most 5 s each (a KXR's step takes about 0.5 s). Beyond them a walk is
+refused at once rather than computed for minutes (``step_time=1e9`` asked for 124 GiB)."""
 
 
 @dataclass(frozen=True)
@@ -62,18 +68,20 @@ class GaitParams:
 
     def __post_init__(self) -> None:
         if self.direction not in DIRECTIONS:
-            raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}")
-        if self.steps < 1:
-            raise ValueError("a walk needs at least one step")
+            raise GaitError(f"direction must be one of {', '.join(DIRECTIONS)}")
+        if not 1 <= self.steps <= MAX_STEPS:
+            raise GaitError(f"a walk takes 1..{MAX_STEPS} steps, not {self.steps}")
         numbers = (self.stride, self.turn, self.width, self.lift, self.step_time, self.lean)
         if not all(math.isfinite(v) for v in numbers):
-            raise ValueError("stride, turn, width, lift, step time and lean are finite numbers")
+            raise GaitError("stride, turn, width, lift, step time and lean are finite numbers")
         if not (self.stride >= 0 and self.lift > 0 and self.width > 0 and self.step_time > 0):
-            raise ValueError("stride >= 0, lift, width and step time > 0")
+            raise GaitError("stride >= 0, lift, width and step time > 0")
+        if self.step_time > MAX_STEP_TIME_S:
+            raise GaitError(f"a step takes at most {MAX_STEP_TIME_S:g} s, not {self.step_time:g}")
         if self.turn < 0:
-            raise ValueError("turn is degrees per step, >= 0: the direction says which way")
+            raise GaitError("turn is degrees per step, >= 0: the direction says which way")
         if not 0.05 <= self.double_support <= 0.8:
-            raise ValueError("double support must be 0.05..0.8 of a step")
+            raise GaitError("double support must be 0.05..0.8 of a step")
 
     @property
     def commanded(self) -> float:
