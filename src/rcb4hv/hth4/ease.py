@@ -8,8 +8,8 @@ and falls back to it. The board takes N + 1 output periods for a pose of N frame
 the update flag clears the period after the move ends, and only then does the program
 fetch the next pose), so the move of F frames lasts F + 1 periods and its K poses share
 those: their frames add up to F + 1 - K. :func:`eased_poses` computes the poses (so the
-editor can preview them in 3D); :func:`ease_pose` writes them into the motion (``K - 1`` new poses inserted before pose
-``I``, whose frame count becomes the last segment's).
+editor can preview them in 3D); :func:`ease_pose` writes them into the motion (``K - 1``
+new poses inserted before pose ``I``, whose frame count becomes the last segment's).
 
 Curves (``t`` from 0 to 1): ``in-out`` = (1 - cos πt) / 2, ``in`` = 1 - cos(πt/2), ``out`` =
 sin(πt/2). Servos whose target is hold (7FFFh) or free (8000h) keep that value in every new
