@@ -192,3 +192,16 @@ def test_via_board_on_an_ics_bus_says_it_is_not_a_board() -> None:
         with ics, pytest.raises(IcsError, match="echoes the frame sent: an ICS bus") as info:
             ics.scan([0])
     assert "not a board, so --via-board does not apply" in str(info.value)
+
+
+def test_a_scan_through_a_board_that_refuses_0eh_says_so() -> None:
+    """Every 0Eh NAKed printed only "no servo answered": a user looks for absent servos."""
+    from click.testing import CliRunner
+
+    from rcb4hv.cli.main import cli
+
+    r = CliRunner().invoke(
+        cli, ["ics", "--port", "rcb4emu://", "--via-board", "--line", "4", "scan", "--ids", "0-3"]
+    )
+    assert r.exit_code == 0 and r.stdout == "no servo answered\n"
+    assert "a board that does not serve 0Eh" in r.stderr and "--ics-comm" in r.stderr

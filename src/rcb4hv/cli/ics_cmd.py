@@ -212,6 +212,13 @@ def scan(target: IcsTarget, ids: str) -> None:
         print_json({"ids": found})
     else:
         click.echo(" ".join(map(str, found)) if found else "no servo answered")
+    if not found and target.via_board:
+        click.echo(
+            f"(through the board: it answered NAK to every 0Eh request on the line of ICS "
+            f"{target.line}: no servo there, or a board that does not serve 0Eh; the emulator "
+            "serves it with --ics-comm)",
+            err=True,
+        )
 
 
 def _parse_range(text: str) -> list[int]:

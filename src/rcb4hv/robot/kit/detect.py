@@ -101,7 +101,8 @@ def _conflicts(code: KitCode, names: KitCode, said_by: str) -> list[str]:
     for what in ("legs", "arms", "head"):
         said, found = getattr(code, what), getattr(names, what)
         if said is not None and said != found:
-            out.append(f"{said_by} says {what} {said}, the servo names {found}: names win")
+            named = f"the servo names {found}" if found is not None else "the servo names none"
+            out.append(f"{said_by} says {what} {said}, {named}: names win")
     for what in ("gripper", "wheels"):
         if getattr(code, what) and not getattr(names, what):
             out.append(f"{said_by} says {what}, the servo names have none: names win")
