@@ -68,3 +68,24 @@ def test_a_trace_needs_the_simulated_robot(tmp_path: Path) -> None:
         cli, ["project", "simulate", str(PROJECT), "--motion", "21", "--trace", "t.csv"]
     )
     assert res.exit_code == 2 and "add --physics" in res.output
+
+
+def test_the_filmstrip_counts_time_from_the_motions_start() -> None:
+    """`--plot`'s filmstrip labelled motion 13's frames 2.93-7.27 s (board time, the boot and
+    settling included) where `--trace` counts from the motion's start (0-4.34 s)."""
+    from rcb4hv.cli.project_physics import draw_frames
+    from rcb4hv.project.physicsresult import ShapeFrame
+
+    class Axes:
+        def __init__(self) -> None:
+            self.labels: list[str] = []
+
+        def annotate(self, text: str, *args: object, **kwargs: object) -> None:
+            self.labels.append(text)
+
+        def __getattr__(self, name: str) -> object:
+            return lambda *a, **k: None
+
+    ax = Axes()
+    draw_frames(ax, (ShapeFrame(2.934, ()), ShapeFrame(3.184, ())), t0=2.934)
+    assert ax.labels == ["0.00 s", "0.25 s"]

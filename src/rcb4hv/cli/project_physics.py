@@ -134,10 +134,11 @@ def print_physics(run: SimulationRun, as_json: bool) -> None:
 
 
 def draw_frames(
-    ax: Any, frames: tuple[ShapeFrame, ...], axis: int = 0, spacing: float = 0.3
+    ax: Any, frames: tuple[ShapeFrame, ...], axis: int = 0, spacing: float = 0.3, t0: float = 0.0
 ) -> None:
     """Side views of the robot (``axis`` 0: seen from its side, x-z; 1: from the front, y-z),
-    one per frame, ``spacing`` m apart, time under each."""
+    one per frame, ``spacing`` m apart, time under each (from ``t0``: a motion's start, the
+    time ``--trace`` counts from)."""
     from matplotlib.patches import Polygon
 
     for k, frame in enumerate(frames):
@@ -146,7 +147,7 @@ def draw_frames(
         for corners in frame.shapes:
             hull = convex_hull([(c[axis] - origin + shift, c[2]) for c in corners])
             ax.add_patch(Polygon(hull, closed=True, facecolor="0.6", edgecolor="0.2", lw=0.4))
-        ax.annotate(f"{frame.t:.2f} s", (shift, -0.02), ha="center", va="top", fontsize=7)
+        ax.annotate(f"{frame.t - t0:.2f} s", (shift, -0.02), ha="center", va="top", fontsize=7)
     ax.axhline(0.0, color="0.3", linewidth=0.8)
     ax.set_xlim(-spacing / 2, max(1, len(frames)) * spacing - spacing / 2)
     ax.set_ylim(-0.05, 0.45)
@@ -172,7 +173,7 @@ def plot_run(path: Path, run: SimulationRun) -> None:
     try:
         for k, m in enumerate(run.motions):
             ax = fig.add_subplot(grid[k])
-            draw_frames(ax, m.frames)
+            draw_frames(ax, m.frames, t0=m.start_s)
             o = m.outcome
             assert o is not None
             ax.set_title(
