@@ -105,7 +105,7 @@ def test_editor_in_the_browser(gl_page: Any, kxr_project_path: Path, tmp_path: P
         time.sleep(0.1)
     raw.fill("7700")
     raw.press("Tab")
-    _wait_text(page, "editor-status", "1 edits")
+    _wait_text(page, "editor-status", "1 edit ")
     assert (
         page.locator("[data-testid=editor-flowchart] g[data-pose='1'] rect").get_attribute("fill")
         == "#bbdefb"

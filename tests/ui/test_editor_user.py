@@ -45,17 +45,17 @@ def test_editor_edits_mirrors_and_saves(kxr_project_path: Path, tmp_path: Path) 
         await user.should_not_see("outside the joint's hard (mechanical) limits")
         assert "no edits" in one(user, "editor-status").text
         commit(user, "editor-raw-10", 7700)
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         assert "unsaved" in one(user, "editor-status").text
         # past the hip's mechanical limit: refused with the reason, nothing changes
         commit(user, "editor-raw-10", 12000)
         await user.should_see("outside the joint's hard (mechanical) limits")
-        assert "1 edits" in one(user, "editor-status").text
+        assert "1 edit " in one(user, "editor-status").text
         # undo / redo
         user.find(marker="editor-undo").click()
         await until(lambda: "no edits" in one(user, "editor-status").text)
         user.find(marker="editor-redo").click()
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         # insert and delete: two more edits that cancel out
         user.find(marker="editor-duplicate").click()
         await until(lambda: len(one(user, "editor-pose").options) == 12)
@@ -118,7 +118,7 @@ def test_trim_panel_stores_a_trim(kxr_project_path: Path, tmp_path: Path) -> Non
         user.find(marker="trim-position").trigger("change", 7560)  # released at 7560
         await until(lambda: output(board, 10) == 7560)
         user.find(marker="trim-store").click()
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         await user.should_see("set on the board")
         blk = int(board.ram[0x44 + 20]) | int(board.ram[0x45 + 20]) << 8
 
@@ -147,7 +147,7 @@ def test_play_motion_writes_the_edit_and_plays_it(kxr_project_path: Path, tmp_pa
         await open_in_editor(user, src)
         one(user, "editor-motion").set_value(39)  # the home position: one pose
         commit(user, "editor-raw-10", 7700)
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         user.find(marker="editor-play-board").click()
         await user.should_see(marker="editor-play-confirm")
         user.find(marker="editor-play-confirm").click()
@@ -172,9 +172,9 @@ def test_typing_frames_is_one_edit(kxr_project_path: Path, tmp_path: Path) -> No
         for partial in (1, 12):
             one(user, "editor-frames").set_value(partial)
         commit(user, "editor-frames", 120)
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         commit(user, "editor-frames", 120)  # the same value again: no edit
-        assert "1 edits" in one(user, "editor-status").text
+        assert "1 edit " in one(user, "editor-status").text
         assert one(user, "editor-frames").value == 120
 
     run(scenario)
@@ -191,7 +191,7 @@ def test_new_motion_starts_at_home(kxr_project_path: Path, tmp_path: Path) -> No
         one(user, "editor-mirror-to").set_value(FREE)
         one(user, "editor-mirror-name").set_value("my wave")
         user.find(marker="editor-new-motion").click()
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         assert one(user, "editor-motion").value == FREE
         assert one(user, "editor-raw-10").value == hth4.load_project(src).servo(10).home_position
         user.find(marker="editor-save").click()

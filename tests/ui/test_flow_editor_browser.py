@@ -46,7 +46,7 @@ def test_program_panel_in_the_browser(page: Any, kxr_project_path: Path, tmp_pat
     _click_block(page, 1)
     _choose(page, "flow-kind", "button_branch")
     page.get_by_test_id("flow-add").click()
-    _wait_text(page, "editor-status", "1 edits")
+    _wait_text(page, "editor-status", "1 edit ")
     field = _input(page, "flow-field-buttons")
     field.fill('["S1"]')
     page.get_by_test_id("flow-apply").click()

@@ -29,7 +29,7 @@ def test_program_panel_adds_branches_and_steps(kxr_project_path: Path, tmp_path:
         user.find(marker="flow-chart").trigger("click", "1")  # select block 1 (a pose)
         one(user, "flow-kind").set_value("button_branch")
         user.find(marker="flow-add").click()
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         await until(lambda: one(user, "flow-field-buttons").value == '["UP"]')
         one(user, "flow-field-buttons").set_value('["S1", "S2"]')
         assert "not_equal" in one(user, "flow-field-if").options  # a condition is chosen
@@ -91,7 +91,7 @@ def test_settings_panel_edits_the_project_settings(kxr_project_path: Path, tmp_p
         assert one(user, "settings-ad-1").value == 273
         one(user, "settings-startup").set_value(0)
         user.find(marker="settings-startup-apply").click()
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         board.set_ad_input(1, 300)  # AD1 now reads 300 (measured + reference = the input)
         user.find(marker="settings-ad-read").click()
         await until(lambda: one(user, "settings-ad-1").value == 300)

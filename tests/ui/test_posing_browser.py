@@ -90,7 +90,7 @@ def test_a_foot_dragged_2cm_moves_2cm_in_the_pose_saved(
     for k in range(1, 11):
         page.mouse.move(x0 + (x1 - x0) * k / 10, y0 + (y1 - y0) * k / 10)
     page.mouse.up()
-    _wait_text(page, "editor-status", "1 edits")
+    _wait_text(page, "editor-status", "1 edit ")
     dropped = page.evaluate("window.rcb4hvDrop")
     moved = [b - a for a, b in zip(start, dropped, strict=True)]
     assert math.hypot(*moved) == pytest.approx(DRAG_M, abs=0.002)  # the mouse dragged ~2 cm
@@ -99,10 +99,10 @@ def test_a_foot_dragged_2cm_moves_2cm_in_the_pose_saved(
     page.get_by_test_id("editor-undo").click()
     _wait_text(page, "editor-status", "no edits")
     page.get_by_test_id("editor-redo").click()
-    _wait_text(page, "editor-status", "1 edits")
+    _wait_text(page, "editor-status", "1 edit ")
     _input(page, "editor-path").fill(str(out))
     page.get_by_test_id("editor-save").click()
-    _wait_text(page, "editor-status", f"{out} - 1 edits - saved")
+    _wait_text(page, "editor-status", f"{out} - 1 edit - saved")
     # a pose on one foot: the balance line warns; easing the move into it previews in 3D
     _choose(page, "editor-motion", f"M{SIDE_STEP:03d} XL2G_111")
     _chart_of(page, 0x0B80 + (SIDE_STEP - 1) * 0x800)

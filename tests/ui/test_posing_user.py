@@ -44,14 +44,14 @@ def test_posing_aids_in_the_editor(kxr_project_path: Path, tmp_path: Path) -> No
         scene = one(user, "editor-3d")
         # out of reach: 30 cm ahead
         drop(scene, "r_foot", 0.3, 0.0, 0.0)
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         assert "out of reach" in one(user, "editor-reach").text
         user.find(marker="editor-undo").click()
         await until(lambda: "no edits" in one(user, "editor-status").text)
         # keep balance: the right foot lifted 2 cm, the body moves over the left foot
         one(user, "editor-keep-balance").set_value(True)
         drop(scene, "r_foot", 0.0, 0.0, 0.02)
-        await until(lambda: "1 edits" in one(user, "editor-status").text)
+        await until(lambda: "1 edit " in one(user, "editor-status").text)
         assert one(user, "editor-reach").text == ""
         await until(lambda: "(l_foot)" in one(user, "editor-balance").text)
         # easing: the bow's pose 3 over 4 poses, one edit

@@ -7,7 +7,8 @@ the raw value beside it) and its frame count. Insert / duplicate / delete / move
 mirror the pose or the motion (in place or into a free slot), bind remote buttons, undo and
 redo. "Send pose" moves the board (or emulator) there; "Play motion" writes the edited project
 to the board and plays the motion (:mod:`rcb4hv.ui.editor_play`); "Preview" plays it in 3D
-in virtual time. "Save" writes the ``.h4p`` atomically and offers it and
+in virtual time. "Save" writes the ``.h4p`` atomically (:mod:`rcb4hv.ui.editor_files`: it asks
+before writing over another file, and Open before discarding unsaved edits) and offers it and
 each changed plain-chain motion's flowchart ``.xml`` for download. The browser asks before
 leaving while there are unsaved changes. The trim panel is :mod:`rcb4hv.ui.trim_panel`.
 
@@ -23,13 +24,11 @@ import functools
 import logging
 import math
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 from nicegui import ui
 
 from rcb4hv.errors import Rcb4Error
-from rcb4hv.hth4 import dump_project
 from rcb4hv.hth4.edit import (
     delete_pose,
     duplicate_pose,
@@ -40,7 +39,7 @@ from rcb4hv.hth4.edit import (
     new_motion_at_home,
     set_pose,
 )
-from rcb4hv.ui import flow_editor, trim_panel
+from rcb4hv.ui import editor_files, flow_editor, trim_panel
 from rcb4hv.ui.context import UiContext, attempt, guard_leaving, on_commit, tid
 from rcb4hv.ui.editor_play import play_on_board
 from rcb4hv.ui.editor_state import Editor
@@ -167,47 +166,28 @@ class EditorPage:
     def fail(self, exc: Exception) -> None:
         ui.notify(str(exc), type="negative", multi_line=True)
 
-    def edit(self, fn: Callable[..., Any], *args: object, **kw: object) -> None:
-        """Apply the edit ``fn(project, *args, **kw)`` (one undo step), then redraw."""
+    def edit(self, fn: Callable[..., Any], *args: object, **kw: object) -> bool:
+        """Apply the edit ``fn(project, *args, **kw)`` (one undo step), then redraw; False
+        when it was refused (the reason is shown)."""
         try:
             self.ed.apply(fn, *args, **kw)
         except (Rcb4Error, ValueError) as exc:
             self.fail(exc)
+            self.redraw()
+            return False
         self.redraw()
+        return True
 
     def named_robot(self) -> str | None:
         """The model named with ``rcb4hv ui --robot``; otherwise None: the editor detects
         the robot from the project it edits (a default model must not drive a mirror)."""
         return self.ctx.robot_spec
 
-    def open_path(self) -> None:
-        if not (self.path_in.value or "").strip():
-            self.fail(ValueError("type the path of a .h4p project file to open"))
-            return
-        path = Path(self.path_in.value.strip()).expanduser()
-        if path.suffix.lower() != ".h4p":
-            self.fail(ValueError(f"{path}: not a .h4p project file"))
-            return
-        limit = self.ctx.max_upload
-        try:
-            data = path.read_bytes()
-            if len(data) > limit:
-                raise ValueError(f"{path}: {len(data):,} bytes; the limit is {limit:,}")
-            self.ed.open(data, path, self.named_robot())
-        except (OSError, Rcb4Error, ValueError) as exc:
-            self.fail(exc)
-            return
-        ui.notify(f"editing {path}")
-        self.rebuild_view()
-        self.redraw()
+    async def open_path(self) -> None:
+        await editor_files.open_path(self)
 
-    def take_project(self) -> None:
-        if self.ctx.project is None:
-            self.fail(ValueError("no project is open on the Project page"))
-            return
-        self.ed.open(dump_project(self.ctx.project), None, self.named_robot())
-        self.rebuild_view()
-        self.redraw()
+    async def take_project(self) -> None:
+        await editor_files.take_project(self)
 
     def history(self, step: Callable[[], None]) -> None:
         step()
@@ -250,7 +230,13 @@ class EditorPage:
     def mirror_one(self) -> None:
         ed = self.ed
         if ed.slot is not None and ed.pose_index is not None:
-            self.edit(mirror_pose, ed.slot, ed.pose_index, ed.model, ed.checks)
+            before = ed.project
+            if self.edit(mirror_pose, ed.slot, ed.pose_index, ed.model, ed.checks) and (
+                ed.project is before
+            ):
+                ui.notify(
+                    f"pose {ed.pose_index + 1} is already symmetric: its mirror is the same pose"
+                )
 
     def mirror_all(self) -> None:
         ed = self.ed
@@ -274,15 +260,44 @@ class EditorPage:
             ed.select(slot, 0)
             self.redraw()
 
-    def set_value(self, ics: int, value: object) -> None:
+    def restore(self, box: Any, value: int | None) -> None:
+        """Show ``value`` in ``box`` again (a refused or emptied field must show the truth)."""
+        self.loading = True
+        try:
+            box.value = value
+        finally:
+            self.loading = False
+
+    def whole(self, box: Any, value: object, shown: int | None, what: str) -> int | None:
+        """``value`` typed into ``box`` as a whole number; None (the box shows ``shown``
+        again, with a notice unless it was emptied) when it is not one."""
+        try:
+            number = float(str(value))
+        except ValueError:
+            number = math.nan
+        if value is not None and str(value).strip() != "" and number.is_integer():
+            return int(number)
+        if value is not None and str(value).strip() != "":
+            ui.notify(f"{what}: {value} is not a whole number: kept {shown}", type="warning")
+        if box is not None:
+            self.restore(box, shown)
+        return None
+
+    def set_value(self, ics: int, value: object, box: Any = None) -> None:
         ed = self.ed
-        if self.loading or value is None or ed.slot is None or ed.pose_index is None:
-            return
-        values = {ics: int(float(str(value)))}
         pose = ed.pose
-        if pose is not None and pose.values.get(ics) == values[ics]:
+        if self.loading or ed.slot is None or ed.pose_index is None or pose is None:
+            return
+        shown = pose.values.get(ics)
+        number = self.whole(box, value, shown, f"ICS {ics}")
+        if number is None or number == shown:
             return  # the value it has: no edit (Enter and then leaving the field both commit)
-        self.edit(set_pose, ed.slot, ed.pose_index, values, None, ed.checks)
+        values = {ics: number}
+        if self.edit(set_pose, ed.slot, ed.pose_index, values, None, ed.checks):
+            notes = ed.checks.advisories(values)  # kept, but the user must know (not only a log)
+            if notes:
+                text = "; ".join(notes) + " (kept: only a warning)"
+                ui.notify(text, type="warning", multi_line=True)
 
     def set_degrees(self, ics: int, degrees: object) -> None:
         if not self.loading and degrees is not None:
@@ -290,10 +305,11 @@ class EditorPage:
 
     def set_frames(self, value: object) -> None:
         ed = self.ed
-        if self.loading or value is None or ed.slot is None or ed.pose_index is None:
+        pose = ed.pose
+        if self.loading or ed.slot is None or ed.pose_index is None or pose is None:
             return
-        frames = int(float(str(value)))
-        if ed.pose is not None and ed.pose.speed == frames:
+        frames = self.whole(self.frames_in, value, pose.speed, "frames")
+        if frames is None or frames == pose.speed:
             return
         self.edit(set_pose, ed.slot, ed.pose_index, None, frames, ed.checks)
 
@@ -322,32 +338,8 @@ class EditorPage:
         if ed.session is not None and ed.slot is not None:
             await play_on_board(self.ctx, ed.project, ed.slot)
 
-    def save(self) -> None:
-        path = self.path_in.value
-        target = Path(path).expanduser() if path else None
-        if target is not None and target.suffix.lower() != ".h4p":
-            self.fail(ValueError(f"{target}: save to a .h4p file"))
-            return
-        try:
-            saved, charts = self.ed.save(target)
-        except (OSError, Rcb4Error, ValueError) as exc:
-            self.fail(exc)
-            return
-        self.path_in.value = str(saved)
-        self.ctx.set_project(self.ed.project, saved.name)
-        self.downloads.clear()
-        with self.downloads:
-            data = saved.read_bytes()
-            tid(
-                ui.button(f"{saved.name}", icon="download").props("flat dense"),
-                "editor-download-h4p",
-            ).on_click(lambda: ui.download.content(data, saved.name))
-            for i, (name, xml) in enumerate(sorted(charts.items())):
-                tid(
-                    ui.button(name, icon="download").props("flat dense"), f"editor-download-xml-{i}"
-                ).on_click(lambda xml=xml, name=name: ui.download.content(xml, name))
-        ui.notify(f"saved {saved}")
-        self.redraw()
+    async def save(self) -> None:
+        await editor_files.save(self)
 
     async def preview(self) -> None:
         """Simulate the edited motion in virtual time and play it in the 3D view."""
@@ -426,7 +418,7 @@ class EditorPage:
                         ui.number(value=row.value, format="%d").props("dense").classes("w-24"),
                         f"editor-raw-{row.ics}",
                     )
-                    on_commit(raw, functools.partial(self.set_value, row.ics))
+                    on_commit(raw, functools.partial(self.set_value, row.ics, box=raw))
 
     def redraw(self) -> None:
         """Show the edit state: every widget, the flowchart, the joints, the 3D pose."""

@@ -209,16 +209,38 @@ class Editor:
         s = self.session
         if s is None:
             return "no project open: open one here or on the Project page"
-        edits = f"{len(s.history)} edits" if s.history else "no edits"
+        n = len(s.history)
+        edits = "no edits" if not n else "1 edit" if n == 1 else f"{n} edits"
         if s.path is None:  # the Project page's project: no file of its own yet
             return f"no file yet - {edits}" + (" - save it to a file" if s.dirty else "")
         return f"{s.path} - {edits}" + (" - unsaved changes" if s.dirty else " - saved")
 
-    def save(self, path: Path | None) -> tuple[Path, dict[str, bytes]]:
+    def overwrite_question(self, path: Path | None) -> str | None:
+        """Why saving to ``path`` needs the user's yes: it is an existing file other than the
+        one this session was read from or last saved to (None: no question; ``path`` None
+        saves to that file)."""
+        if path is None or self.session is None or not path.exists():
+            return None
+        own = self.session.path
+        try:
+            if own is not None and path.resolve() == own.resolve():
+                return None
+        except OSError:  # an unreadable path: ask rather than guess
+            pass
+        what = "the file you opened" if own is not None else "the project you edit"
+        return f"{path} exists and is not {what}" + (f" ({own})" if own is not None else "")
+
+    def save(self, path: Path | None, *, overwrite: bool = False) -> tuple[Path, dict[str, bytes]]:
         """Save atomically; returns the path and the HeartToHeart4 flowchart files of the
-        changed motions (name -> bytes, :func:`~rcb4hv.hth4.blocks.flowxml.motion_xml`)."""
+        changed motions (name -> bytes, :func:`~rcb4hv.hth4.blocks.flowxml.motion_xml`).
+
+        Refuses (:class:`EditError`, nothing written) to write over another existing file
+        (:meth:`overwrite_question`) unless ``overwrite``: the user said yes."""
         if self.session is None:
             raise EditError("no project open")
+        question = self.overwrite_question(path)
+        if question is not None and not overwrite:
+            raise EditError(f"{question}: nothing written")
         changed = [m.slot for m in self.session.changed_motions]
         target = self.session.save(path)
         charts = {}

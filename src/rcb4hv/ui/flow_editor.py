@@ -215,7 +215,14 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
             for k, box in fields.items()
             if box.value not in ("", None)
         }
-        edit(set_block, view.selected, values)
+        if not edit(set_block, view.selected, values):
+            draw_form(view.blocks())  # refused: the form shows the block's values again
+        elif values.get("frames") == 0:  # the wire's range (files hold it), not the documented
+            ui.notify(
+                "frames 0 kept: outside the documented 1..255 (the board moves in one period "
+                "or at once; `project check` warns speed-zero)",
+                type="warning",
+            )
 
     def stepping(move: Callable[[], str]) -> None:
         """Step or restart the single-stepped program and show where it is."""

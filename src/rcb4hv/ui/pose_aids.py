@@ -148,7 +148,7 @@ class EditorAids:
     balance line, the reach note and the easing row. :meth:`attach` gives them the 3D view
     (after each rebuild), :meth:`refresh` follows the selected pose (after each redraw)."""
 
-    def __init__(self, ed: Any, edit: Callable[..., None]) -> None:
+    def __init__(self, ed: Any, edit: Callable[..., object]) -> None:
         from rcb4hv.ui.context import tid
 
         self.ed = ed

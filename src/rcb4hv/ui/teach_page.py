@@ -19,6 +19,7 @@ from rcb4hv.hth4.keyframes import (
     free_slots,
     motion_from_keyframes,
 )
+from rcb4hv.project.check import unlisted_servos
 from rcb4hv.project.relocate import project_image, project_layout
 from rcb4hv.project.run import run_motions
 from rcb4hv.project.simresult import MotionResult
@@ -27,7 +28,7 @@ from rcb4hv.session import StepJob
 from rcb4hv.ui.context import UiContext, attempt, guard_leaving, guarded, tid
 from rcb4hv.ui.remote_page import PAD
 
-__all__ = ["SavedMotion", "build", "save_keyframes"]
+__all__ = ["SavedMotion", "build", "save_keyframes", "servo_mismatch"]
 
 DEFAULT_TIME = 0.5
 
@@ -62,6 +63,31 @@ def save_keyframes(
             f"the new motion did not complete in simulation: {result.status} {result.detail}"
         )
     return SavedMotion(again, data, slot, result)
+
+
+def servo_mismatch(project: Project, slot: int, keyframes: list[Keyframe]) -> str:
+    """A warning when the taught motion ``slot`` and the project's servo table differ (poses
+    captured from a board of another robot): the servos it moves that the table lacks (the
+    board skips them, :func:`~rcb4hv.project.check.unlisted_servos`) and the servos of the
+    table no keyframe holds (they keep whatever position they had). Empty when they agree."""
+    unlisted = unlisted_servos(project, slot)
+    moved = {k for kf in keyframes for k in kf.positions}
+    missing = sorted(s.device_number for s in project.servos if s.in_use) if moved else []
+    missing = [k for k in missing if k not in moved]
+    parts = []
+    if unlisted:
+        parts.append(
+            f"motion {slot} moves servos this project's servo table has not (ICS "
+            f"{', '.join(map(str, unlisted))}; the board skips them)"
+        )
+    if missing:
+        parts.append(
+            f"{'it' if parts else f'motion {slot}'} leaves out the project's ICS "
+            f"{', '.join(map(str, missing))} (they stay where they are)"
+        )
+    if not parts:
+        return ""
+    return "; ".join(parts) + ": poses captured from another robot? `project check` lists each"
 
 
 def capture(robot: Robot) -> dict[int, int]:
@@ -223,6 +249,9 @@ def build(ctx: UiContext) -> None:
         ctx.set_project(saved.project, ctx.project_name)
         saved_frames[:] = frames
         changed()
+        note = servo_mismatch(saved.project, saved.slot, list(frames))
+        if note:
+            ui.notify(note, type="warning", multi_line=True)
         status.text = (
             f"saved as motion {saved.slot} ({len(frames)} keyframes): reloads, round-trips byte "
             f"for byte, builds, and simulates to completion in {saved.result.duration:.2f} s"

@@ -116,7 +116,14 @@ def build(ctx: UiContext, ed: Editor, on_change: Callable[[], None]) -> Callable
         if ics_sel.value is None or ed.session is None:
             return
         ics = int(ics_sel.value)
-        trim = new_trim(ed.project.servo(ics).trim, int(position.value))
+        old = ed.project.servo(ics).trim
+        trim = new_trim(old, int(position.value))
+        if trim == old:  # the output is 7500: the zero is where it was
+            ui.notify(
+                f"ICS {ics}: trim {old} unchanged (the output is {CENTER}): nothing stored; "
+                "move the servo to its true zero first"
+            )
+            return
         try:
             ed.apply(set_trim, ics, trim)
         except (Rcb4Error, ValueError) as exc:
