@@ -47,14 +47,9 @@ def balance_text(model: RobotModel, angles: Mapping[str, float]) -> tuple[str, b
     """The balance line for joint ``angles`` and whether it warns."""
     b = pose_balance(model, angles)
     over = [f"{j} needs {b.torque_ratio[j]:.0%} of its stall torque" for j in b.overloaded]
-    if b.balanced:
-        text = f"stands: centre of mass {b.margin_m * 1000:.0f} mm inside the support"
-    elif b.margin_m >= 0:
-        text = f"at the edge: centre of mass only {b.margin_m * 1000:.0f} mm inside the support"
-    else:
-        text = f"cannot stand still: centre of mass {-b.margin_m * 1000:.0f} mm outside the support"
     touching = ", ".join(b.contacts) or "nothing"
-    return f"{text} ({touching})" + "".join(f"; {o}" for o in over), not b.balanced or bool(over)
+    text = f"{b.margin_text} ({touching})"  # the wording of `project check --balance`
+    return text + "".join(f"; {o}" for o in over), not b.balanced or bool(over)
 
 
 class PoseHandles:
