@@ -37,6 +37,7 @@ def _click_slider(page: Any, name: str, fraction: float, done: Any, drag: bool =
     deadline = time.monotonic() + 20
     while True:
         slider.wait_for(state="visible")
+        slider.scroll_into_view_if_needed()  # below the table and the 3D view on a narrow page
         box = slider.bounding_box()
         y = box["y"] + box["height"] / 2
         if drag:

@@ -57,11 +57,18 @@ def load_upload(ctx: UiContext, name: str, data: bytes) -> Project:
     return project
 
 
+DISASM_MIN_PX = 420
+_DISASM_STYLE = f"flex: 1 1 {DISASM_MIN_PX}px; min-width: min({DISASM_MIN_PX}px, 100%)"
+_DISASM_CSS = ".rcb4hv-disasm pre, .rcb4hv-disasm code { white-space: pre-wrap; }"
+
+
 def _columns(*names: str) -> list[dict[str, str]]:
     return [{"name": n, "label": n, "field": n, "align": "left"} for n in names]
 
 
 def build(ctx: UiContext) -> None:
+    ui.add_css(_DISASM_CSS)
+
     async def uploaded(e: events.UploadEventArguments) -> None:
         if e.file.size() > ctx.max_upload:
             ui.notify(f"{e.file.name}: over the {ctx.max_upload:,}-byte limit", type="negative")
@@ -136,10 +143,12 @@ def build(ctx: UiContext) -> None:
             )
             with ui.column().classes("grow"):
                 detail_title = tid(ui.label("select a motion"), "project-motion-title")
-                with ui.row().classes("w-full no-wrap items-start"):
+                # the flowchart and the disassembly side by side when there is room, else
+                # one above the other; long lines (a pose of 18 servos) wrap, never cut
+                with ui.row().classes("w-full items-start"):
                     detail_svg = tid(ui.html("", sanitize=False), "project-flowchart")
                     detail_asm = tid(ui.code("", language="text"), "project-disasm")
-                    detail_asm.style("max-width: 480px; overflow-x: auto")
+                    detail_asm.classes("rcb4hv-disasm").style(_DISASM_STYLE)
         with ui.tab_panel(t_servos):
             servos = tid(
                 ui.table(
