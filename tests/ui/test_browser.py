@@ -37,6 +37,7 @@ def _click_slider(page: Any, name: str, fraction: float, done: Any, drag: bool =
     deadline = time.monotonic() + 20
     while True:
         slider.wait_for(state="visible")
+        slider.scroll_into_view_if_needed()  # below the table and the 3D view on a narrow page
         box = slider.bounding_box()
         y = box["y"] + box["height"] / 2
         if drag:
@@ -149,6 +150,22 @@ def test_a_file_that_is_no_project_is_refused_aloud(page: Any, tmp_path: Any) ->
     page.get_by_test_id("project-upload").locator("input[type=file]").set_input_files(str(notes))
     _wait(lambda: page.get_by_text("not opened: a project is a .h4p file").count() > 0)
     assert page.get_by_test_id("project-summary").inner_text() == before
+
+
+def test_a_refused_project_is_not_listed_as_uploaded(
+    page: Any, tmp_path: Any, kxr_project_path: Any
+) -> None:
+    """A .h4p that does not parse was refused aloud, yet its box listed it with a tick next
+    to the open project, as if it had been opened."""
+    broken = tmp_path / "broken.h4p"
+    broken.write_bytes(kxr_project_path.read_bytes()[:5000])
+    _open_project(page, str(kxr_project_path))
+    box = page.get_by_test_id("project-upload")
+    box.locator("input[type=file]").set_input_files(str(broken))
+    _wait(lambda: page.get_by_text("cannot open broken.h4p").count() > 0)
+    _wait(lambda: "broken.h4p" not in box.inner_text())
+    assert "65 motions" in page.get_by_test_id("project-summary").inner_text()
+    assert ".h4p" in page.get_by_test_id("project-summary").inner_text()
 
 
 def test_upload_writes_the_emulator_rom_with_progress(

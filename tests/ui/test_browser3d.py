@@ -82,6 +82,7 @@ def test_the_view_follows_a_servo(page: Any, board: tuple[Board, str]) -> None:
     assert _changed(before, _still(canvas)) == 0  # nothing moves: the picture is the same
     # ICS 2: the left shoulder pitch of a KHR-3HV
     _click_slider(page, "slider-2", 0.85, lambda: _output(b, 2) > 9000)
+    canvas.scroll_into_view_if_needed()  # the sliders are below it
     after = _still(canvas)
     moved = _changed(before, after)
     assert moved > 500, f"only {moved} pixels changed after the arm moved"

@@ -186,3 +186,86 @@ def test_the_fallback_model_gives_way_once_the_board_answers() -> None:
         assert ctx.robot_source == "matches the board's servos"
 
     run(scenario, robot=MODEL)
+
+
+@pytest.mark.parametrize("robot", ["kxr:L6", "kxr:L4T", "khr3hv"])
+def test_the_camera_frames_the_whole_robot_tall_or_flat(robot: str) -> None:
+    """Every corner of every part of the robot projects inside the view, in the Editor's
+    square view and the Project preview's wider one: the flat KXR-L6 was framed by a height
+    it does not have, its legs ran off both sides while the top 40 % stayed empty."""
+    from nicegui.testing.user_simulation import user_simulation
+
+    from rcb4hv.robot.balance import placed
+    from rcb4hv.robot.builtin import load_robot
+    from rcb4hv.robot.kinematics import apply, compose, from_xyz_rpy
+    from rcb4hv.ui.scene3d import RobotScene
+
+    model = load_robot(robot)
+    sizes = [(420, 420), (560, 480), (460, 420)]
+    views: list[RobotScene] = []
+
+    def root() -> None:
+        views[:] = [RobotScene(model, width=w, height=h) for w, h in sizes]
+
+    async def main() -> None:
+        async with user_simulation(root=root) as user:
+            await user.open("/")
+
+    asyncio.run(main())
+    stance = placed(model, {}, None)
+    corners = [
+        apply(compose(stance.frames[link.name], from_xyz_rpy(g.pos, g.rpy)), (x, y, z))
+        for link in model.links
+        for g in link.geoms
+        for x, y, z in _corners(g.shape, g.size)
+    ]
+    for (w, h), view in zip(sizes, views, strict=True):
+        cam = view.scene.camera
+        tan_v = math.tan(math.radians(cam.params["fov"]) / 2)
+        eye = (cam.x, cam.y, cam.z)
+        back = _unit(
+            tuple(
+                e - t
+                for e, t in zip(eye, (cam.look_at_x, cam.look_at_y, cam.look_at_z), strict=True)
+            )
+        )
+        right = _unit(_cross((0.0, 0.0, 1.0), back))
+        up = _cross(back, right)
+        xs, ys = [], []
+        for p in corners:
+            q = tuple(a - b for a, b in zip(p, eye, strict=True))
+            depth = -_dot(q, back)
+            assert depth > cam.params["near"]
+            xs.append(_dot(q, right) / (depth * tan_v * w / h))
+            ys.append(_dot(q, up) / (depth * tan_v))
+        # inside the view, and filling it along its tighter direction (not a speck)
+        assert max(map(abs, xs)) < 0.95 and max(map(abs, ys)) < 0.95, (robot, w, h)
+        assert max(max(xs) - min(xs), max(ys) - min(ys)) > 1.2, (robot, w, h)
+
+
+def _corners(shape: str, size: tuple[float, float, float]) -> list[tuple[float, float, float]]:
+    if shape == "box":
+        half = (size[0] / 2, size[1] / 2, size[2] / 2)
+    elif shape == "cylinder":
+        half = (size[0], size[0], size[1] / 2)
+    else:
+        half = (size[0], size[0], size[0])
+    return [
+        (sx * half[0], sy * half[1], sz * half[2])
+        for sx in (-1, 1)
+        for sy in (-1, 1)
+        for sz in (-1, 1)
+    ]
+
+
+def _unit(v: Any) -> tuple[float, float, float]:
+    n = math.sqrt(sum(c * c for c in v))
+    return (v[0] / n, v[1] / n, v[2] / n)
+
+
+def _cross(a: Any, b: Any) -> tuple[float, float, float]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _dot(a: Any, b: Any) -> float:
+    return float(sum(x * y for x, y in zip(a, b, strict=True)))

@@ -120,6 +120,10 @@ class BoardSession:
         self._thread: threading.Thread | None = None
         self._state_lock = threading.Lock()
         self._reopen = False
+        self._failures = 0
+        """Failed attempts since the link was last up (only the first is logged as a
+        warning, then a change of error, then the reconnect)."""
+        self._down_since = 0.0
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -303,7 +307,17 @@ class BoardSession:
         self.state = replace(
             self.state, connected=True, error=None, version=version, baudrate=int(inner or 0)
         )
-        log.info("connected to %s (%s)", self.url, version)
+        if self._failures:
+            log.warning(
+                "link to %s is back after %d failed attempts over %.1f s (%s)",
+                self.url,
+                self._failures,
+                time.monotonic() - self._down_since,
+                version,
+            )
+        else:
+            log.info("connected to %s (%s)", self.url, version)
+        self._failures = 0
 
     def _disconnect(self, error: str | None = None) -> None:
         robot, self.robot = self.robot, None
@@ -317,7 +331,18 @@ class BoardSession:
 
     def _link_failed(self, exc: BaseException) -> None:
         msg = f"{type(exc).__name__}: {exc}"
-        log.warning("link to %s failed: %s", self.url, msg)
+        if not self._failures:
+            self._down_since = time.monotonic()
+        self._failures += 1
+        if self._failures == 1 or msg != self.state.error:  # news: warn once, not per retry
+            log.warning(
+                "link to %s failed: %s (retrying every %g s; logged again when this changes)",
+                self.url,
+                msg,
+                self.retry,
+            )
+        else:
+            log.debug("link to %s still down (attempt %d): %s", self.url, self._failures, msg)
         self._disconnect(msg)
         self._fail_pending(TransportError(f"the link to {self.url} failed ({msg}): not sent"))
 
@@ -331,6 +356,7 @@ class BoardSession:
             if reopen:
                 self._disconnect()
                 self.state = BoardState(url=self.url)
+                self._failures = 0
             if self.robot is None:
                 try:
                     self._connect()

@@ -7,7 +7,7 @@ from nicegui import ui
 from rcb4hv.session import BoardState
 from rcb4hv.ui.context import UiContext, tid
 
-__all__ = ["build", "state_rows"]
+__all__ = ["STALE_MARK", "build", "stale", "state_rows"]
 
 
 def state_rows(state: BoardState) -> list[dict[str, str]]:
@@ -38,7 +38,19 @@ def state_rows(state: BoardState) -> list[dict[str, str]]:
         d = sysreg.describe()
         rows.append(("system register", f"{d['word']}h"))
         rows += [(f"  {k}", str(v)) for k, v in d.items() if k != "word"]
+    if stale(state):  # the last values read, not the board's now
+        rows = [(k, v if k in _LIVE else f"{v} {STALE_MARK}") for k, v in rows]
     return [{"field": k, "value": v} for k, v in rows]
+
+
+STALE_MARK = "(stale: link down)"
+_LIVE = ("link", "connected", "polls")
+"""The rows that are the dashboard's own, true while the link is down."""
+
+
+def stale(state: BoardState) -> bool:
+    """Whether the board's values shown are left over from before the link went down."""
+    return not state.connected and state.polls > 0
 
 
 def build(ctx: UiContext) -> None:
@@ -48,6 +60,7 @@ def build(ctx: UiContext) -> None:
         tid(ui.button("Reconnect", icon="refresh"), "board-reconnect").on_click(
             lambda: _reconnect(ctx, url.value)
         )
+    note = tid(ui.label("").classes("text-orange-800"), "board-stale")
     table = tid(
         ui.table(
             columns=[
@@ -61,8 +74,20 @@ def build(ctx: UiContext) -> None:
     )
 
     def refresh() -> None:
-        table.rows = state_rows(session.state)
+        st = session.state
+        note.text = (
+            "The link is down: the values below are the last ones read, not the board's now."
+            if stale(st)
+            else ""
+        )
+        note.set_visibility(bool(note.text))
+        table.classes(
+            add="opacity-60" if stale(st) else "", remove="" if stale(st) else "opacity-60"
+        )
+        table.rows = state_rows(st)
         table.update()
+
+    refresh()
 
     ui.timer(0.5, refresh)
 

@@ -13,6 +13,7 @@ from typing import Any, TypeVar
 from nicegui import Client, ui
 from nicegui.element import Element
 from nicegui.elements.mixins.value_element import ValueElement
+from nicegui.slot import Slot
 
 from rcb4hv.errors import RobotModelError
 from rcb4hv.hth4 import Project
@@ -25,6 +26,7 @@ __all__ = [
     "MAX_UPLOAD",
     "UiContext",
     "attempt",
+    "current_client",
     "guard_leaving",
     "guarded",
     "on_commit",
@@ -92,6 +94,17 @@ async def attempt(future: Future[object], what: str) -> bool:
         ui.notify(f"{what} failed: {exc}", type="negative", multi_line=True)
         return False
     return True
+
+
+def current_client() -> Client | None:
+    """The browser tab whose page is being built, or None outside a page (a test, a
+    background task). Unlike ``ui.context.client`` this never creates NiceGUI's stand-in
+    client of a script that has not started the app."""
+    stack = Slot.get_stack()
+    if not stack:
+        Slot.prune_stack()  # get_stack made an empty one for this task
+        return None
+    return stack[-1].parent.client
 
 
 @dataclass
@@ -171,10 +184,24 @@ class UiContext:
                 log.debug("project listener failed", exc_info=True)
                 self._listeners.remove(fn)
 
-    def on_project(self, fn: Callable[[], None]) -> None:
+    def on_project(self, fn: Callable[[], None], client: Client | None = None) -> None:
+        """Call ``fn`` whenever the project or the robot model changes, until the browser tab
+        ``client`` is gone (deleted once it stays disconnected past the reconnect timeout; a
+        reload is a new tab). ``client`` defaults to the tab whose page is being built; with
+        none (outside a page) ``fn`` stays until :meth:`off_project`. A closed tab's views
+        stayed registered before and each re-ran ``project check`` on every change."""
         self._listeners.append(fn)
+        if client is None:
+            client = current_client()
+        if client is not None:
+            client.on_delete(lambda: self.off_project(fn))
+
+    @property
+    def listener_count(self) -> int:
+        """How many views follow the project (see :meth:`on_project`)."""
+        return len(self._listeners)
 
     def off_project(self, fn: Callable[[], None]) -> None:
         """Stop calling ``fn`` (a view of a closed browser tab)."""
-        if fn in self._listeners:
+        while fn in self._listeners:
             self._listeners.remove(fn)

@@ -8,7 +8,11 @@ from typing import Any
 
 from nicegui import ui
 
-__all__ = ["angle_chart", "set_series"]
+__all__ = ["LEGEND_LEFT", "angle_chart", "set_series"]
+
+LEGEND_LEFT = 70
+"""Where the legend starts (px): right of the y axis's name, which is centred over the axis
+at the plot's left edge (40 px)."""
 
 
 def angle_chart(seconds: float = 10.0, *, x_name: str = "s") -> ui.echart:
@@ -16,11 +20,14 @@ def angle_chart(seconds: float = 10.0, *, x_name: str = "s") -> ui.echart:
     return ui.echart(
         {
             "animation": False,
-            "legend": {"top": 0},
-            "grid": {"left": 40, "right": 10, "top": 30, "bottom": 25},
+            # one scrolling line of legend right of the y axis's "deg" (a wrapped legend
+            # ran over the axis name and the plot on a narrow page)
+            "legend": {"type": "scroll", "top": 0, "left": LEGEND_LEFT, "right": 10},
+            "grid": {"left": 40, "right": 10, "top": 40, "bottom": 25},
             "tooltip": {"trigger": "axis"},
             "xAxis": {"type": "value", "name": x_name, "min": -seconds, "max": 0},
-            "yAxis": {"type": "value", "name": "deg"},
+            # the y axis (and its name) at the left edge, not where x is 0 (the right edge)
+            "yAxis": {"type": "value", "name": "deg", "axisLine": {"onZero": False}},
             "series": [],
         }
     ).classes("w-full h-64")

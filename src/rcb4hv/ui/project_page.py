@@ -10,13 +10,14 @@ from nicegui import events, ui
 from rcb4hv.asm import disassemble_frames
 from rcb4hv.errors import Rcb4Error
 from rcb4hv.hth4 import Project, button_label, parse_motion_xml
+from rcb4hv.hth4.flowchart_model import Flowchart
 from rcb4hv.hth4.project import parse_named_project
 from rcb4hv.ui import preview, project_actions
 from rcb4hv.ui.checks import check_rows
 from rcb4hv.ui.context import UiContext, tid
 from rcb4hv.ui.flowsvg import canvas_svg, motion_svg
 
-__all__ = ["build", "load_upload", "motion_table", "servo_table"]
+__all__ = ["build", "flowchart_title", "load_upload", "motion_table", "servo_table"]
 
 
 def motion_table(project: Project) -> list[dict[str, object]]:
@@ -57,19 +58,35 @@ def load_upload(ctx: UiContext, name: str, data: bytes) -> Project:
     return project
 
 
+DISASM_MIN_PX = 420
+_DISASM_STYLE = f"flex: 1 1 {DISASM_MIN_PX}px; min-width: min({DISASM_MIN_PX}px, 100%)"
+_DISASM_CSS = ".rcb4hv-disasm pre, .rcb4hv-disasm code { white-space: pre-wrap; }"
+
+
+def flowchart_title(name: str, chart: Flowchart) -> str:
+    """The title over an uploaded flowchart ``.xml``."""
+    return f"{name}: flowchart, {len(chart.activities)} boxes, {len(chart.lines)} lines"
+
+
 def _columns(*names: str) -> list[dict[str, str]]:
     return [{"name": n, "label": n, "field": n, "align": "left"} for n in names]
 
 
 def build(ctx: UiContext) -> None:
+    ui.add_css(_DISASM_CSS)
+
+    # a refused file leaves its upload box empty: the box listed it with a tick as if it
+    # were open (the summary names the project that is)
     async def uploaded(e: events.UploadEventArguments) -> None:
         if e.file.size() > ctx.max_upload:
             ui.notify(f"{e.file.name}: over the {ctx.max_upload:,}-byte limit", type="negative")
+            project_box.reset()
             return
         try:
             load_upload(ctx, e.file.name, await e.file.read())
         except (Rcb4Error, ValueError) as exc:  # the message starts with the file's name
             ui.notify(f"cannot open {exc}", type="negative", multi_line=True)
+            project_box.reset()
             return
         ui.notify(f"opened {e.file.name}")
 
@@ -78,11 +95,15 @@ def build(ctx: UiContext) -> None:
             chart = parse_motion_xml(await e.file.read())
         except (Rcb4Error, ValueError) as exc:
             ui.notify(f"cannot open {e.file.name}: {exc}", type="negative", multi_line=True)
+            flowchart_box.reset()
             return
+        motions.selected = []  # the chart shown is the file's, not a motion's
+        detail_title.text = flowchart_title(e.file.name, chart)
+        detail_asm.content = ""
         detail_svg.set_content(canvas_svg(chart))
 
     with ui.row().classes("items-start"):
-        tid(
+        project_box = tid(
             ui.upload(
                 label="Open .h4p project",
                 auto_upload=True,
@@ -96,7 +117,7 @@ def build(ctx: UiContext) -> None:
             ).props('accept=".h4p"'),
             "project-upload",
         )
-        tid(
+        flowchart_box = tid(
             ui.upload(
                 label="Show a flowchart .xml",
                 auto_upload=True,
@@ -136,10 +157,12 @@ def build(ctx: UiContext) -> None:
             )
             with ui.column().classes("grow"):
                 detail_title = tid(ui.label("select a motion"), "project-motion-title")
-                with ui.row().classes("w-full no-wrap items-start"):
+                # the flowchart and the disassembly side by side when there is room, else
+                # one above the other; long lines (a pose of 18 servos) wrap, never cut
+                with ui.row().classes("w-full items-start"):
                     detail_svg = tid(ui.html("", sanitize=False), "project-flowchart")
                     detail_asm = tid(ui.code("", language="text"), "project-disasm")
-                    detail_asm.style("max-width: 480px; overflow-x: auto")
+                    detail_asm.classes("rcb4hv-disasm").style(_DISASM_STYLE)
         with ui.tab_panel(t_servos):
             servos = tid(
                 ui.table(

@@ -128,7 +128,36 @@ class GuardMiddleware:
                 return
             if from_query and self.policy.token is not None:
                 send = _with_cookie(send, self.policy.token)
+            await _http(self.app, scope, receive, send)
+            return
         await self.app(scope, receive, send)
+
+
+async def _http(app: ASGIApp, scope: Scope, receive: Receive, send: Send) -> None:
+    """Serve one HTTP request; a browser tab closed while it was served is no error.
+
+    Starlette's ``BaseHTTPMiddleware`` (NiceGUI's middlewares are) raises ``RuntimeError("No
+    response returned.")`` when the client went away before the answer, and uvicorn logged it
+    as a full "Exception in ASGI application" traceback that looked like a crash."""
+    left = False
+
+    async def watched() -> Message:
+        nonlocal left
+        message = await receive()
+        left = left or message["type"] == "http.disconnect"
+        return message
+
+    try:
+        await app(scope, watched, send)
+    except RuntimeError as exc:
+        if not left:
+            raise
+        log.debug(
+            "%s %s: the client left before the answer (%s)",
+            scope.get("method"),
+            scope.get("path"),
+            exc,
+        )
 
 
 def _with_cookie(send: Send, token: str) -> Send:

@@ -74,7 +74,9 @@ def build(ctx: UiContext) -> None:
             ).classes("w-64"),
             "servos-plot-select",
         )
-    with ui.row().classes("w-full no-wrap items-start"):
+    # the table, the 3D view and the controls side by side on a wide screen; the controls
+    # wrap below them on a narrower one (a laptop's 1280 px) rather than being squeezed
+    with ui.row().classes("w-full items-start"):
         table = tid(
             ui.table(
                 columns=[{"name": c, "label": c, "field": c} for c in COLUMNS],
@@ -84,7 +86,7 @@ def build(ctx: UiContext) -> None:
             "servo-table",
         )
         live_view(ctx, "servos")
-        with ui.column().classes("grow"):
+        with ui.column().classes("grow").style(f"flex: 1 1 {CONTROLS_MIN_PX}px; {_MIN_WIDTH}"):
             chart = tid(angle_chart(session.history.seconds), "servo-plot")
             shown: list[int] = []
 
@@ -114,6 +116,12 @@ def build(ctx: UiContext) -> None:
     ui.timer(0.25, replot)
 
 
+CONTROLS_MIN_PX = 480
+"""The servo controls' narrowest width (a label, a slider of at least
+:data:`SLIDER_MIN_PX`, hold and free): with less room beside the table and the 3D view they
+wrap below them."""
+SLIDER_MIN_PX = 160
+_MIN_WIDTH = f"min-width: min({CONTROLS_MIN_PX}px, 100%)"
 SLIDER_STEP = 0.5
 """Degrees per step of a servo slider."""
 FOLLOW_AFTER_S = 1.0
@@ -178,13 +186,14 @@ def _servo_controls(ctx: UiContext, ics: int, degrees: float, sliders: _Sliders)
             )
             .props("label")
             .classes("grow")
+            .style(f"min-width: {SLIDER_MIN_PX}px")
         )
         slider.on_value_change(lambda e: moved(e.value))
         sliders.by_ics[ics] = slider
-        tid(ui.button("hold").props("dense flat"), f"hold-{ics}").on_click(
+        tid(ui.button("hold").props("dense flat").classes("shrink-0"), f"hold-{ics}").on_click(
             lambda: guarded(session.submit(lambda r: r.hold([ics])), f"hold ICS {ics}")
         )
-        tid(ui.button("free").props("dense flat"), f"free-{ics}").on_click(
+        tid(ui.button("free").props("dense flat").classes("shrink-0"), f"free-{ics}").on_click(
             lambda: guarded(session.submit(lambda r: r.free([ics])), f"free ICS {ics}")
         )
 
