@@ -10,7 +10,11 @@
     ├── NakError                   the board answered NAK (``04 CMD 15 SUM``)
     ├── ProgramStoppedError        the board's ROM program stopped with an error (ROMERR)
     │                              while a host waited for its motion to end
+    ├── ArgumentError              a bad argument from the caller, named with the values it
+    │   │                          may take; also a ValueError
+    │   └── ArgumentTypeError      an argument of the wrong type; also a TypeError
     ├── TransportError             the port failed, closed or disconnected
+    │   └── RomFileError           the emulator cannot write its ROM image file (``?rom=``)
     ├── Rcb4TimeoutError           no (complete) reply in time; also a builtin TimeoutError
     ├── CommandNotAllowedError     a command the client refuses unless enabled (0Eh); also
     │                              a builtin PermissionError
@@ -39,8 +43,9 @@
     │                              also a builtin TimeoutError
     └── ScaleError                 the distributed back end (Ray) is missing or unreachable
 
-Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
-sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
+Bad arguments given by the caller raise :class:`ValueError` before any byte is sent (in the
+client, the robot API, the session and the emulator an :class:`ArgumentError`, which is one).
+A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
 escapes is a bug.
 """
 
@@ -48,6 +53,8 @@ from __future__ import annotations
 
 __all__ = [
     "AmbiguousRobotError",
+    "ArgumentError",
+    "ArgumentTypeError",
     "AsmError",
     "ChecksumError",
     "CommandNotAllowedError",
@@ -70,6 +77,7 @@ __all__ = [
     "Rcb4Error",
     "Rcb4TimeoutError",
     "RobotModelError",
+    "RomFileError",
     "ScaleError",
     "SimulationError",
     "TransportError",
@@ -118,6 +126,25 @@ class ProgramStoppedError(Rcb4Error):
 
 class TransportError(Rcb4Error):
     """The link failed: the port could not be opened, was closed or disconnected."""
+
+
+class RomFileError(TransportError):
+    """The emulator cannot write its persistent ROM image file (``rcb4emu://?rom=PATH``): the
+    board keeps running with the image in memory, but it is not saved. ``path`` names the file.
+    """
+
+    def __init__(self, message: str, path: str = "") -> None:
+        super().__init__(message)
+        self.path = path
+
+
+class ArgumentError(Rcb4Error, ValueError):
+    """A bad argument from the caller (out of range, not finite, not one of the choices); the
+    message names the argument and the values it may take. Raised before any byte is sent."""
+
+
+class ArgumentTypeError(ArgumentError, TypeError):
+    """An argument of the wrong type (``"1"`` for a number of seconds); also a TypeError."""
 
 
 class Rcb4TimeoutError(Rcb4Error, TimeoutError):

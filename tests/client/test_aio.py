@@ -231,7 +231,7 @@ def test_open_failures_are_typed(tmp_path: object) -> None:
         probe.close()
         with pytest.raises(TransportError, match="cannot open"):
             await AsyncRcb4Client.open(f"socket://127.0.0.1:{port}")
-        with pytest.raises(ValueError, match="fault://SPEC@URL"):
+        with pytest.raises(TransportError, match="fault://SPEC@URL"):  # as the blocking face
             await AsyncRcb4Client.open("fault://drop_reply=1")
         with pytest.raises(ValueError, match="timeout"):
             await AsyncRcb4Client.open("rcb4emu://", timeout=0)

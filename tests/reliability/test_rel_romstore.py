@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 
 from rcb4hv.emulator.romstore import RomStore
+from rcb4hv.errors import RomFileError
 from tests.reliability.scenarios import (
     PAGE,
     UPLOAD_BASE,
@@ -97,8 +98,9 @@ def test_failed_flush_keeps_the_old_image(tmp_path: Path, monkeypatch: pytest.Mo
 
     monkeypatch.setattr(os, "fsync", broken_fsync)
     store.mark_dirty()
-    with pytest.raises(OSError):
-        store.flush(b"\x22" * SIZE)
+    with pytest.raises(RomFileError, match="injected I/O error") as info:
+        store.flush(b"\x22" * SIZE)  # typed, naming the file, chained to the OSError
+    assert isinstance(info.value.__cause__, OSError) and info.value.path == str(store.path)
     monkeypatch.undo()
     assert store.path.read_bytes() == b"\x11" * SIZE
     assert [f.name for f in tmp_path.iterdir()] == ["img.rom"]

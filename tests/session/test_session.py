@@ -173,7 +173,7 @@ def test_close_fails_pending_jobs() -> None:
     s = BoardSession("socket://127.0.0.1:9", retry=10)
     fut = s.submit(lambda r: r.ping())
     s.close()
-    with pytest.raises(RuntimeError, match="closed"):
+    with pytest.raises(TransportError, match="closed"):
         fut.result(timeout=1)
 
 

@@ -15,9 +15,11 @@ import time
 from asyncio import Lock
 from collections.abc import Iterable, Mapping
 from types import TracebackType
-from typing import Final, NoReturn, TypeVar
+from typing import Final, TypeVar
 
 from rcb4hv.aio.transport import AsyncTransport, open_async_transport
+from rcb4hv.client import exchange
+from rcb4hv.client.args import check_link_args, closed_error
 from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, check_timeout, ram_read_frame
 from rcb4hv.client.plans import (
     MAX_READ,
@@ -132,6 +134,7 @@ class AsyncRcb4Client:
         self.allow_communicate_device = allow_communicate_device
         self.corrupt_grace = corrupt_grace
         self._lock = Lock()
+        self._closed = False
         self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
 
     # ------------------------------------------------------------------ lifecycle
@@ -150,6 +153,7 @@ class AsyncRcb4Client:
         ``baudrate=None`` detects the rate: an ACK check at 1,250,000, 625,000, then 115,200.
         """
         check_timeout(timeout)
+        baudrate = check_link_args(url, baudrate)
         transport = await open_async_transport(url, baudrate or DEFAULT_BAUD)
         client = cls(transport, timeout=timeout, allow_communicate_device=allow_communicate_device)
         if baudrate is None:
@@ -196,12 +200,17 @@ class AsyncRcb4Client:
         return False
 
     async def close(self) -> None:
-        await self.transport.close()
+        """Close the link after the call in progress (if any); later calls raise
+        :class:`~rcb4hv.errors.TransportError` ("the client is closed") until reconnect()."""
+        self._closed = True
+        async with self._lock:
+            await self.transport.close()
 
     async def reconnect(self) -> None:
-        """Reopen the transport (after a disconnect)."""
+        """Reopen the transport (after a disconnect, or after :meth:`close`)."""
         async with self._lock:
             await self.transport.reopen()
+            self._closed = False
 
     async def __aenter__(self) -> AsyncRcb4Client:
         return self
@@ -267,6 +276,8 @@ class AsyncRcb4Client:
         check_timeout(timeout)
         transport = self.transport
         async with self._lock:
+            if self._closed:
+                raise closed_error(transport.url)
             deadline = time.monotonic() + timeout
             transport.reset_input()
             transport.write(frame)
@@ -289,12 +300,6 @@ class AsyncRcb4Client:
                         raise matcher.timeout_error(timeout)
             finally:
                 matcher.report()  # the stray bytes of the whole exchange, in one line
-
-    @staticmethod
-    def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
-        if len(raw) == 4 and raw[2] == NAK_BYTE:
-            raise NakError(f"board answered NAK to {name}", cmd)
-        raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
 
     # ------------------------------------------------------------------ data commands
 
@@ -453,7 +458,7 @@ class AsyncRcb4Client:
             raw = await self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
             if len(raw) == size + 3:
                 return raw[2:-1]
-            return self._data_reply_error(raw, 0x00, size, "Move")
+            return exchange.data_reply_error(raw, 0x00, size, "Move")
         return await self.run_plan(read_memory("RAM", address, size))
 
     async def write_ram(self, address: int, data: bytes) -> None:

@@ -22,6 +22,16 @@ from typing import Literal
 from rcb4hv.aio.client import DEFAULT_TIMEOUT, AsyncRcb4Client, Progress
 from rcb4hv.aio.robot_io import AsyncRobotIO
 from rcb4hv.aio.robot_motion import AsyncRobotMotions
+from rcb4hv.client.args import (
+    check_choice,
+    check_ics,
+    check_ics_list,
+    check_wait,
+    finite,
+    integer,
+    seconds,
+    servo_targets,
+)
 from rcb4hv.client.readplan import LinkCost, plan_cheapest
 from rcb4hv.client.robot_types import (
     MAX_SPEED,
@@ -31,7 +41,7 @@ from rcb4hv.client.robot_types import (
     Calibration,
     ServoInfo,
 )
-from rcb4hv.errors import Rcb4TimeoutError
+from rcb4hv.errors import ArgumentError, Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
     ICS_COUNT,
@@ -52,17 +62,16 @@ from rcb4hv.protocol.memory import (
     system_word_bytes,
     unpack_alloc,
 )
-from rcb4hv.protocol.ranges import (
-    check_documented_ics,
-    check_documented_position,
-    check_documented_stretch,
-)
+from rcb4hv.protocol.ranges import check_documented_stretch
 from rcb4hv.rom.layout import MotionLayout
 from rcb4hv.transport import DEFAULT_BAUD
 
 __all__ = ["AsyncRobot"]
 
 log = logging.getLogger(__name__)
+
+KINDS = ("measured", "output")
+"""The positions a servo block holds: the measured one (+4) and the commanded output (+6)."""
 
 
 class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
@@ -164,9 +173,9 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         return SystemRegister.from_bytes(await self.client.read_ram(ADDR.SYSTEM, 2))
 
     async def set_system_register(self, value: SystemRegister | int) -> None:
-        word = value.to_word() if isinstance(value, SystemRegister) else value
+        word = value.to_word() if isinstance(value, SystemRegister) else integer("value", value)
         if not 0 <= word <= 0xFFFF:
-            raise ValueError("the system register is 16 bits")
+            raise ArgumentError(f"the system register is 16 bits (0..65535), not {word}")
         await self.client.write_ram(ADDR.SYSTEM, system_word_bytes(word))
         self._period = None
 
@@ -178,12 +187,11 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
 
     async def frames_for(self, duration: float) -> int:
         """Servo speed (output periods) for a move lasting ``duration`` seconds (at least 1)."""
-        if duration < 0:
-            raise ValueError("duration must be >= 0")
+        duration = seconds("duration", duration)
         period = await self.output_period()
         frames = max(1, round(duration / period))
         if frames > MAX_SPEED:
-            raise ValueError(
+            raise ArgumentError(
                 f"{duration:g} s is {frames} output periods of {period * 1000:g} ms; "
                 f"the most one move can last is {MAX_SPEED} periods ({MAX_SPEED * period:g} s)"
             )
@@ -207,7 +215,9 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         """Wait until the ROM program has finished its start-up: its PC is in the main loop
         (between the layout's main loop and motion area) with an empty call stack, or the
         program is stopped. A HeartToHeart4 image copies the servo table into RAM during
-        start-up, so call this before :meth:`discover_servos` right after power-on."""
+        start-up, so call this before :meth:`discover_servos` right after power-on.
+        ``timeout`` is a finite number of seconds > 0, ``poll`` one >= 0 (ArgumentError)."""
+        check_wait(timeout, poll)
         deadline = time.monotonic() + timeout
         lay = await self.board_layout()
         while True:
@@ -261,10 +271,10 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         known = await self._known()
         if ics is None:
             return sorted(known)
-        out = sorted(set(ics))
+        out = sorted(set(check_ics_list(ics)))
         missing = [k for k in out if k not in known]
         if missing:
-            raise ValueError(f"no servo at ICS {missing} (known: {sorted(known)})")
+            raise ArgumentError(f"no servo at ICS {missing} (known: {sorted(known)})")
         return out
 
     async def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
@@ -288,6 +298,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> list[tuple[int, int]]:
         """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
+        check_choice("kind", kind, KINDS)
         fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
         known = await self._known()
         spans = tuple(fld.span(known[k].block_address) for k in await self._select(ics))
@@ -309,6 +320,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> dict[int, int]:
         """Raw positions by ICS number: ``measured`` (+4) or commanded ``output`` (+6)."""
+        check_choice("kind", kind, KINDS)
         fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
         return await self._read_field(await self._select(ics), fld)
 
@@ -323,6 +335,9 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         return self.calibration.get(ics, _NO_CAL).to_degrees(position)
 
     def to_position(self, ics: int, degrees: float) -> int:
+        """The raw position of ``degrees`` (host calibration); ArgumentError for an angle that
+        is not a finite number."""
+        degrees = finite(f"ICS {ics}: angle", degrees)
         return self.calibration.get(ics, _NO_CAL).to_position(degrees)
 
     async def angles(
@@ -339,8 +354,9 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
 
     @staticmethod
     def check_position(ics: int, position: int) -> None:
-        """ValueError unless ``position`` is in the documented 3500..11500 (or hold/free)."""
-        check_documented_position(ics, position)
+        """ArgumentError (a ValueError) unless ``ics`` is an ICS number 0..35 and ``position``
+        an int in the documented 3500..11500 (or hold/free)."""
+        servo_targets({ics: position}, check_range=True)
 
     async def move(
         self,
@@ -356,16 +372,15 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         One RunConstFrameServo frame; ``wait`` waits for the interpolation to end. A servo the
         board has not allocated is a ValueError before anything is sent.
         """
-        if not positions:
-            raise ValueError("no servo to move")
-        for k, p in positions.items():
-            if check_range:
-                self.check_position(k, p)
-            elif not 0 <= p <= 0xFFFF:
-                raise ValueError(f"ICS {k}: position {p} is not 16 bits")
-        await self._select(positions)
+        targets = servo_targets(positions, check_range)
+        if not targets:
+            raise ArgumentError("no servo to move")
+        if timeout is not None:
+            check_wait(timeout)
+        duration = seconds("duration", duration)
+        await self._select(targets)
         speed = await self.frames_for(duration)
-        await self.client.run_const_frame_servo(speed, dict(positions))
+        await self.client.run_const_frame_servo(speed, targets)
         if wait:
             await self.wait_interpolation(
                 positions, timeout=duration + 1.0 if timeout is None else timeout
@@ -415,6 +430,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
     ) -> None:
         """Wait until the selected servos finish their moves; Rcb4TimeoutError after
         ``timeout`` seconds. Polls once per output period by default."""
+        check_wait(timeout, poll)
         sel = await self._select(ics)
         interval = await self.output_period() if poll is None else poll
         deadline = time.monotonic() + timeout
@@ -438,8 +454,8 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
             if isinstance(values, Mapping)
             else dict.fromkeys(await self._select(ics), values)
         )
+        vals = {check_ics(k): integer(f"ICS {k}: {what}", v) for k, v in vals.items()}
         for k, v in vals.items():
-            check_documented_ics(k)
             if check_range:
                 check_documented_stretch(what, k, v)
         await self._select(vals)

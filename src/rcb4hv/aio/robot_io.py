@@ -11,6 +11,8 @@ from __future__ import annotations
 from asyncio import sleep
 
 from rcb4hv.aio.client import AsyncRcb4Client
+from rcb4hv.client.args import integer, seconds
+from rcb4hv.errors import ArgumentError
 from rcb4hv.protocol.memory import (
     AD_READINGS,
     ADDR,
@@ -46,15 +48,14 @@ class AsyncRobotIO:
 
     async def set_buttons(self, buttons: Button | int) -> None:
         """Write the button word: a virtual remote control."""
-        value = int(buttons)
+        value = integer("buttons", buttons)
         if not 0 <= value <= 0xFFFF:
-            raise ValueError("the button word is 16 bits")
+            raise ArgumentError(f"the button word is 16 bits (0..65535), not {value}")
         await self.client.write_ram(ADDR.BUTTONS, U16_BE.pack(value))
 
     async def press_button(self, buttons: Button | int, duration: float = 0.2) -> None:
         """Hold ``buttons`` on the virtual remote for ``duration`` seconds, then release."""
-        if duration < 0:
-            raise ValueError("duration must be >= 0")
+        duration = seconds("duration", duration)
         await self.set_buttons(buttons)
         try:
             await sleep(duration)
@@ -68,10 +69,10 @@ class AsyncRobotIO:
 
     async def set_pa(self, index: int, value: int) -> None:
         """Set PA``index`` (1-4) to ``value`` (0-255)."""
-        if not 1 <= index <= 4:
-            raise ValueError("PA inputs are 1-4")
-        if not 0 <= value <= 0xFF:
-            raise ValueError("PA values are 0-255")
+        if not 1 <= integer("index", index) <= 4:
+            raise ArgumentError(f"PA inputs are 1-4, not {index}")
+        if not 0 <= integer("value", value) <= 0xFF:
+            raise ArgumentError(f"PA values are 0-255, not {value}")
         await self.client.write_ram(ADDR.PA[index - 1], bytes((value,)))
 
     # ------------------------------------------------------------------ sensors and PIO
@@ -95,13 +96,13 @@ class AsyncRobotIO:
         return direction & PIO_MASK, data & PIO_MASK
 
     async def set_pio_direction(self, mask: int) -> None:
-        if not 0 <= mask <= PIO_MASK:
-            raise ValueError("PIO direction is 10 bits")
+        if not 0 <= integer("mask", mask) <= PIO_MASK:
+            raise ArgumentError(f"PIO direction is 10 bits (0..{PIO_MASK}), not {mask}")
         await self.client.write_ram(ADDR.PIO_DIRECTION, u16_bytes(mask))
 
     async def write_pio(self, value: int) -> None:
-        if not 0 <= value <= PIO_MASK:
-            raise ValueError("PIO data is 10 bits")
+        if not 0 <= integer("value", value) <= PIO_MASK:
+            raise ArgumentError(f"PIO data is 10 bits (0..{PIO_MASK}), not {value}")
         await self.client.write_ram(ADDR.PIO_DATA, u16_bytes(value))
 
     # ------------------------------------------------------------------ timers, counters, variables
@@ -112,7 +113,8 @@ class AsyncRobotIO:
 
     async def set_timer(self, n: int, count: int, *, run: bool = True) -> None:
         """Load timer ``n`` with ``count`` (0-32767) and start it (or leave it stopped)."""
-        await self.client.write_ram(ADDR.timer(n), TimerState(count, run).to_bytes())
+        state = TimerState(integer("count", count), run)
+        await self.client.write_ram(ADDR.timer(integer("n", n)), state.to_bytes())
 
     async def stop_timer(self, n: int) -> None:
         state = await self.timer(n)
@@ -123,9 +125,9 @@ class AsyncRobotIO:
         return (await self.client.read_ram(ADDR.counter(n), 1))[0]
 
     async def set_counter(self, n: int, value: int) -> None:
-        if not 0 <= value <= 0xFF:
-            raise ValueError("counters are 0..255")
-        await self.client.write_ram(ADDR.counter(n), bytes((value,)))
+        if not 0 <= integer("value", value) <= 0xFF:
+            raise ArgumentError(f"counters are 0..255, not {value}")
+        await self.client.write_ram(ADDR.counter(integer("n", n)), bytes((value,)))
 
     async def variable(self, n: int) -> int:
         """User variable ``n`` (0-19), a signed 16-bit value."""
@@ -137,6 +139,7 @@ class AsyncRobotIO:
         return list(USER_VARIABLES.unpack(raw))
 
     async def set_variable(self, n: int, value: int) -> None:
+        value = integer("value", value)
         if not -0x8000 <= value <= 0xFFFF:
-            raise ValueError("user variables are 16 bits")
-        await self.client.write_ram(ADDR.user_variable(n), u16_bytes(value))
+            raise ArgumentError(f"user variables are 16 bits (-32768..65535), not {value}")
+        await self.client.write_ram(ADDR.user_variable(integer("n", n)), u16_bytes(value))

@@ -286,6 +286,8 @@ async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
         port = await loop.run_in_executor(None, serial_port.open_8e1, url, baudrate, 0)
     except serial_port.PORT_ERRORS as exc:
         raise TransportError(f"cannot open {url}: {exc}") from exc
+    except ValueError as exc:  # as the blocking face: a bad fault:// spec, an unknown scheme
+        raise TransportError(f"cannot open {url}: {exc} ({serial_port.KINDS})") from exc
     if not _has_fd(port):
         return PolledTransport(port, url)
     # pyserial-asyncio-fast sets timeout = write_timeout = 0, which pyserial applies with a

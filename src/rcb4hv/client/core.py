@@ -17,8 +17,10 @@ import time
 from collections.abc import Iterable, Mapping
 from threading import Lock
 from types import TracebackType
-from typing import Final, NoReturn, TypeVar
+from typing import Final, TypeVar
 
+from rcb4hv.client import exchange
+from rcb4hv.client.args import check_link_args, closed_error
 from rcb4hv.client.exchange import RAM_READS, ReplyMatcher, check_timeout, ram_read_frame
 from rcb4hv.client.plans import (
     MAX_READ,
@@ -133,6 +135,7 @@ class Rcb4Client:
         self.allow_communicate_device = allow_communicate_device
         self.corrupt_grace = corrupt_grace
         self._lock = Lock()
+        self._closed = False
         self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
 
     # ------------------------------------------------------------------ lifecycle
@@ -151,6 +154,7 @@ class Rcb4Client:
         ``baudrate=None`` detects the rate: an ACK check at 1,250,000, 625,000, then 115,200.
         """
         check_timeout(timeout)
+        baudrate = check_link_args(url, baudrate)
         transport = open_transport(url, baudrate or DEFAULT_BAUD)
         client = cls(transport, timeout=timeout, allow_communicate_device=allow_communicate_device)
         if baudrate is None:
@@ -197,12 +201,17 @@ class Rcb4Client:
         return False
 
     def close(self) -> None:
-        self.transport.close()
+        """Close the link after the call in progress (if any); later calls raise
+        :class:`~rcb4hv.errors.TransportError` ("the client is closed") until reconnect()."""
+        self._closed = True
+        with self._lock:
+            self.transport.close()
 
     def reconnect(self) -> None:
-        """Reopen the transport (after a disconnect)."""
+        """Reopen the transport (after a disconnect, or after :meth:`close`)."""
         with self._lock:
             self.transport.reopen()
+            self._closed = False
 
     def __enter__(self) -> Rcb4Client:
         return self
@@ -264,6 +273,8 @@ class Rcb4Client:
         check_timeout(timeout)
         transport = self.transport
         with self._lock:
+            if self._closed:
+                raise closed_error(transport.url)
             deadline = time.monotonic() + timeout
             transport.reset_input()
             transport.write(frame)
@@ -286,12 +297,6 @@ class Rcb4Client:
                         raise matcher.timeout_error(timeout)
             finally:
                 matcher.report()  # the stray bytes of the whole exchange, in one line
-
-    @staticmethod
-    def _data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
-        if len(raw) == 4 and raw[2] == NAK_BYTE:
-            raise NakError(f"board answered NAK to {name}", cmd)
-        raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
 
     # ------------------------------------------------------------------ data commands
 
@@ -446,7 +451,7 @@ class Rcb4Client:
             raw = self._roundtrip(frame, 0x00, size + 3, "Move", self.timeout)
             if len(raw) == size + 3:
                 return raw[2:-1]
-            return self._data_reply_error(raw, 0x00, size, "Move")
+            return exchange.data_reply_error(raw, 0x00, size, "Move")
         return self.run_plan(read_memory("RAM", address, size))
 
     def write_ram(self, address: int, data: bytes) -> None:

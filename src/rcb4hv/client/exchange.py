@@ -11,12 +11,21 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Final
+from numbers import Real
+from typing import Final, NoReturn
 
-from rcb4hv.errors import ChecksumError, Rcb4TimeoutError
+from rcb4hv.errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    ChecksumError,
+    FrameError,
+    NakError,
+    Rcb4TimeoutError,
+)
 from rcb4hv.protocol import NEED_DATA, Com, FrameDecoder, Move, Ram
+from rcb4hv.protocol.replies import NAK_BYTE
 
-__all__ = ["RAM_READS", "ReplyMatcher", "check_timeout", "ram_read_frame"]
+__all__ = ["RAM_READS", "ReplyMatcher", "check_timeout", "data_reply_error", "ram_read_frame"]
 
 log = logging.getLogger("rcb4hv.client.core")
 
@@ -28,12 +37,19 @@ STRAY_SHOWN: Final = 32
 
 
 def check_timeout(timeout: object) -> None:
-    """ValueError unless ``timeout`` is a number of seconds > 0 and finite: no call may hang
-    (None and inf would), and 0 or less could never see a reply."""
-    if isinstance(timeout, bool) or not isinstance(timeout, int | float):
-        raise ValueError(f"a timeout is a number of seconds, not {timeout!r}")
-    if not 0 < timeout < math.inf:
-        raise ValueError(f"a timeout is a number of seconds > 0 and finite, not {timeout!r}")
+    """ArgumentError (a ValueError) unless ``timeout`` is a number of seconds > 0 and finite:
+    no call may hang (None and inf would), and 0 or less could never see a reply."""
+    if isinstance(timeout, bool) or not isinstance(timeout, Real):
+        raise ArgumentTypeError(f"a timeout is a number of seconds, not {timeout!r}")
+    if not 0 < float(timeout) < math.inf:
+        raise ArgumentError(f"a timeout is a number of seconds > 0 and finite, not {timeout!r}")
+
+
+def data_reply_error(raw: bytes, cmd: int, size: int, name: str) -> NoReturn:
+    """Raise what a reply ``raw`` other than the ``size`` data bytes asked for means."""
+    if len(raw) == 4 and raw[2] == NAK_BYTE:
+        raise NakError(f"board answered NAK to {name}", cmd)
+    raise FrameError(f"bad reply to {name}: expected {size} data bytes, got {raw.hex(' ')}")
 
 
 def ram_read_frame(address: int, size: int) -> bytes:

@@ -21,6 +21,16 @@ from time import sleep
 from types import TracebackType
 from typing import Literal
 
+from rcb4hv.client.args import (
+    check_choice,
+    check_ics,
+    check_ics_list,
+    check_wait,
+    finite,
+    integer,
+    seconds,
+    servo_targets,
+)
 from rcb4hv.client.core import DEFAULT_TIMEOUT, Progress, Rcb4Client
 from rcb4hv.client.readplan import LinkCost, plan_cheapest
 from rcb4hv.client.robot_io import RobotIO
@@ -33,7 +43,7 @@ from rcb4hv.client.robot_types import (
     Calibration,
     ServoInfo,
 )
-from rcb4hv.errors import Rcb4TimeoutError
+from rcb4hv.errors import ArgumentError, Rcb4TimeoutError
 from rcb4hv.protocol import (
     ADDR,
     ICS_COUNT,
@@ -54,17 +64,16 @@ from rcb4hv.protocol.memory import (
     system_word_bytes,
     unpack_alloc,
 )
-from rcb4hv.protocol.ranges import (
-    check_documented_ics,
-    check_documented_position,
-    check_documented_stretch,
-)
+from rcb4hv.protocol.ranges import check_documented_stretch
 from rcb4hv.rom.layout import MotionLayout
 from rcb4hv.transport import DEFAULT_BAUD
 
 __all__ = ["Robot"]
 
 log = logging.getLogger(__name__)
+
+KINDS = ("measured", "output")
+"""The positions a servo block holds: the measured one (+4) and the commanded output (+6)."""
 
 
 class Robot(RobotMotions, RobotIO):
@@ -166,9 +175,9 @@ class Robot(RobotMotions, RobotIO):
         return SystemRegister.from_bytes(self.client.read_ram(ADDR.SYSTEM, 2))
 
     def set_system_register(self, value: SystemRegister | int) -> None:
-        word = value.to_word() if isinstance(value, SystemRegister) else value
+        word = value.to_word() if isinstance(value, SystemRegister) else integer("value", value)
         if not 0 <= word <= 0xFFFF:
-            raise ValueError("the system register is 16 bits")
+            raise ArgumentError(f"the system register is 16 bits (0..65535), not {word}")
         self.client.write_ram(ADDR.SYSTEM, system_word_bytes(word))
         self._period = None
 
@@ -180,12 +189,11 @@ class Robot(RobotMotions, RobotIO):
 
     def frames_for(self, duration: float) -> int:
         """Servo speed (output periods) for a move lasting ``duration`` seconds (at least 1)."""
-        if duration < 0:
-            raise ValueError("duration must be >= 0")
+        duration = seconds("duration", duration)
         period = self.output_period()
         frames = max(1, round(duration / period))
         if frames > MAX_SPEED:
-            raise ValueError(
+            raise ArgumentError(
                 f"{duration:g} s is {frames} output periods of {period * 1000:g} ms; "
                 f"the most one move can last is {MAX_SPEED} periods ({MAX_SPEED * period:g} s)"
             )
@@ -209,7 +217,9 @@ class Robot(RobotMotions, RobotIO):
         """Wait until the ROM program has finished its start-up: its PC is in the main loop
         (between the layout's main loop and motion area) with an empty call stack, or the
         program is stopped. A HeartToHeart4 image copies the servo table into RAM during
-        start-up, so call this before :meth:`discover_servos` right after power-on."""
+        start-up, so call this before :meth:`discover_servos` right after power-on.
+        ``timeout`` is a finite number of seconds > 0, ``poll`` one >= 0 (ArgumentError)."""
+        check_wait(timeout, poll)
         deadline = time.monotonic() + timeout
         lay = self.board_layout()
         while True:
@@ -263,10 +273,10 @@ class Robot(RobotMotions, RobotIO):
         known = self._known()
         if ics is None:
             return sorted(known)
-        out = sorted(set(ics))
+        out = sorted(set(check_ics_list(ics)))
         missing = [k for k in out if k not in known]
         if missing:
-            raise ValueError(f"no servo at ICS {missing} (known: {sorted(known)})")
+            raise ArgumentError(f"no servo at ICS {missing} (known: {sorted(known)})")
         return out
 
     def _read_spans(self, spans: Mapping[int, tuple[int, int]]) -> dict[int, bytes]:
@@ -290,6 +300,7 @@ class Robot(RobotMotions, RobotIO):
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> list[tuple[int, int]]:
         """The ``(address, size)`` RAM reads :meth:`positions` sends for ``ics``."""
+        check_choice("kind", kind, KINDS)
         fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
         known = self._known()
         spans = tuple(fld.span(known[k].block_address) for k in self._select(ics))
@@ -311,6 +322,7 @@ class Robot(RobotMotions, RobotIO):
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
     ) -> dict[int, int]:
         """Raw positions by ICS number: ``measured`` (+4) or commanded ``output`` (+6)."""
+        check_choice("kind", kind, KINDS)
         fld = SERVO.F_MEASURED if kind == "measured" else SERVO.F_OUTPUT
         return self._read_field(self._select(ics), fld)
 
@@ -325,6 +337,9 @@ class Robot(RobotMotions, RobotIO):
         return self.calibration.get(ics, _NO_CAL).to_degrees(position)
 
     def to_position(self, ics: int, degrees: float) -> int:
+        """The raw position of ``degrees`` (host calibration); ArgumentError for an angle that
+        is not a finite number."""
+        degrees = finite(f"ICS {ics}: angle", degrees)
         return self.calibration.get(ics, _NO_CAL).to_position(degrees)
 
     def angles(
@@ -341,8 +356,9 @@ class Robot(RobotMotions, RobotIO):
 
     @staticmethod
     def check_position(ics: int, position: int) -> None:
-        """ValueError unless ``position`` is in the documented 3500..11500 (or hold/free)."""
-        check_documented_position(ics, position)
+        """ArgumentError (a ValueError) unless ``ics`` is an ICS number 0..35 and ``position``
+        an int in the documented 3500..11500 (or hold/free)."""
+        servo_targets({ics: position}, check_range=True)
 
     def move(
         self,
@@ -358,16 +374,15 @@ class Robot(RobotMotions, RobotIO):
         One RunConstFrameServo frame; ``wait`` waits for the interpolation to end. A servo the
         board has not allocated is a ValueError before anything is sent.
         """
-        if not positions:
-            raise ValueError("no servo to move")
-        for k, p in positions.items():
-            if check_range:
-                self.check_position(k, p)
-            elif not 0 <= p <= 0xFFFF:
-                raise ValueError(f"ICS {k}: position {p} is not 16 bits")
-        self._select(positions)
+        targets = servo_targets(positions, check_range)
+        if not targets:
+            raise ArgumentError("no servo to move")
+        if timeout is not None:
+            check_wait(timeout)
+        duration = seconds("duration", duration)
+        self._select(targets)
         speed = self.frames_for(duration)
-        self.client.run_const_frame_servo(speed, dict(positions))
+        self.client.run_const_frame_servo(speed, targets)
         if wait:
             self.wait_interpolation(
                 positions, timeout=duration + 1.0 if timeout is None else timeout
@@ -417,6 +432,7 @@ class Robot(RobotMotions, RobotIO):
     ) -> None:
         """Wait until the selected servos finish their moves; Rcb4TimeoutError after
         ``timeout`` seconds. Polls once per output period by default."""
+        check_wait(timeout, poll)
         sel = self._select(ics)
         interval = self.output_period() if poll is None else poll
         deadline = time.monotonic() + timeout
@@ -440,8 +456,8 @@ class Robot(RobotMotions, RobotIO):
             if isinstance(values, Mapping)
             else dict.fromkeys(self._select(ics), values)
         )
+        vals = {check_ics(k): integer(f"ICS {k}: {what}", v) for k, v in vals.items()}
         for k, v in vals.items():
-            check_documented_ics(k)
             if check_range:
                 check_documented_stretch(what, k, v)
         self._select(vals)

@@ -17,6 +17,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import replace
 from time import sleep
 
+from rcb4hv.client.args import check_wait, integer
 from rcb4hv.client.core import Rcb4Client
 from rcb4hv.client.robot_types import MotionStatus
 from rcb4hv.errors import NakError, ProgramStoppedError, Rcb4TimeoutError
@@ -91,7 +92,12 @@ class RobotMotions:
 
     def play_motion(self, motion: int, *, wait: bool = False, timeout: float = 60.0) -> None:
         """Play ``motion`` as HeartToHeart4 does (spec 11.4): suspend the ROM program, reset
-        the PC to the main loop, CALL the motion, resume with ICS_F, ROM_F and VEC_F set."""
+        the PC to the main loop, CALL the motion, resume with ICS_F, ROM_F and VEC_F set.
+        With ``wait``, ``timeout`` must be a finite number of seconds > 0 (checked before the
+        motion starts)."""
+        if wait:
+            check_wait(timeout)
+        motion = integer("motion", motion)
         lay = self.board_layout()
         address = lay.address(motion)
         self.send_sequence(seq.play_motion(self.system_word(), address, lay.main_loop))
@@ -121,7 +127,8 @@ class RobotMotions:
         """Wait until no motion plays (a paused one is still waited for);
         :class:`~rcb4hv.errors.ProgramStoppedError` at once when the program stops with a ROM
         error (a motion slot that holds no motion), Rcb4TimeoutError after ``timeout``
-        seconds."""
+        seconds (a finite number > 0; ``poll`` one >= 0)."""
+        check_wait(timeout, poll)
         deadline = time.monotonic() + timeout
         while True:
             status = self.motion_status()
@@ -140,6 +147,7 @@ class RobotMotions:
                 return
             if time.monotonic() >= deadline:
                 raise Rcb4TimeoutError(
-                    f"motion {status.motion} still playing after {timeout:g} s (PC {status.pc:06X})"
+                    f"motion {status.motion} still {status.state} after {timeout:g} s "
+                    f"(PC {status.pc:06X})"
                 )
             sleep(poll)

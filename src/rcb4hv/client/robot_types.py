@@ -3,9 +3,11 @@ calibration)."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Final, Literal
 
+from rcb4hv.errors import ArgumentError
 from rcb4hv.protocol import (
     COUNTS_PER_DEGREE,
     ServoBlock,
@@ -52,6 +54,8 @@ class Calibration:
             raise ValueError("direction must be +1 or -1")
 
     def to_position(self, degrees: float) -> int:
+        if not math.isfinite(degrees):
+            raise ArgumentError(f"angle {degrees!r} is not a finite number of degrees")
         return round(CENTER + self.trim + self.direction * degrees * COUNTS_PER_DEGREE)
 
     def to_degrees(self, position: int) -> float:

@@ -54,7 +54,7 @@ from rcb4hv.emulator.romstore import RomStore, initial_rom
 from rcb4hv.emulator.servos import Servos, ServoState, servo_slots
 from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, timers_idle
 from rcb4hv.emulator.vectors import Vectors
-from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError
+from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError, RomFileError
 from rcb4hv.protocol import FRAME_PERIODS_MS, FrameDecoder, Rom, decode_command, encode_reply
 from rcb4hv.protocol.memory import (
     PIO_MASK,
@@ -144,9 +144,10 @@ class Board:
         self._link.reset()
 
     def close(self) -> None:
-        """Flush a persistent ROM image."""
-        self.flush_rom()
+        """Flush a persistent ROM image (:class:`~rcb4hv.errors.RomFileError` when it cannot
+        be saved)."""
         self._closed = True
+        self.flush_rom()
 
     def __enter__(self) -> Board:
         return self
@@ -158,6 +159,11 @@ class Board:
         """Write the persistent ROM image now (no-op without ``rom_path``)."""
         if self._store is not None and self._store.dirty:
             self._store.flush(self.rom)
+
+    def take_rom_error(self) -> RomFileError | None:
+        """A failure to save the persistent ROM image not reported yet (the port serving the
+        board raises it at the next host call), else None."""
+        return self._store.take_error() if self._store is not None else None
 
     def _rom_written(self) -> None:
         if self._store is not None:

@@ -4,10 +4,12 @@ asked for a live boot)."""
 
 from __future__ import annotations
 
+import math
 import time
 
 from rcb4hv.emulator.board import Board
 from rcb4hv.emulator.clock import ScaledClock
+from rcb4hv.errors import ArgumentError
 from rcb4hv.protocol.memory import ProgramState
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
 from rcb4hv.rom.older import play_layout
@@ -23,8 +25,8 @@ class BootClock(ScaledClock):
     continuing from where the boot left off (``go_real``)."""
 
     def __init__(self, speed: float) -> None:
-        if not speed > 0:
-            raise ValueError("speed must be > 0")
+        if not 0 < speed < math.inf:
+            raise ArgumentError(f"speed must be a finite number > 0, not {speed!r}")
         self.speed = speed
         self._virtual: float | None = 0.0
         self._base = 0.0

@@ -9,8 +9,11 @@ timeout, which is a property of the serial line and so of real time).
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Protocol, runtime_checkable
+
+from rcb4hv.errors import ArgumentError
 
 __all__ = ["Clock", "RealClock", "ScaledClock", "VirtualClock"]
 
@@ -53,21 +56,23 @@ class VirtualClock(ScaledClock):
     """Time that moves only when told (``advance`` / ``set``); nominally at real speed."""
 
     def __init__(self, start: float = 0.0) -> None:
-        if start < 0:
-            raise ValueError("start must be >= 0")
+        if not 0 <= start < math.inf:
+            raise ArgumentError(f"start must be a finite number of seconds >= 0, not {start!r}")
         self._t = float(start)
 
     def now(self) -> float:
         return self._t
 
     def advance(self, seconds: float) -> None:
-        if seconds < 0:
-            raise ValueError("virtual time cannot go backwards")
+        if not 0 <= seconds < math.inf:
+            raise ArgumentError(
+                f"virtual time advances by a finite number of seconds >= 0, not {seconds!r}"
+            )
         self._t += seconds
 
     def set(self, t: float) -> None:
-        if t < self._t:
-            raise ValueError("virtual time cannot go backwards")
+        if not self._t <= t < math.inf:
+            raise ArgumentError(f"virtual time cannot go backwards or past every end, to {t!r}")
         self._t = float(t)
 
 
@@ -75,8 +80,8 @@ class RealClock(ScaledClock):
     """``time.monotonic()`` since construction, scaled by ``speed`` (> 0)."""
 
     def __init__(self, speed: float = 1.0) -> None:
-        if not speed > 0:
-            raise ValueError("speed must be > 0")
+        if not 0 < speed < math.inf:
+            raise ArgumentError(f"speed must be a finite number > 0, not {speed!r}")
         self.speed = float(speed)
         self._t0 = time.monotonic()
 

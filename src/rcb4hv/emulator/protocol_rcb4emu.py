@@ -34,6 +34,7 @@ itself imports no emulator code (see the architecture notes in ``docs/architectu
 from __future__ import annotations
 
 import itertools
+import math
 import threading
 import time
 import urllib.parse
@@ -146,12 +147,23 @@ class Serial(SerialBase):
         self.is_open = True
 
     def close(self) -> None:
+        """Close the port (and the board it made); a ROM image the board cannot save is a
+        :class:`~rcb4hv.errors.RomFileError` here, after the port is closed."""
+        board, own = self.board, self._own_board
         if self.is_open:
             self.is_open = False
-            if self._own_board and self.board is not None:
-                self.board.close()
             self.board = None
         super().close()
+        if own and board is not None:
+            board.close()
+
+    def _raise_rom_error(self) -> None:
+        """The board's failure to save its ROM file, once: the host call that meets it fails
+        with a :class:`~rcb4hv.errors.RomFileError` naming the file (before sending)."""
+        take = getattr(self.board, "take_rom_error", None)
+        err = take() if take is not None else None
+        if err is not None:
+            raise err
 
     def _parse_url(self, url: str) -> None:
         parts = urllib.parse.urlsplit(url)
@@ -167,8 +179,8 @@ class Serial(SerialBase):
                 value = values[-1]
                 if key == "speed":
                     self._speed = float(value)
-                    if not self._speed > 0:
-                        raise ValueError("speed must be > 0")
+                    if not 0 < self._speed < math.inf:
+                        raise ValueError(f"speed must be a finite number > 0, not {value!r}")
                 elif key == "rom":
                     self._rom = value
                 elif key == "layout":
@@ -177,8 +189,8 @@ class Serial(SerialBase):
                     self._layout = value
                 elif key == "latency":
                     self._latency = float(value)
-                    if self._latency < 0:
-                        raise ValueError("latency must be >= 0")
+                    if not 0 <= self._latency < math.inf:
+                        raise ValueError(f"latency must be a finite number >= 0, not {value!r}")
                 elif key == "ics_comm":
                     if value not in ("0", "1"):
                         raise ValueError("ics_comm must be 0 or 1")
@@ -230,6 +242,8 @@ class Serial(SerialBase):
     def _pump(self) -> None:
         """Run the board up to now and move every reply that is due into the read buffer."""
         board = self.board
+        if board is None:  # closed by another thread during a call
+            raise PortNotOpenError()
         board.tick()
         extra = board.take_output()
         now = time.monotonic()
@@ -250,7 +264,11 @@ class Serial(SerialBase):
         if not self.is_open:
             raise PortNotOpenError()
         data = bytes(data)
-        reply = self.board.feed(data)
+        board = self.board
+        if board is None:
+            raise PortNotOpenError()
+        self._raise_rom_error()
+        reply = board.feed(data)
         if reply:
             due = time.monotonic() + (self._latency or 0.0)
             self._pending.append((due, bytes(reply)))
@@ -283,6 +301,7 @@ class Serial(SerialBase):
             raise PortNotOpenError()
         self._pump()
         self._rx.clear()
+        self._raise_rom_error()
 
     def reset_output_buffer(self) -> None:
         pass

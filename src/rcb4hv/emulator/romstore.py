@@ -10,6 +10,12 @@ A missing image file is created (from the board's image) when the store is opene
 one is rewritten only when the image differs from what it holds (a write of the bytes already
 there, or writes that end where they began, leave the file alone). The file's directory must
 exist: a typo in the path is refused, not created.
+
+A save that fails (a read-only directory, a full disk) never stops the board: it runs on with
+the image in memory. The failure is a :class:`~rcb4hv.errors.RomFileError` naming the file:
+logged once, handed once to the port that serves the board (:meth:`RomStore.take_error`, so the
+next host call reports it), retried every ``delay`` seconds and raised by :meth:`flush` (and so
+by the board's ``close()``) while the image is still unsaved.
 """
 
 from __future__ import annotations
@@ -19,6 +25,7 @@ import logging
 import time
 from pathlib import Path
 
+from rcb4hv.errors import RomFileError
 from rcb4hv.files import write_atomic
 from rcb4hv.rom.layout import ROM_SIZE
 
@@ -43,6 +50,9 @@ class RomStore:
         self._dirty_since: float | None = None
         self._on_disk: bytes | None = None  # the image the file holds, once read or written
         self.flushes = 0
+        self.error: RomFileError | None = None
+        """The last failed save, until a save succeeds."""
+        self._unreported: RomFileError | None = None
 
     def _stale_temp_files(self) -> list[Path]:
         return list(self.path.parent.glob(f".{self.path.name}.*.tmp"))
@@ -80,9 +90,18 @@ class RomStore:
         return max(0.0, self._dirty_since + self.delay - time.monotonic())
 
     def maybe_flush(self, image: bytes | bytearray) -> None:
+        """Flush when due; a failed save is kept (:attr:`error`) and retried, never raised."""
         wait = self.seconds_until_flush()
         if wait is not None and wait <= 0:
-            self.flush(image)
+            try:
+                self.flush(image)
+            except RomFileError:
+                self._dirty_since = time.monotonic()  # retry after ``delay``
+
+    def take_error(self) -> RomFileError | None:
+        """A save failure not reported yet (once per run of failures), else None."""
+        err, self._unreported = self._unreported, None
+        return err
 
     def flush(self, image: bytes | bytearray) -> None:
         """Write ``image`` atomically (:func:`rcb4hv.files.write_atomic`: temp file + fsync +
@@ -95,7 +114,25 @@ class RomStore:
             log.debug("%s holds the ROM image already: not rewritten", self.path)
             return
         data = bytes(image)
-        write_atomic(self.path, data)
+        try:
+            write_atomic(self.path, data)
+        except OSError as exc:
+            why = str(exc.strerror or exc)
+            if str(self.path) not in why:
+                why = f"{self.path}: {why}"
+            err = RomFileError(
+                f"the emulator cannot save its ROM image: {why} (the ROM written since the "
+                "last save is only in the emulator's memory)",
+                str(self.path),
+            )
+            if self.error is None:
+                log.warning("%s", err)
+                self._unreported = err
+            self.error = err
+            raise err from exc
+        if self.error is not None:
+            log.warning("saved the ROM image %s after all", self.path)
+            self.error = self._unreported = None
         self._dirty_since = None
         self._on_disk = data
         self.flushes += 1

@@ -39,7 +39,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
-from rcb4hv.errors import RobotModelError
+from rcb4hv.errors import ArgumentError, RobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 
 __all__ = [
@@ -275,8 +275,13 @@ class RobotModel:
         return math.radians(s.sign * (value - CENTER - s.offset) / COUNTS_PER_DEGREE)
 
     def motion_value(self, index: int, angle: float) -> int:
-        """Motion-space value that puts servo ``index``'s joint at ``angle`` (radians)."""
+        """Motion-space value that puts servo ``index``'s joint at ``angle`` (radians);
+        :class:`~rcb4hv.errors.ArgumentError` (a ValueError) for an angle that is not finite."""
         s = self.servo(index)
+        if not math.isfinite(angle):
+            raise ArgumentError(
+                f"servo {index} ({s.joint}): angle {angle!r} is not a finite number"
+            )
         return round(CENTER + s.offset + s.sign * math.degrees(angle) * COUNTS_PER_DEGREE)
 
     def angle(self, index: int, sent: int, trim: int) -> float:

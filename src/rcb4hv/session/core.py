@@ -18,6 +18,11 @@ and pending move (:class:`~rcb4hv.errors.TransportError`): nothing clicked while
 was away runs when it comes back (a "free all" would drop the robot then). While the link is
 down, new jobs and moves are refused at once; the worker reopens the link every ``retry``
 seconds until it answers again. Before the first attempt to connect, jobs wait for it.
+
+Bad arguments raise :class:`~rcb4hv.errors.ArgumentError` at the call (the constructor's too:
+a timeout, ``poll_hz``, ``retry``); after :meth:`BoardSession.close`, jobs and moves raise
+:class:`~rcb4hv.errors.TransportError`. An unexpected error in one move or poll is logged and
+kept in ``state.fault``: the worker runs on.
 """
 
 from __future__ import annotations
@@ -33,7 +38,15 @@ from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
 from rcb4hv.client import HTH4_22, MotionLayout, Rcb4Client, Robot
-from rcb4hv.errors import Rcb4Error, TransportError
+from rcb4hv.client.args import check_link_args, finite, integer, plain, seconds, servo_targets
+from rcb4hv.client.exchange import check_timeout
+from rcb4hv.errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    Rcb4Error,
+    Rcb4TimeoutError,
+    TransportError,
+)
 from rcb4hv.session.meter import MeteredTransport
 from rcb4hv.session.state import AngleHistory, BoardState, poll_state
 from rcb4hv.transport import DEFAULT_BAUD, EMULATOR_URL, open_transport
@@ -94,8 +107,14 @@ class BoardSession:
         retry: float = 1.0,
         timeout: float = 0.5,
     ) -> None:
-        if poll_hz < 0:
-            raise ValueError("poll_hz must be >= 0")
+        if not isinstance(url, str):
+            raise ArgumentTypeError(f"url must be a str (a port or URL), not {plain(url)}")
+        baudrate = check_link_args(url, baudrate)
+        if finite("poll_hz", poll_hz) < 0:
+            raise ArgumentError(f"poll_hz must be >= 0 (0: no polling), not {plain(poll_hz)}")
+        history_seconds = seconds("history_seconds", history_seconds, allow_zero=False)
+        retry = seconds("retry", retry, allow_zero=False)
+        check_timeout(timeout)
         self.url = url
         self.baudrate = baudrate
         self.poll_hz = poll_hz
@@ -124,6 +143,7 @@ class BoardSession:
         """Failed attempts since the link was last up (only the first is logged as a
         warning, then a change of error, then the reconnect)."""
         self._down_since = 0.0
+        self._last_error: BaseException | None = None
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -142,7 +162,7 @@ class BoardSession:
         if self._thread is not None:
             self._thread.join(timeout=10)
             self._thread = None
-        self._fail_pending(RuntimeError("the board session is closed"))
+        self._fail_pending(TransportError(f"the board session for {self.url} is closed"))
         self._disconnect()
 
     def __enter__(self) -> BoardSession:
@@ -160,11 +180,15 @@ class BoardSession:
             self._cond.notify_all()
 
     def wait_connected(self, timeout: float = 5.0) -> BoardState:
-        """Block until the first successful poll (or raise TimeoutError with the link error)."""
+        """Block until the first successful poll, or raise :class:`Rcb4TimeoutError` (a
+        TimeoutError) with the link error (its ``__cause__`` the exception itself)."""
+        check_timeout(timeout)
         deadline = time.monotonic() + timeout
         while not (self.state.connected and self.state.polls):
             if time.monotonic() > deadline:
-                raise TimeoutError(f"no board at {self.url}: {self.state.error or 'no answer'}")
+                raise Rcb4TimeoutError(
+                    f"no board at {self.url}: {self.state.error or 'no answer'}"
+                ) from self._last_error
             time.sleep(0.01)
         return self.state
 
@@ -174,10 +198,12 @@ class BoardSession:
         self, fn: Callable[[Robot], T], *, urgent: bool = False, label: str = ""
     ) -> Future[T]:
         """Queue ``fn(robot)``; ``urgent`` puts it first. The future carries its result."""
+        if not callable(fn):
+            raise ArgumentTypeError(f"fn must be a callable taking the Robot, not {plain(fn)}")
         fut: Future[T] = Future()
         with self._cond:
             if self._closed:
-                fut.set_exception(RuntimeError("the board session is closed"))
+                fut.set_exception(self._closed_error())
                 return fut
             down = self._link_down()
             if down is not None:
@@ -214,9 +240,13 @@ class BoardSession:
         return holder
 
     def set_target(self, ics: int, position: int) -> None:
-        """Move servo ``ics`` to raw ``position`` at the next output period (coalesced)."""
-        Robot.check_position(ics, position)
+        """Move servo ``ics`` to raw ``position`` at the next output period (coalesced).
+        ArgumentError for an ICS number outside 0..35 or a position outside 3500..11500 (or
+        hold/free); TransportError once the session is closed or while the link is down."""
+        ((ics, position),) = servo_targets({ics: position}, check_range=True).items()
         with self._cond:
+            if self._closed:
+                raise self._closed_error()
             down = self._link_down()
             if down is not None:
                 raise down
@@ -250,6 +280,9 @@ class BoardSession:
         """Read the whole 256 KB ROM as a long job (1 KB per step)."""
         from rcb4hv.rom.layout import ROM_SIZE
 
+        if not 0 < integer("chunk", chunk) <= ROM_SIZE:
+            raise ArgumentError(f"chunk must be 1..{ROM_SIZE} bytes, not {chunk}")
+
         def job(robot: Robot) -> StepJob[bytes]:
             out = bytearray()
             while len(out) < ROM_SIZE:
@@ -260,6 +293,9 @@ class BoardSession:
         return self.submit_steps(job, "ROM dump")
 
     # ------------------------------------------------------------------ worker
+
+    def _closed_error(self) -> TransportError:
+        return TransportError(f"the board session for {self.url} is closed: not sent")
 
     def _link_down(self) -> TransportError | None:
         """The error to refuse a command with while the link is known to be down, else None
@@ -308,13 +344,9 @@ class BoardSession:
             self.state, connected=True, error=None, version=version, baudrate=int(inner or 0)
         )
         if self._failures:
-            log.warning(
-                "link to %s is back after %d failed attempts over %.1f s (%s)",
-                self.url,
-                self._failures,
-                time.monotonic() - self._down_since,
-                version,
-            )
+            down = time.monotonic() - self._down_since
+            log.warning("link to %s is back after %d failed attempts over %.1f s (%s)",
+                        self.url, self._failures, down, version)  # fmt: skip
         else:
             log.info("connected to %s (%s)", self.url, version)
         self._failures = 0
@@ -324,12 +356,13 @@ class BoardSession:
         if robot is not None:
             try:
                 robot.close()
-            except Exception:  # closing a broken link must not stop the worker
-                log.debug("close failed", exc_info=True)
+            except Exception as exc:  # closing a broken link must not stop the worker
+                log.warning("closing %s: %s", self.url, exc)
         if error is not None:
             self.state = replace(self.state, connected=False, error=error)
 
     def _link_failed(self, exc: BaseException) -> None:
+        self._last_error = exc
         msg = f"{type(exc).__name__}: {exc}"
         if not self._failures:
             self._down_since = time.monotonic()
@@ -361,7 +394,7 @@ class BoardSession:
                 try:
                     self._connect()
                     next_poll = 0.0
-                except (Rcb4Error, OSError, ValueError) as exc:
+                except Exception as exc:  # a bad URL, a board that does not answer, a bug
                     self._link_failed(exc)
                     with self._cond:
                         self._cond.wait(self.retry)
@@ -377,7 +410,15 @@ class BoardSession:
             except (Rcb4Error, OSError) as exc:
                 self._link_failed(exc)
                 continue
+            except Exception as exc:  # one bad move or poll must not end the worker
+                self._fault(exc)
             self._idle(next_poll)
+
+    def _fault(self, exc: Exception) -> None:
+        """Log an unexpected error of the worker and show it in :attr:`state` (``fault``)."""
+        log.error("session worker for %s: %s", self.url, exc, exc_info=exc)
+        with self._state_lock:
+            self.state = replace(self.state, fault=f"{type(exc).__name__}: {exc}")
 
     def _idle(self, next_poll: float) -> None:
         with self._cond:
@@ -453,4 +494,4 @@ def _is_link_error(exc: BaseException) -> bool:
     """A failure of the link itself (not a NAK or a bad argument)."""
     from rcb4hv.errors import NakError
 
-    return not isinstance(exc, NakError)
+    return not isinstance(exc, NakError | ValueError)  # ValueError: ArgumentError, EditError

@@ -79,6 +79,9 @@ class BoardState:
     polls: int = 0
     ad: AdReadings | None = None
     """AD0-AD10: references, measured values (input - reference) and inputs."""
+    fault: str | None = None
+    """The last unexpected error inside the session's worker (a move or a poll that raised
+    something other than a link error); the worker logged it and runs on."""
 
     @property
     def rom_running(self) -> bool:
@@ -100,6 +103,7 @@ class BoardState:
             "url": self.url,
             "connected": self.connected,
             "error": self.error,
+            "fault": self.fault,
             "baud": self.baudrate,
             "version": self.version,
             "system_register": None if self.system is None else self.system.describe(),
@@ -157,6 +161,7 @@ def poll_state(
         servos=tuple(ServoRow.from_info(robot, s) for s in servos),
         polls=base.polls + 1,
         ad=ad_readings(head, ADDR.AD_REFERENCE - ADDR.SYSTEM),
+        fault=base.fault,
     )
 
 

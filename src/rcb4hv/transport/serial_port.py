@@ -21,6 +21,7 @@ from rcb4hv.transport.base import Transport
 __all__ = [
     "BAUD_RATES",
     "DEFAULT_BAUD",
+    "KINDS",
     "KONDO_PIDS",
     "KONDO_VID",
     "PORT_ERRORS",
@@ -149,9 +150,7 @@ def _disable_nagle(port: object) -> None:
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
 
-_KINDS = (
-    "a port is a device path, socket://HOST:PORT, rfc2217://, rcb4emu://, spy://DEV or fault://"
-)
+KINDS = "a port is a device path, socket://HOST:PORT, rfc2217://, rcb4emu://, spy://DEV or fault://"
 
 
 def _check_url(url: str) -> None:
@@ -209,7 +208,7 @@ class SerialTransport(Transport):
         except PORT_ERRORS as exc:
             raise TransportError(f"cannot open {url}: {exc}") from exc
         except ValueError as exc:  # pyserial: "invalid URL, protocol 'x' not known"
-            raise TransportError(f"cannot open {url}: {exc} ({_KINDS})") from exc
+            raise TransportError(f"cannot open {url}: {exc} ({KINDS})") from exc
         _disable_nagle(port)
         log.debug("opened %s at %d baud", url, baudrate)
         return cls(port, url)
