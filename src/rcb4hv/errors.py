@@ -35,7 +35,17 @@
     ├── IcsError                   an ICS servo answered wrongly, or a write did not verify
     │   └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
     │                              also a builtin TimeoutError
-    └── ScaleError                 the distributed back end (Ray) is missing or unreachable
+    ├── ScaleError                 the distributed back end (Ray) is missing or unreachable
+    └── FileAccessError            a user's file that cannot be read or written (names the
+        │                          file, not a temporary one); also an OSError
+        ├── MissingFileError       no such file, or no such directory; also a
+        │                          FileNotFoundError
+        ├── FileIsDirectoryError   a directory where a file was meant; also an
+        │                          IsADirectoryError
+        ├── FilePermissionError    a read-only file, or a directory that refuses new files;
+        │                          also a PermissionError
+        └── FileClashError         a file that would overwrite another the command also
+                                   reads or writes; also a FileExistsError
 
 Bad arguments given by the caller raise the builtin :class:`ValueError` before any byte is
 sent. A ``ProtocolError`` always means "the peer (or a file) sent garbage"; anything else that
@@ -52,12 +62,17 @@ __all__ = [
     "EditError",
     "EmulatedCommandError",
     "EmulatedReset",
+    "FileAccessError",
+    "FileClashError",
+    "FileIsDirectoryError",
+    "FilePermissionError",
     "FrameError",
     "Hth4FormatError",
     "IcsError",
     "IcsNoReply",
     "JointLimitError",
     "LayoutError",
+    "MissingFileError",
     "NakError",
     "NoRobotModelError",
     "PhysicsError",
@@ -230,3 +245,36 @@ class IcsNoReply(IcsError, TimeoutError):
 
 class ScaleError(Rcb4Error):
     """The distributed back end (Ray) is not installed, or its address answers nothing."""
+
+
+class FileAccessError(Rcb4Error, OSError):
+    """A user's file that cannot be read or written. The message names the user's path (never
+    the temporary file a save writes first) and why; ``filename`` is that path and ``errno``
+    the system's error number, if any. Also an :class:`OSError`, and its subclasses are also
+    the builtin error of the same kind, so ``except FileNotFoundError`` keeps working."""
+
+    def __init__(self, message: str, filename: str = "", errno: int | None = None) -> None:
+        super().__init__(message)
+        self.errno = errno
+        self.strerror = message
+        self.filename = filename
+
+    def __str__(self) -> str:
+        return str(self.strerror)
+
+
+class MissingFileError(FileAccessError, FileNotFoundError):
+    """No such file (reading), or no such directory (saving)."""
+
+
+class FileIsDirectoryError(FileAccessError, IsADirectoryError):
+    """A directory given where a file is read or written."""
+
+
+class FilePermissionError(FileAccessError, PermissionError):
+    """A file the caller may not read, a read-only file a save would replace, or a directory
+    that does not allow a new file in it."""
+
+
+class FileClashError(FileAccessError, FileExistsError):
+    """An output that would overwrite a file the same command reads, or another output."""

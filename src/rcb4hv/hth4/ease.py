@@ -7,9 +7,9 @@ of time: the same time on the board, the same start and end, but the speed rises
 and falls back to it. The board takes N + 1 output periods for a pose of N frames (spec 9:
 the update flag clears the period after the move ends, and only then does the program
 fetch the next pose), so the move of F frames lasts F + 1 periods and its K poses share
-those: their frames add up to F + 1 - K. :func:`eased_poses` computes the poses (so the editor can preview them in
-3D); :func:`ease_pose` writes them into the motion (``K - 1`` new poses inserted before pose
-``I``, whose frame count becomes the last segment's).
+those: their frames add up to F + 1 - K. :func:`eased_poses` computes the poses (so the
+editor can preview them in 3D); :func:`ease_pose` writes them into the motion (``K - 1``
+new poses inserted before pose ``I``, whose frame count becomes the last segment's).
 
 Curves (``t`` from 0 to 1): ``in-out`` = (1 - cos πt) / 2, ``in`` = 1 - cos(πt/2), ``out`` =
 sin(πt/2). Servos whose target is hold (7FFFh) or free (8000h) keep that value in every new
@@ -19,6 +19,7 @@ pose: those are commands, not positions.
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Callable
 from typing import Literal
 
@@ -46,11 +47,27 @@ def _before(motion: Motion, index: int) -> dict[int, int]:
     return values
 
 
+def _int(what: str, value: object) -> int:
+    """``value`` as an int (numpy integers too); EditError naming ``what`` otherwise."""
+    if isinstance(value, bool):
+        raise EditError(f"{what} must be an int, not {value!r}")
+    try:
+        return operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        raise EditError(f"{what} must be an int, not {value!r}") from None
+
+
 def eased_poses(
     motion: Motion, index: int, over: int, curve: Curve = "in-out"
 ) -> list[tuple[int, dict[int, int]]]:
     """The ``over`` poses (frames, values by ICS number) that replace the move into pose
-    ``index`` (0-based); the last one is pose ``index`` itself, its values unchanged."""
+    ``index`` (0-based); the last one is pose ``index`` itself, its values unchanged.
+    An unknown ``curve`` raises :class:`~rcb4hv.errors.EditError` listing the curves."""
+    ease = CURVES.get(curve) if isinstance(curve, str) else None
+    if ease is None:
+        raise EditError(f"unknown easing curve {curve!r} (known: {', '.join(CURVES)})")
+    index = _int("pose index", index)
+    over = _int("the number of poses to ease over", over)
     poses = motion_poses(motion)
     if not 0 <= index < len(poses):
         raise EditError(f"motion {motion.slot} has {len(poses)} poses; no pose {index + 1}")
@@ -69,7 +86,6 @@ def eased_poses(
             f"+ 1 output periods on the board; at most {periods // 2} poses)"
         )
     start = _before(motion, index)
-    ease = CURVES[curve]
     out: list[tuple[int, dict[int, int]]] = []
     done = 0
     for k in range(1, over + 1):
