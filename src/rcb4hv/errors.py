@@ -26,9 +26,13 @@
     │                              the candidates (``--robot`` picks one)
     ├── SimulationError            the emulated board refused a host frame in a simulation
     ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
-    │                              unknown robot name, a link without inertia, a joint map
-    │                              naming an unknown joint or a servo the project lacks);
-    │                              also a ValueError
+    │   │                          unknown robot name, a link without inertia, a joint map
+    │   │                          naming an unknown joint or a servo the project lacks);
+    │   │                          also a ValueError
+    │   └── RobotLookupError       a link, joint or servo index the model does not have;
+    │                              also a NotFoundError (so a KeyError)
+    ├── NotFoundError              a lookup that finds nothing: a project's motion slot or
+    │                              servo; also a KeyError
     ├── PhysicsError               the physics simulation cannot run
     │   └── PhysicsUnavailableError  MuJoCo is missing (install rcb4hv[sim]); also an
     │                              ImportError
@@ -75,12 +79,14 @@ __all__ = [
     "MissingFileError",
     "NakError",
     "NoRobotModelError",
+    "NotFoundError",
     "PhysicsError",
     "PhysicsUnavailableError",
     "ProgramStoppedError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "RobotLookupError",
     "RobotModelError",
     "ScaleError",
     "SimulationError",
@@ -199,6 +205,19 @@ class RobotModelError(Rcb4Error, ValueError):
     """A robot model that cannot be built or used: an unknown built-in name, a URDF that is
     malformed or lacks inertia, a joint map naming an unknown joint, or a model whose servo
     indices the project does not have."""
+
+
+class NotFoundError(Rcb4Error, KeyError):
+    """A lookup that finds nothing (a project's motion slot, a servo); also a KeyError, so
+    ``except KeyError`` keeps working. Unlike a KeyError, ``str()`` is the plain message."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class RobotLookupError(RobotModelError, NotFoundError):
+    """A link, joint or servo index the robot model does not have; the message lists the
+    ones it has. Also a RobotModelError, a KeyError and a ValueError."""
 
 
 class EditError(Rcb4Error, ValueError):
