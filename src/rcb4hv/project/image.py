@@ -383,5 +383,4 @@ from rcb4hv.project.imageread import (  # noqa: E402 - the reading half, re-expo
     MotionSlot,
     read_image,
 )
-from rcb4hv.project.imageread import _package_compare as _package_compare  # noqa: E402
 from rcb4hv.project.imageread import button_names as button_names  # noqa: E402

@@ -58,10 +58,11 @@ def _opt_str(f: Fields, name: str) -> str | None:
     return None if f.obj.get(name) is None else f.text(name)
 
 
-def program_from_json(obj: Json, where: str = "program") -> Program:
-    """The program of a JSON object (EditError naming the field for a bad structure)."""
+def program_from_json(obj: Json, where: str = "") -> Program:
+    """The program of a JSON object (EditError naming the field for a bad structure: its
+    path after ``where``, e.g. the file's name: ``turn.json.blocks[1].frames``)."""
     if not isinstance(obj, dict):
-        raise EditError(f"{where}: a motion program is a JSON object")
+        raise EditError(f"{where or 'program'}: a motion program is a JSON object")
     f = Fields(obj, where)
     f.check_known(_KEYS)
     if obj.get("format", FORMAT) != FORMAT:
@@ -73,7 +74,7 @@ def program_from_json(obj: Json, where: str = "program") -> Program:
         raise EditError(f"{f.path('blocks')}: expected a list of blocks")
     slot = obj.get("slot")
     return Program(
-        blocks=tuple(Block.from_json(b, f"{where}.blocks[{n}]") for n, b in enumerate(blocks)),
+        blocks=tuple(Block.from_json(b, f.path(f"blocks[{n}]")) for n, b in enumerate(blocks)),
         name=_opt_str(f, "name"),
         date=_opt_str(f, "date"),
         button=f.integer("button", 0, 0xFFFF, 0),
