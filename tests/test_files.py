@@ -265,3 +265,9 @@ def test_reading_a_directory_or_a_missing_file_is_typed(tmp_path: Path) -> None:
     (tmp_path / "latin1.json").write_bytes(b"\xe9t\xe9")
     with pytest.raises(FileAccessError, match="not UTF-8 text"):
         files.read_text(tmp_path / "latin1.json")
+
+
+def test_a_dangling_symlink_names_the_missing_directory(tmp_path: Path) -> None:
+    (tmp_path / "dang.h4p").symlink_to("missing/target.h4p")
+    with pytest.raises(MissingFileError, match=f"no directory {tmp_path / 'missing'}"):
+        write_atomic(tmp_path / "dang.h4p", b"x")

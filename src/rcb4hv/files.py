@@ -205,6 +205,10 @@ def write_atomic(path: str | os.PathLike[str], data: bytes | str) -> None:
             shown,
             exc.errno,
         ) from exc
+    except FileNotFoundError as exc:  # a missing folder, maybe a symlink's target's
+        raise MissingFileError(
+            f"cannot write {shown}: no directory {target.parent}", shown, exc.errno
+        ) from exc
     except OSError as exc:  # name the user's file, not the temporary one beside it
         raise file_error(exc, path, "write") from exc
     try:
