@@ -149,3 +149,10 @@ def test_an_erased_rom_dump_says_it_is_not_an_image(
 def test_a_dump_of_the_wrong_size_is_a_layout_error() -> None:
     with pytest.raises(LayoutError, match="262144 bytes, not 100"):
         read_image(b"\x00" * 100)
+
+
+def test_a_slot_past_the_layout_is_a_layout_error_from_both(kxr_project: hth4.Project) -> None:
+    motions = tuple(
+        dataclasses.replace(m, number=999) if m.slot == 1 else m for m in kxr_project.motions
+    )
+    _both_refuse(dataclasses.replace(kxr_project, motions=motions), LayoutError, "1000")

@@ -257,7 +257,10 @@ def project_description(
         where = f"MotionDataCollection/{m.key} ({m.name})"
         count = motion_layout.motion_count
         if not 1 <= m.slot <= count:
-            raise Hth4FormatError(f"{where}/Number", f"slot {m.slot} outside 1..{count}")
+            raise LayoutError(
+                f"{where}/Number: slot {m.slot} outside the HeartToHeart4 "
+                f"{motion_layout.version} layout's 1..{count}"
+            )
         address = motion_layout.address(m.slot)
         if m.address != address:
             raise LayoutError(
