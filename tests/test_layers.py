@@ -19,7 +19,8 @@ ROOT = SRC.parent.parent
 
 # lowest first; a package may import packages on lower layers only
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "files", "__init__"),  # the exception tree, atomic saves, the root package
+    ("errors",),  # the exception tree
+    ("files", "__init__"),  # reading and atomic saves (typed FileAccessErrors), the root package
     ("protocol",),
     ("transport",),
     ("rom", "robot"),  # robot: models as data, kinematics, URDF/MJCF, the servos' figures

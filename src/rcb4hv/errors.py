@@ -30,9 +30,13 @@
     │                              the candidates (``--robot`` picks one)
     ├── SimulationError            the emulated board refused a host frame in a simulation
     ├── RobotModelError            a robot model, URDF or joint map that cannot be used (an
-    │                              unknown robot name, a link without inertia, a joint map
-    │                              naming an unknown joint or a servo the project lacks);
-    │                              also a ValueError
+    │   │                          unknown robot name, a link without inertia, a joint map
+    │   │                          naming an unknown joint or a servo the project lacks);
+    │   │                          also a ValueError
+    │   └── RobotLookupError       a link, joint or servo index the model does not have;
+    │                              also a NotFoundError (so a KeyError)
+    ├── NotFoundError              a lookup that finds nothing: a project's motion slot or
+    │                              servo; also a KeyError
     ├── GaitError                  a walk that cannot be made (parameters out of range, no
     │                              motion slot it fits); also a ValueError
     ├── PhysicsError               the physics simulation cannot run
@@ -41,7 +45,17 @@
     ├── IcsError                   an ICS servo answered wrongly, or a write did not verify
     │   └── IcsNoReply             no ICS servo answered (absent ID, wrong baud, busy);
     │                              also a builtin TimeoutError
-    └── ScaleError                 the distributed back end (Ray) is missing or unreachable
+    ├── ScaleError                 the distributed back end (Ray) is missing or unreachable
+    └── FileAccessError            a user's file that cannot be read or written (names the
+        │                          file, not a temporary one); also an OSError
+        ├── MissingFileError       no such file, or no such directory; also a
+        │                          FileNotFoundError
+        ├── FileIsDirectoryError   a directory where a file was meant; also an
+        │                          IsADirectoryError
+        ├── FilePermissionError    a read-only file, or a directory that refuses new files;
+        │                          also a PermissionError
+        └── FileClashError         a file that would overwrite another the command also
+                                   reads or writes; also a FileExistsError
 
 Bad arguments given by the caller raise :class:`ValueError` before any byte is sent (in the
 client, the robot API, the session and the emulator an :class:`ArgumentError`, which is one).
@@ -61,6 +75,10 @@ __all__ = [
     "EditError",
     "EmulatedCommandError",
     "EmulatedReset",
+    "FileAccessError",
+    "FileClashError",
+    "FileIsDirectoryError",
+    "FilePermissionError",
     "FrameError",
     "GaitError",
     "Hth4FormatError",
@@ -68,14 +86,17 @@ __all__ = [
     "IcsNoReply",
     "JointLimitError",
     "LayoutError",
+    "MissingFileError",
     "NakError",
     "NoRobotModelError",
+    "NotFoundError",
     "PhysicsError",
     "PhysicsUnavailableError",
     "ProgramStoppedError",
     "ProtocolError",
     "Rcb4Error",
     "Rcb4TimeoutError",
+    "RobotLookupError",
     "RobotModelError",
     "RomFileError",
     "ScaleError",
@@ -216,6 +237,19 @@ class RobotModelError(Rcb4Error, ValueError):
     indices the project does not have."""
 
 
+class NotFoundError(Rcb4Error, KeyError):
+    """A lookup that finds nothing (a project's motion slot, a servo); also a KeyError, so
+    ``except KeyError`` keeps working. Unlike a KeyError, ``str()`` is the plain message."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class RobotLookupError(RobotModelError, NotFoundError):
+    """A link, joint or servo index the robot model does not have; the message lists the
+    ones it has. Also a RobotModelError, a KeyError and a ValueError."""
+
+
 class EditError(Rcb4Error, ValueError):
     """A project edit that is refused: a value outside the documented range or the joint's
     limits (without the override), a slot in use, a block that is not a pose."""
@@ -264,3 +298,36 @@ class IcsNoReply(IcsError, TimeoutError):
 
 class ScaleError(Rcb4Error):
     """The distributed back end (Ray) is not installed, or its address answers nothing."""
+
+
+class FileAccessError(Rcb4Error, OSError):
+    """A user's file that cannot be read or written. The message names the user's path (never
+    the temporary file a save writes first) and why; ``filename`` is that path and ``errno``
+    the system's error number, if any. Also an :class:`OSError`, and its subclasses are also
+    the builtin error of the same kind, so ``except FileNotFoundError`` keeps working."""
+
+    def __init__(self, message: str, filename: str = "", errno: int | None = None) -> None:
+        super().__init__(message)
+        self.errno = errno
+        self.strerror = message
+        self.filename = filename
+
+    def __str__(self) -> str:
+        return str(self.strerror)
+
+
+class MissingFileError(FileAccessError, FileNotFoundError):
+    """No such file (reading), or no such directory (saving)."""
+
+
+class FileIsDirectoryError(FileAccessError, IsADirectoryError):
+    """A directory given where a file is read or written."""
+
+
+class FilePermissionError(FileAccessError, PermissionError):
+    """A file the caller may not read, a read-only file a save would replace, or a directory
+    that does not allow a new file in it."""
+
+
+class FileClashError(FileAccessError, FileExistsError):
+    """An output that would overwrite a file the same command reads, or another output."""

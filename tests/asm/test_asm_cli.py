@@ -178,3 +178,46 @@ def test_asm_says_what_is_wrong_in_one_line(
     else:
         assert r.exit_code == 1 and r.output.startswith("error: "), r.output
         assert r.output.count("\n") == 1, r.output
+
+
+def test_asm_hex_round_trips_through_disasm_hex_file(tmp_path: Path) -> None:
+    """Was: disasm read asm's address column as data (.byte 00 0B 80, every address wrong)."""
+    src = tmp_path / "m.s"
+    src.write_text(SOURCE)
+    runner = CliRunner()
+    hex_out, bin_out = tmp_path / "m.hex", tmp_path / "m.bin"
+    assert runner.invoke(cli, ["asm", str(src), "--hex", "-o", str(hex_out)]).exit_code == 0
+    assert runner.invoke(cli, ["asm", str(src), "-o", str(bin_out)]).exit_code == 0
+    from_hex = runner.invoke(cli, ["disasm", "--hex-file", str(hex_out)])
+    from_bin = runner.invoke(cli, ["disasm", "--bin", str(bin_out), "--origin", "0x0B80"])
+    assert from_hex.exit_code == 0, from_hex.stderr
+    assert from_hex.stdout == from_bin.stdout
+    assert ".org $000B80" in from_hex.stdout and ".byte" not in from_hex.stdout
+    again = tmp_path / "again.s"
+    again.write_text(from_hex.stdout)
+    back = runner.invoke(cli, ["asm", str(again), "-o", str(tmp_path / "b2.bin")])
+    assert back.exit_code == 0 and (tmp_path / "b2.bin").read_bytes() == bin_out.read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("text", "extra", "words"),
+    [
+        ("000B80  03 0D 10\n000B90  03 0D 10\n", [], "address $000B90 does not follow"),
+        ("000B80  03 0D 10\n03 0D 10\n", [], "line 2 has no address column"),
+        ("000B80  03 0D 10\n", ["--origin", "0"], "--origin $000000 disagrees"),
+    ],
+)
+def test_disasm_hex_file_refuses_inconsistent_addresses(
+    tmp_path: Path, text: str, extra: list[str], words: str
+) -> None:
+    f = tmp_path / "m.hex"
+    f.write_text(text)
+    result = CliRunner().invoke(cli, ["disasm", "--hex-file", str(f), *extra])
+    assert result.exit_code == 1 and words in result.stderr
+
+
+def test_disasm_hex_file_without_addresses_still_reads_bytes(tmp_path: Path) -> None:
+    f = tmp_path / "m.hex"
+    f.write_text("03 0D 10  # RETURN\n070C FFFFFF0010\n")
+    result = CliRunner().invoke(cli, ["disasm", "--hex-file", str(f), "--origin", "0x0B80"])
+    assert result.exit_code == 0 and "RETURN" in result.stdout and "CALL" in result.stdout

@@ -200,3 +200,12 @@ def test_a_raw_block_is_whole_frames(hex_: str, said: str) -> None:
         compile_program(project, 1, program)
     ok = Program(blocks=(Block("raw", {"hex": "03 FE 01"}), Block("end", {})))
     assert compile_program(project, 1, ok)[0] == bytes.fromhex("03 FE 01")
+
+
+def test_a_counter_outside_the_boards_counters_names_their_range() -> None:
+    """Was: "counter: -1 outside 0..99", then "there is no COUNTER99" (counters are 0-10)."""
+    project = one_motion_project((b"\x03\x0d\x10\xff",))
+    for n in (-1, 11, 99):
+        block = {"kind": "counter_loop", "counter": n, "to": 0}
+        with pytest.raises(EditError, match=rf"^blocks\[0\]\.counter: {n} outside 0\.\.10$"):
+            compile_program(project, 1, program_from_json({"blocks": [block]}))

@@ -101,3 +101,11 @@ def test_an_eased_motion_lasts_as_long_on_the_board(kxr_project_path: Path) -> N
 
     project = load_project(kxr_project_path)
     assert duration(ease_pose(project, SLOT, 2, 5)) == pytest.approx(duration(project), abs=1e-9)
+
+
+def test_an_unknown_curve_is_an_edit_error_listing_the_curves(kxr_project_path: Path) -> None:
+    """Was: KeyError 'bogus' (a typo such as "inout" took the same path)."""
+    project = load_project(kxr_project_path)
+    for bad in ("bogus", "inout", None):
+        with pytest.raises(EditError, match=r"unknown easing curve .* \(known: in-out, in, out\)"):
+            ease_pose(project, 21, 2, 5, bad)  # type: ignore[arg-type]

@@ -13,7 +13,6 @@ from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.errors import ChecksumError
 from rcb4hv.project.image import (
     COMPARE,
-    _package_compare,
     _vector_package,
     build_project_image,
     motion_image_frames,
@@ -21,6 +20,7 @@ from rcb4hv.project.image import (
     read_image,
     split_frames,
 )
+from rcb4hv.project.imageread import _package_compare
 from rcb4hv.protocol import ADDR, ALWAYS, Call, decode_command
 from rcb4hv.rom import default_image, layout
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from rcb4hv.cli.main import cli
@@ -162,3 +163,64 @@ def test_a_motion_of_another_robot_is_named_so(kxr_project_path: Path, tmp_path:
                                  "-o", str(tmp_path / "same.h4p")])  # fmt: skip
     assert r.exit_code == 0, r.output
     assert "servo table" not in r.stderr
+
+
+def test_export_all_onto_a_file_is_a_typed_clash(kxr_project_path: Path, tmp_path: Path) -> None:
+    """Was: "[Errno 17] File exists: 'HAC.h4p' (FileExistsError)"."""
+    target = tmp_path / "hac.h4p"
+    target.write_bytes(kxr_project_path.read_bytes())
+    code, out = _run("project", "motion-export", target, "--all", "-o", target)
+    assert code == 1 and "is a file, not a directory" in out and "(FileClashError)" in out
+    assert target.read_bytes() == kxr_project_path.read_bytes()
+
+
+def test_dash_is_stdout_for_export_and_xml_and_refused_for_import(
+    kxr_project_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Was: `-o -` wrote a file named '-'."""
+    monkeypatch.chdir(tmp_path)
+    code, out = _run("project", "motion-export", kxr_project_path, "--motion", TURN_LEFT, "-o", "-")
+    assert code == 0 and json.loads(out)["blocks"] and out.endswith("}\n")
+    code, out = _run("project", "motion-xml", kxr_project_path, "--motion", TURN_LEFT, "-o", "-")
+    assert code == 0 and out.rstrip().endswith("</CanvasData>") and out.endswith("\n")
+    program = tmp_path / "p.json"
+    program.write_text(json.dumps({"blocks": [{"kind": "end"}]}), encoding="utf-8")
+    code, out = _run(
+        "project", "motion-import", kxr_project_path, program, "--motion", 80, "-o", "-"
+    )
+    assert code == 2 and "not stdout" in out
+    assert not (tmp_path / "-").exists()
+
+
+def test_import_errors_start_with_the_file_name(kxr_project_path: Path, tmp_path: Path) -> None:
+    """Was: top-level fields named the file (p.json.foo), block fields did not (blocks[0].bar),
+    and a pose's known fields left out kind and label."""
+    program = tmp_path / "p.json"
+    pose = {"kind": "pose", "frames": 10, "positions": {"2": 7500}}
+    for doc, words in (
+        ({"blocks": [pose], "foo": 1}, "p.json.foo: unknown field"),
+        (
+            {"blocks": [{**pose, "bar": 1}]},
+            "p.json.blocks[0].bar: unknown field (known: kind, label, frames, positions, update)",
+        ),
+        ({"blocks": [{**pose, "frames": 999}]}, "p.json.blocks[0].frames"),
+    ):
+        program.write_text(json.dumps(doc), encoding="utf-8")
+        code, out = _run(
+            "project",
+            "motion-import",
+            kxr_project_path,
+            program,
+            "--motion",
+            80,
+            "-o",
+            tmp_path / "o.h4p",
+        )
+        assert code == 1 and words in out, out
+    assert not (tmp_path / "o.h4p").exists()
+
+
+def test_project_new_into_a_missing_directory_is_typed(tmp_path: Path) -> None:
+    """Was: "[Errno 2] cannot write … (FileNotFoundError)"."""
+    code, out = _run("project", "new", "--robot", "kxr-l2", "-o", tmp_path / "nodir" / "x.h4p")
+    assert code == 1 and f"no directory {tmp_path / 'nodir'} (MissingFileError)" in out

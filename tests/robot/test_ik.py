@@ -228,3 +228,27 @@ def test_cli_ik_balance_reports_where_the_link_is_in_the_targets_frame() -> None
     data = json.loads(out.stdout)
     assert data["reached"] is False
     assert math.dist(data["pos"], target) == pytest.approx(data["error_m"], abs=0.001)
+
+
+def test_bad_solver_arguments_and_unknown_names_are_typed() -> None:
+    """Was: AssertionError with no message (restarts=-1), KeyError 'nope' (effector_point),
+    KeyError 99 (motion_angle), and orient="bogus" silently accepted."""
+    from rcb4hv.errors import RobotLookupError, RobotModelError
+    from rcb4hv.robot.builtin import load_builtin
+    from rcb4hv.robot.ik import effector_point, solve
+
+    m = load_builtin("kxr-l2")
+    for kwargs, words in (
+        ({"restarts": -1}, "restarts must be an int >= 0, not -1"),
+        ({"max_iter": 0}, "max_iter must be an int >= 1, not 0"),
+        ({"orient": "bogus"}, "orient must be one of auto, full, normal, none, not 'bogus'"),
+    ):
+        with pytest.raises(RobotModelError, match=words):
+            solve(m, "r_foot", (0.0, -0.02, -0.12), **kwargs)  # type: ignore[arg-type]
+    with pytest.raises(RobotModelError, match="has no link 'nope'; its links: "):
+        effector_point(m, "nope")
+    with pytest.raises(RobotLookupError, match=r"no servo at index 99 \(it has: ") as info:
+        m.motion_angle(99, 7500)
+    assert isinstance(info.value, KeyError)
+    with pytest.raises(KeyError):
+        m.joint("nope")

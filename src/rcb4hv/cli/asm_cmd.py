@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+import re
 import sys
-from pathlib import Path
 from typing import NoReturn
 
 import click
@@ -11,7 +11,7 @@ import click
 from rcb4hv.asm import assemble, disassemble, disassemble_frames, disassemble_image
 from rcb4hv.cli.decode_cmd import parse_hex
 from rcb4hv.errors import AsmError, Rcb4Error
-from rcb4hv.files import write_atomic
+from rcb4hv.files import read_bytes, read_text, write_atomic
 
 
 def _address(text: str) -> int:
@@ -95,6 +95,50 @@ def _write(output: str, data: bytes | str) -> None:
         _fail(why if output in why else f"{output}: {why}")
 
 
+_ADDRESSED = re.compile(r"^\s*\$?([0-9A-Fa-f]{6})(?:\s{2,}|\t)(\S.*)$")
+
+
+def parse_hex_lines(lines: list[str]) -> tuple[bytes, int | None]:
+    """The bytes of a hex file and the ROM address of its first byte (None: no addresses).
+
+    Each line is hex bytes (``#`` starts a comment), or what ``asm --hex`` writes: the ROM
+    address (6 hex digits) and two spaces before the frame's bytes. Addressed lines must
+    follow each other without a gap; a file mixing both kinds is refused."""
+    rows: list[tuple[int, int | None, bytes]] = []
+    for n, raw in enumerate(lines, 1):
+        line = raw.split("#", 1)[0]
+        if not line.strip():
+            continue
+        m = _ADDRESSED.match(line)
+        try:
+            if m is not None:
+                rows.append((n, int(m.group(1), 16), parse_hex((m.group(2),))))
+            else:
+                rows.append((n, None, parse_hex((line,))))
+        except click.BadParameter as exc:
+            raise click.BadParameter(f"line {n}: {exc.format_message()}") from None
+    addressed = [r for r in rows if r[1] is not None]
+    if not addressed:
+        return b"".join(r[2] for r in rows), None
+    if len(addressed) != len(rows):
+        n = next(r[0] for r in rows if r[1] is None)
+        raise click.BadParameter(
+            f"line {n} has no address column while other lines have one (`asm --hex` writes "
+            "an address before every frame)"
+        )
+    start = addressed[0][1]
+    assert start is not None
+    at = start
+    for n, address, data in addressed:
+        if address != at:
+            raise click.BadParameter(
+                f"line {n}: address ${address:06X} does not follow the previous bytes "
+                f"(they end at ${at:06X})"
+            )
+        at += len(data)
+    return b"".join(r[2] for r in addressed), start
+
+
 @click.command("disasm")
 @click.argument("hex_words", metavar="[HEX...]", nargs=-1)
 @click.option("--hex-file", type=click.Path(exists=True, dir_okay=False), help="Hex text file.")
@@ -148,21 +192,27 @@ def disasm(
         if image is not None:
             if origin is not None:
                 _fail("--origin does not apply to --image")
-            data = Path(image).read_bytes()
+            data = read_bytes(image)
             _warn_older_layout(image, data)
             text = disassemble_image(data, **kw)
         elif project is not None:
             assert motion is not None
             text = _project_motion(project, motion, origin, labels=not no_labels, **kw)
         else:
+            start: int | None = None
             if hex_file is not None:
-                lines = Path(hex_file).read_text(encoding="utf-8").splitlines()
-                data = parse_hex(tuple(line.split("#", 1)[0] for line in lines))
+                data, start = parse_hex_lines(read_text(hex_file).splitlines())
+                if start is not None and origin is not None and origin != start:
+                    _fail(
+                        f"{hex_file} starts at ${start:06X} (its address column); "
+                        f"--origin ${origin:06X} disagrees: leave --origin out"
+                    )
             elif bin_file is not None:
-                data = Path(bin_file).read_bytes()
+                data = read_bytes(bin_file)
             else:
                 data = parse_hex(hex_words)
-            text = disassemble(data, origin or 0, labels=not no_labels, **kw)
+            base = origin if origin is not None else start or 0
+            text = disassemble(data, base, labels=not no_labels, **kw)
     except click.BadParameter as exc:
         _fail(exc.format_message())
     except (OSError, ValueError) as exc:

@@ -9,8 +9,8 @@ from pathlib import Path
 import click
 
 from rcb4hv.cli._util import handle_errors
-from rcb4hv.errors import EditError
-from rcb4hv.files import write_atomic
+from rcb4hv.errors import EditError, FileClashError
+from rcb4hv.files import file_error, read_bytes, write_atomic
 from rcb4hv.hth4.blocks import dump_program, load_program, motion_program, put_program
 from rcb4hv.hth4.blocks.flowxml import motion_xml, put_flowchart
 from rcb4hv.hth4.edit import bind_button, binding_holders, used_motion
@@ -42,7 +42,11 @@ def _one_or_all(slot: int | None, every: bool) -> None:
 @click.option("--motion", "slot", type=click.IntRange(1, 999), default=None, help="Slot.")
 @click.option("--all", "every", is_flag=True, help="Every used motion, as DIR/NNN.json.")
 @click.option(
-    "-o", "--output", type=click.Path(path_type=Path), default=None, help="File (or DIR)."
+    "-o",
+    "--output",
+    type=click.Path(allow_dash=True, path_type=Path),
+    default=None,
+    help="File ('-' or none: stdout), or DIR with --all.",
 )
 @handle_errors
 def export_command(file: Path, slot: int | None, every: bool, output: Path | None) -> None:
@@ -54,25 +58,47 @@ def export_command(file: Path, slot: int | None, every: bool, output: Path | Non
     if slot is not None:
         used_motion(project, slot)  # an empty slot has no program to export (as motion-xml)
         text = dump_program(motion_program(project, slot))
-        if output is None:
+        if output is None or str(output) == "-":
             click.echo(text, nl=False)
         else:
             write_atomic(output, text.encode())
             click.echo(f"{output}: motion {slot}")
         return
-    if output is None:
+    if output is None or str(output) == "-":
         raise click.UsageError("--all needs -o DIR")
-    output.mkdir(parents=True, exist_ok=True)
+    _make_directory(output)
     for m in project.used_motions:
         path = output / f"{m.slot:03d}.json"
         write_atomic(path, dump_program(motion_program(project, m.slot)).encode())
     click.echo(f"{output}: {len(project.used_motions)} motions")
 
 
+def _make_directory(output: Path) -> None:
+    """Directory ``output`` for ``--all`` (made if missing); a file there is refused."""
+    if output.exists() and not output.is_dir():
+        raise FileClashError(
+            f"{output} is a file, not a directory: --all writes one NNN.json per motion "
+            "into a directory (give -o DIR)",
+            str(output),
+        )
+    try:
+        output.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise file_error(exc, output, "create directory") from None
+
+
 def _put_file(project: Project, slot: int, path: Path) -> Project:
+    """``project`` with ``path`` compiled into ``slot``; every error about the file's
+    content starts with its name (``turn.json.blocks[1].frames: …``)."""
     if path.suffix.lower() == ".xml":
-        return put_flowchart(project, slot, path.read_bytes())
-    return put_program(project, slot, load_program(path))
+        return put_flowchart(project, slot, read_bytes(path))
+    program = load_program(path)  # its errors start with the file's name
+    try:
+        return put_program(project, slot, program)
+    except EditError as exc:
+        if str(exc).startswith("blocks["):
+            raise EditError(f"{path.name}.{exc}") from None
+        raise
 
 
 def _drop_taken_bindings(session: EditSession, slots: list[int]) -> list[str]:
@@ -127,7 +153,13 @@ def _unlisted_notes(before: Project, after: Project, slots: list[int]) -> list[s
 @click.argument("program", type=click.Path(exists=True, path_type=Path))
 @click.option("--motion", "slot", type=click.IntRange(1, 999), default=None, help="Slot.")
 @click.option("--all", "every", is_flag=True, help="Every NNN.json / NNN.xml of directory PROGRAM.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="Where to write the project (not '-': a project is a file).",
+)
 @handle_errors
 def import_command(file: Path, program: Path, slot: int | None, every: bool, output: Path) -> None:
     """Compile PROGRAM (a JSON program or a HeartToHeart4 flowchart .xml) into slot --motion of
@@ -136,6 +168,8 @@ def import_command(file: Path, program: Path, slot: int | None, every: bool, out
     Branches by label follow the program wherever it goes; slots without a file keep their
     motion."""
     _one_or_all(slot, every)
+    if str(output) == "-":
+        raise click.BadParameter("a project is written to a file, not stdout", param_hint="-o")
     session = EditSession.open(file)
     before = session.project
     if slot is not None:
@@ -169,10 +203,21 @@ def import_command(file: Path, program: Path, slot: int | None, every: bool, out
 @click.command("motion-xml")
 @click.argument("file", type=_FILE)
 @click.option("--motion", "slot", type=click.IntRange(1, 999), required=True, help="Slot.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), required=True)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, allow_dash=True, path_type=Path),
+    required=True,
+    help="The .xml file ('-': stdout).",
+)
 @handle_errors
 def xml_command(file: Path, slot: int, output: Path) -> None:
     """Write motion --motion of FILE as a HeartToHeart4 flowchart (.xml), branches included."""
     project = EditSession.open(file).project
-    write_atomic(output, motion_xml(project, slot))
+    data = motion_xml(project, slot)
+    if str(output) == "-":
+        text = data.decode("utf-8-sig") if isinstance(data, bytes) else data
+        click.echo(text, nl=not text.endswith("\n"))
+        return
+    write_atomic(output, data)
     click.echo(f"{output}: motion {slot} as a flowchart")

@@ -10,6 +10,7 @@ from typing import Any
 import click
 
 from rcb4hv.cli._util import MOTION_SLOT, OUTPUT_FILE, handle_errors, output_option
+from rcb4hv.errors import EditError
 from rcb4hv.files import write_atomic
 from rcb4hv.hth4 import dump_motion_xml, dump_project, parse_project
 from rcb4hv.hth4.edit import bind_button
@@ -30,21 +31,37 @@ def register(cli: click.Group) -> None:
     group.add_command(add_motion_command)
 
 
+def _ics_key(i: int, key: object) -> int:
+    """An ICS number key of a keyframe's positions ("2" or 2)."""
+    if isinstance(key, int) and not isinstance(key, bool):
+        return key
+    if isinstance(key, str) and key.strip().lstrip("-").isdigit():
+        return int(key)
+    raise EditError(f"keyframe {i}: servo key {key!r} is not an ICS number")
+
+
 def parse_keyframes(data: Any) -> list[Keyframe]:
     """``{"keyframes": [{"time": 0.5, "positions": {"2": 7500, ...}, "name": "..."}]}``
-    (or just the list)."""
+    (or just the list). EditError naming the keyframe for anything else: a position that is
+    not an integer (7500.7 is refused, not cut to 7500), a time that is not a finite number."""
     items = data.get("keyframes") if isinstance(data, dict) else data
     if not isinstance(items, list):
-        raise ValueError('keyframes JSON: expected {"keyframes": [...]} or a list')
+        raise EditError('keyframes JSON: expected {"keyframes": [...]} or a list')
     out = []
     for i, item in enumerate(items, 1):
+        if not isinstance(item, dict) or "time" not in item or "positions" not in item:
+            raise EditError(f"keyframe {i}: needs 'time' and 'positions'")
+        raw = item["positions"]
+        if not isinstance(raw, dict):
+            raise EditError(f"keyframe {i}: 'positions' maps ICS numbers to positions")
         try:
-            positions = {int(k): int(v) for k, v in dict(item["positions"]).items()}
-            out.append(Keyframe(float(item["time"]), positions, str(item.get("name", ""))))
-        except (KeyError, TypeError, AttributeError) as exc:
-            raise ValueError(f"keyframe {i}: needs 'time' and 'positions' ({exc})") from None
-        except ValueError as exc:
-            raise ValueError(f"keyframe {i}: {exc}") from None
+            positions = {_ics_key(i, k): v for k, v in raw.items()}
+            out.append(Keyframe(item["time"], positions, str(item.get("name", ""))))
+        except EditError as exc:
+            text = str(exc)
+            if not text.startswith(f"keyframe {i}:"):
+                text = f"keyframe {i}: {text}"
+            raise EditError(text) from None
     return out
 
 

@@ -89,23 +89,26 @@ def save_command(conn: Connection, file: Path, output: Path | None, force: bool)
     """Store the board's trims into project FILE's servo settings.
 
     The board's servos must be the project's (the same ICS numbers in use), or its trims
-    would land on other joints: another robot's board is refused unless --force."""
+    would land on other joints: another robot's board is refused unless --force, which
+    stores only the trims of the servos both use."""
+    from rcb4hv.errors import EditError
     from rcb4hv.hth4.edit import set_trim
     from rcb4hv.hth4.session import EditSession
 
     session = EditSession.open(file)
-    configured = {s.device_number for s in session.project.servos}
-    used = {s.device_number for s in session.project.servos if s.mode != "None"}
+    used = {s.device_number for s in session.project.servos if s.in_use}
     trims = board_trims(conn)
     if set(trims) != used and not force:
         only_board, only_file = sorted(set(trims) - used), sorted(used - set(trims))
-        raise ValueError(
+        raise EditError(
             f"the board's servos are not {file.name}'s (ICS only on the board: "
             f"{only_board or 'none'}; only in the project: {only_file or 'none'}): is it "
-            "this robot's board? (--force stores the trims of the ICS numbers both have)"
+            "this robot's board? (--force stores the trims of the servos both use)"
         )
-    for ics, value in sorted(trims.items()):
-        if ics in configured:
-            session.apply(set_trim, ics, value)
+    both = sorted(set(trims) & used)
+    for ics in both:
+        session.apply(set_trim, ics, trims[ics])
     session.save(output or file)
-    click.echo(f"{output or file}: trims of {len(trims)} servos stored")
+    skipped = len(trims) - len(both)
+    note = f" ({skipped} of the board's not in the project: left out)" if skipped else ""
+    click.echo(f"{output or file}: trims of {len(both)} servos stored{note}")

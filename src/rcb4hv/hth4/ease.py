@@ -19,6 +19,7 @@ pose: those are commands, not positions.
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Callable
 from typing import Literal
 
@@ -46,11 +47,27 @@ def _before(motion: Motion, index: int) -> dict[int, int]:
     return values
 
 
+def _int(what: str, value: object) -> int:
+    """``value`` as an int (numpy integers too); EditError naming ``what`` otherwise."""
+    if isinstance(value, bool):
+        raise EditError(f"{what} must be an int, not {value!r}")
+    try:
+        return operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        raise EditError(f"{what} must be an int, not {value!r}") from None
+
+
 def eased_poses(
     motion: Motion, index: int, over: int, curve: Curve = "in-out"
 ) -> list[tuple[int, dict[int, int]]]:
     """The ``over`` poses (frames, values by ICS number) that replace the move into pose
-    ``index`` (0-based); the last one is pose ``index`` itself, its values unchanged."""
+    ``index`` (0-based); the last one is pose ``index`` itself, its values unchanged.
+    An unknown ``curve`` raises :class:`~rcb4hv.errors.EditError` listing the curves."""
+    ease = CURVES.get(curve) if isinstance(curve, str) else None
+    if ease is None:
+        raise EditError(f"unknown easing curve {curve!r} (known: {', '.join(CURVES)})")
+    index = _int("pose index", index)
+    over = _int("the number of poses to ease over", over)
     poses = motion_poses(motion)
     if not 0 <= index < len(poses):
         raise EditError(f"motion {motion.slot} has {len(poses)} poses; no pose {index + 1}")
@@ -69,7 +86,6 @@ def eased_poses(
             f"+ 1 output periods on the board; at most {periods // 2} poses)"
         )
     start = _before(motion, index)
-    ease = CURVES[curve]
     out: list[tuple[int, dict[int, int]]] = []
     done = 0
     for k in range(1, over + 1):

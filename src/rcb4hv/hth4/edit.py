@@ -22,10 +22,11 @@ import logging
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import replace
 
-from rcb4hv.errors import EditError
+from rcb4hv.errors import EditError, NoRobotModelError, RobotModelError
+from rcb4hv.hth4.argcheck import as_int, as_model, as_name
 from rcb4hv.hth4.keyframes import END_MARKER, now_text
 from rcb4hv.hth4.mirror import mirror_motion_entries
-from rcb4hv.hth4.model import Motion, Project, ServoConfig
+from rcb4hv.hth4.model import COMPARE, Motion, Project, ServoConfig
 from rcb4hv.hth4.motioncode import AddressMap, retarget_motion, retarget_project, slot_size
 from rcb4hv.hth4.motionlist import button_label
 from rcb4hv.hth4.poses import (
@@ -38,8 +39,10 @@ from rcb4hv.hth4.poses import (
     move_pose_entries,
     set_pose_entries,
 )
+from rcb4hv.hth4.robotpick import servo_table
 from rcb4hv.protocol import POSITION_MAX, POSITION_MIN, Return
 from rcb4hv.protocol.memory import CENTER
+from rcb4hv.robot.builtin import check_indices
 from rcb4hv.robot.model import RobotModel
 
 log = logging.getLogger(__name__)
@@ -53,6 +56,7 @@ __all__ = [
     "duplicate_pose",
     "insert_pose",
     "layout_map",
+    "mirror_model",
     "mirror_motion",
     "mirror_pose",
     "move_motion",
@@ -70,6 +74,7 @@ TRIM_LIMIT = min(CENTER - POSITION_MIN, POSITION_MAX - CENTER)
 
 
 def _motion(project: Project, slot: int) -> Motion:
+    slot = as_int("motion slot", slot)
     try:
         return project.motion(slot)
     except KeyError:
@@ -180,6 +185,7 @@ def insert_pose(
 
 def duplicate_pose(project: Project, slot: int, index: int) -> Project:
     """A copy of pose ``index`` inserted right after it."""
+    index = as_int("pose index", index)
     poses = motion_poses(used_motion(project, slot))
     if not 0 <= index < len(poses):
         raise EditError(f"motion {slot} has {len(poses)} poses; no pose {index + 1}")
@@ -207,9 +213,26 @@ def mirror_pose(
     model: RobotModel | None,
     checks: Checks = DEFAULT_CHECKS,
 ) -> Project:
-    """Pose ``index`` of motion ``slot`` replaced by its left-right mirror image."""
+    """Pose ``index`` of motion ``slot`` replaced by its left-right mirror image (``model``:
+    :func:`mirror_model`)."""
+    model = mirror_model(project, model)
+    index = as_int("pose index", index)
     m = used_motion(project, slot)
     return apply_entry_edit(project, slot, mirror_motion_entries(m, model, checks, pose=index))
+
+
+def mirror_model(project: Project, model: object) -> RobotModel | None:
+    """``model`` checked for mirroring ``project``: a :class:`RobotModel` (or None, which
+    mirroring refuses) whose servo indices the project has, the rule
+    :func:`rcb4hv.hth4.robotpick.project_model` applies; another robot's model would mirror
+    onto the wrong servos. NoRobotModelError (an EditError and a RobotModelError) otherwise."""
+    checked = as_model(model)
+    if checked is not None:
+        try:
+            check_indices(checked, servo_table(project))
+        except RobotModelError as exc:
+            raise NoRobotModelError(f"cannot mirror with this robot model: {exc}") from None
+    return checked
 
 
 def _free_target(project: Project, to: int) -> Motion:
@@ -250,12 +273,15 @@ def mirror_motion(
 ) -> Project:
     """Motion ``slot`` mirrored left-right: in place, or (``to``) as a new motion in free slot
     ``to`` named ``name`` (default: the source name + `` (mirror)``), with no button bound and
-    the current ``date``."""
+    the current ``date``. ``model`` must fit the project (:func:`mirror_model`)."""
+    model = mirror_model(project, model)
     m = used_motion(project, slot)
+    if name is not None:
+        name = as_name("motion name", name)
     change = mirror_motion_entries(m, model, checks)
     if to is None:
         return apply_entry_edit(project, slot, change)
-    if to == slot:
+    if as_int("target slot", to) == slot:
         raise EditError(
             f"motion {slot} cannot be mirrored into its own slot as a new motion: leave out "
             "the target slot (--to) to mirror it in place"
@@ -279,9 +305,8 @@ def mirror_motion(
 
 
 def rename_motion(project: Project, slot: int, name: str) -> Project:
-    """Motion ``slot`` renamed."""
-    if not name or not name.strip():
-        raise EditError("a motion needs a name")
+    """Motion ``slot`` renamed (a non-blank name without control characters)."""
+    name = as_name("motion name", name)
     return _put(project, replace(used_motion(project, slot), name=name))
 
 
@@ -327,8 +352,11 @@ def bind_button(
     another motion already has that binding, unless ``force``: then that motion loses it
     (the board starts the first motion bound to a word, so two would leave one dead)."""
     m = used_motion(project, slot)
-    if isinstance(button, bool) or not isinstance(button, int) or not 0 <= button <= 0xFFFF:
+    button = as_int("the button word", button)
+    if not 0 <= button <= 0xFFFF:
         raise EditError(f"the button word is 16 bits (0..65535), not {button!r}")
+    if compare_type not in COMPARE:
+        raise EditError(f"unknown CompareType {compare_type!r} (known: {', '.join(COMPARE)})")
     holders = binding_holders(project, button, compare_type, besides=(slot,))
     if holders and not force:
         other = holders[0]
@@ -347,8 +375,7 @@ def new_motion(
     project: Project, slot: int, name: str, *, button: int = 0, date: str | None = None
 ) -> Project:
     """An empty motion (no poses: HeartToHeart4's closing RETURN only) in free slot ``slot``."""
-    if not name or not name.strip():
-        raise EditError("a motion needs a name")
+    name = as_name("motion name", name)
     target = _free_target(project, slot)
     motion = replace(
         target,
@@ -373,6 +400,7 @@ def new_motion_at_home(
 
 
 def _servo(project: Project, ics: int) -> ServoConfig:
+    ics = as_int("ICS number", ics)
     try:
         return project.servo(ics)
     except KeyError:
@@ -389,13 +417,16 @@ def _put_servo(project: Project, servo: ServoConfig) -> Project:
 
 
 def set_trim(project: Project, ics: int, trim: int) -> Project:
-    """Servo ``ics``'s trim set (|trim| <= :data:`TRIM_LIMIT`)."""
-    if isinstance(trim, bool) or not isinstance(trim, int) or not -TRIM_LIMIT <= trim <= TRIM_LIMIT:
+    """Servo ``ics``'s trim set (|trim| <= :data:`TRIM_LIMIT`; numpy integers too)."""
+    trim = as_int(f"ICS {ics}: trim", trim)
+    if not -TRIM_LIMIT <= trim <= TRIM_LIMIT:
         raise EditError(f"ICS {ics}: trim {trim!r} outside -{TRIM_LIMIT}..{TRIM_LIMIT}")
     return _put_servo(project, replace(_servo(project, ics), trim=trim))
 
 
 def set_home(project: Project, ics: int, position: int, checks: Checks = DEFAULT_CHECKS) -> Project:
-    """Servo ``ics``'s home position set (documented range and joint limits checked)."""
+    """Servo ``ics``'s home position set (an int; documented range and joint limits
+    checked)."""
+    position = as_int(f"ICS {ics}: home position", position)
     checks.check({ics: position}, None, f"home position of ICS {ics}")
     return _put_servo(project, replace(_servo(project, ics), position=position))

@@ -28,9 +28,8 @@ from __future__ import annotations
 
 import os
 from dataclasses import replace
-from pathlib import Path
 
-from rcb4hv.files import write_atomic
+from rcb4hv.files import read_bytes, write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     ExtraElement,
@@ -65,7 +64,7 @@ ROOT = "CanvasData"
 
 def load_motion_xml(path: str | os.PathLike[str]) -> Flowchart:
     """Read a single-motion flowchart file (``.xml``)."""
-    return parse_motion_xml(Path(path).read_bytes())
+    return parse_motion_xml(read_bytes(path))
 
 
 def parse_motion_xml(data: bytes | str) -> Flowchart:

@@ -16,12 +16,16 @@ free slot of a project, with an optional remote-button binding.
 from __future__ import annotations
 
 import datetime
+import math
+import numbers
 import uuid
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
+from rcb4hv.errors import EditError
+from rcb4hv.hth4.argcheck import as_int, as_name, as_positions
 from rcb4hv.hth4.flowchart_model import Flowchart, FlowchartActivity, FlowchartLine, Size
-from rcb4hv.hth4.model import Motion, Point, Project, motion_key
+from rcb4hv.hth4.model import COMPARE, Motion, Point, Project, motion_key
 from rcb4hv.protocol import (
     FRAME_PERIODS_MS,
     POSITION_MAX,
@@ -63,17 +67,20 @@ class Keyframe:
     name: str = ""
 
     def __post_init__(self) -> None:
-        if not self.time >= 0:
-            raise ValueError(f"keyframe time must be >= 0 s, not {self.time!r}")
+        """EditError (a ValueError) for a time that is not a finite number >= 0 s, a position
+        that is not an integer (numpy integers are taken as ints) or out of range."""
+        t = self.time
+        if isinstance(t, bool) or not isinstance(t, numbers.Real) or not math.isfinite(t) or t < 0:
+            raise EditError(f"keyframe time must be a finite number >= 0 s, not {t!r}")
         if not self.positions:
-            raise ValueError("a keyframe needs at least one servo position")
-        for ics, p in self.positions.items():
+            raise EditError("a keyframe needs at least one servo position")
+        positions = as_positions("keyframe", self.positions)
+        for ics, p in positions.items():
             if not 0 <= ics <= 34:
-                raise ValueError(f"ICS {ics} is not a servo slot (0..34)")
-            if isinstance(p, bool) or not isinstance(p, int):
-                raise ValueError(f"ICS {ics}: position must be an int, not {p!r}")
+                raise EditError(f"ICS {ics} is not a servo slot (0..34)")
             if not POSITION_MIN <= p <= POSITION_MAX:
-                raise ValueError(f"ICS {ics}: position {p} outside {POSITION_MIN}..{POSITION_MAX}")
+                raise EditError(f"ICS {ics}: position {p} outside {POSITION_MIN}..{POSITION_MAX}")
+        object.__setattr__(self, "positions", positions)
 
 
 def _speed(time_s: float, period_ms: int, index: int) -> int:
@@ -169,13 +176,17 @@ def motion_from_frames(
     date: str | None = None,
     layout: MotionLayout = HTH4_22,
 ) -> Motion:
-    """A project motion for ``slot`` of ``layout`` holding the stored ``frames`` as given."""
+    """A project motion for ``slot`` of ``layout`` holding the stored ``frames`` as given;
+    EditError (a ValueError) naming a bad slot, button word, name or CompareType."""
+    slot = as_int("motion slot", slot)
     if not 1 <= slot <= layout.motion_count:
-        raise ValueError(f"motion slot must be 1..{layout.motion_count}, not {slot}")
+        raise EditError(f"motion slot must be 1..{layout.motion_count}, not {slot}")
+    button = as_int("the button word", button)
     if not 0 <= button <= 0xFFFF:
-        raise ValueError("the button word is 16 bits")
-    if not name:
-        raise ValueError("a motion needs a name")
+        raise EditError(f"the button word is 16 bits (0..65535), not {button}")
+    name = as_name("motion name", name)
+    if compare_type not in COMPARE:
+        raise EditError(f"unknown CompareType {compare_type!r} (known: {', '.join(COMPARE)})")
     return Motion(
         key=motion_key(slot),
         number=slot - 1,

@@ -11,10 +11,9 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.files import write_atomic
+from rcb4hv.files import read_bytes, write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     XmlLayout,
@@ -64,7 +63,7 @@ def dump_xml_document(doc: XmlDocument) -> bytes:
 
 def load_link(path: str | os.PathLike[str]) -> XmlDocument:
     """Read a ``.h4l`` file as a generic XML document (see the module docstring)."""
-    return parse_link(Path(path).read_bytes())
+    return parse_link(read_bytes(path))
 
 
 def parse_link(data: bytes | str) -> XmlDocument:

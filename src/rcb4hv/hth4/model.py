@@ -67,11 +67,24 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from decimal import Decimal
+from typing import Final
 
+from rcb4hv.errors import NotFoundError
 from rcb4hv.hth4._xml import PROJECT_LAYOUT, ExtraElement, XmlLayout, XmlNode
 from rcb4hv.protocol.frame import split_frames
 from rcb4hv.protocol.memory import ADDR, read_system, read_u16
+from rcb4hv.rom.image import Compare
 from rcb4hv.rom.layout import LAYOUTS
+
+COMPARE: Final[dict[str, Compare]] = {
+    "Equals": "eq",
+    "NotEquals": "ne",
+    "LessThan": "lt",
+    "LessThanOrEqualTo": "le",
+    "GreaterThan": "gt",
+    "GreaterThanOrEqualTo": "ge",
+}
+"""HeartToHeart4's ``CompareType`` names -> comparisons."""
 
 __all__ = [
     "HTH4_22_MOTION_BASE",
@@ -315,11 +328,14 @@ class Project:
         return tuple(m for m in self.motions if not m.is_empty)
 
     def motion(self, slot: int) -> Motion:
-        """The motion in 1-based ``slot``; KeyError if the project has no such slot."""
+        """The motion in 1-based ``slot``; :class:`~rcb4hv.errors.NotFoundError` (also a
+        KeyError) if the project has no such slot."""
         for m in self.motions:
             if m.slot == slot:
                 return m
-        raise KeyError(f"no motion slot {slot}")
+        slots = sorted(m.slot for m in self.motions)
+        have = f"{slots[0]}..{slots[-1]}" if slots else "none"
+        raise NotFoundError(f"the project has no motion slot {slot!r} (its slots: {have})")
 
     def motion_at(self, address: int) -> Motion | None:
         """The motion stored at ROM ``address`` (by its ``Address``), or None."""
@@ -345,11 +361,15 @@ class Project:
         return tuple(out)
 
     def servo(self, ics: int) -> ServoConfig:
-        """The servo configuration of ICS number ``ics``; KeyError if absent."""
+        """The servo configuration of ICS number ``ics``; :class:`~rcb4hv.errors.NotFoundError`
+        (also a KeyError) if absent."""
         for s in self.servos:
             if s.device_number == ics:
                 return s
-        raise KeyError(f"no servo configuration for ICS {ics}")
+        have = ", ".join(str(n) for n in sorted(s.device_number for s in self.servos))
+        raise NotFoundError(
+            f"no servo configuration for ICS {ics!r} (configured: {have or 'none'})"
+        )
 
     @property
     def servos_by_ics(self) -> dict[int, ServoConfig]:

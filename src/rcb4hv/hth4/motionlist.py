@@ -27,10 +27,9 @@ import os
 import re
 from dataclasses import dataclass
 from decimal import ROUND_HALF_UP, Decimal
-from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.files import write_atomic
+from rcb4hv.files import read_bytes, write_atomic
 from rcb4hv.hth4.model import MOTION_SLOT_SIZE, Motion
 from rcb4hv.protocol.memory import Button
 
@@ -142,7 +141,7 @@ _BUTTON_RE = re.compile(r"B:([0-9]+)")
 
 def load_motion_list(path: str | os.PathLike[str]) -> MotionList:
     """Read a ``.csv`` motion list (Shift-JIS)."""
-    return parse_motion_list(Path(path).read_bytes())
+    return parse_motion_list(read_bytes(path))
 
 
 def parse_motion_list(data: bytes | str) -> MotionList:

@@ -26,6 +26,9 @@ from rcb4hv.hth4.blocks.program import Program, put_program
 from rcb4hv.hth4.edit import used_motion
 from rcb4hv.hth4.keyframes import now_text
 from rcb4hv.hth4.model import (
+    COMPARE as COMPARE,
+)
+from rcb4hv.hth4.model import (
     MAX_MOTIONS,
     Motion,
     PriorityMotion,
@@ -38,7 +41,6 @@ from rcb4hv.hth4.model import (
 from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS, SystemRegister
 from rcb4hv.robot.kit.stockhome import with_stock_home
 from rcb4hv.robot.model import RobotModel
-from rcb4hv.rom import Compare
 
 __all__ = [
     "HOME_FRAMES",
@@ -147,17 +149,6 @@ def set_low_power(project: Project, slot: int | None, value: int | None = None) 
             "the battery with a priority check, Battery < 224)"
         )
     return replace(project, low_power_motion_address=address, low_power_value=threshold)
-
-
-COMPARE: Final[dict[str, Compare]] = {
-    "Equals": "eq",
-    "NotEquals": "ne",
-    "LessThan": "lt",
-    "LessThanOrEqualTo": "le",
-    "GreaterThan": "gt",
-    "GreaterThanOrEqualTo": "ge",
-}
-"""HeartToHeart4's ``CompareType`` names -> comparisons."""
 
 
 def priority_port_source(port: str) -> tuple[int, int]:

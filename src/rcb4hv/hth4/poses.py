@@ -29,6 +29,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from rcb4hv.errors import EditError, JointLimitError, ProtocolError
+from rcb4hv.hth4.argcheck import as_int, as_model, as_positions
 from rcb4hv.hth4.model import Motion
 from rcb4hv.hth4.motioncode import branch_target, split_frames
 from rcb4hv.ics.codec import WIRE_MAX
@@ -157,6 +158,9 @@ class Checks:
     model: RobotModel | None = None
     force: bool = False
 
+    def __post_init__(self) -> None:
+        as_model(self.model, "Checks.model")
+
     def _angles(self, positions: Mapping[int, int]) -> list[tuple[int, int, str, float]]:
         """(ics, value, joint, angle) of every mapped servo at a position (not hold/free)."""
         if self.model is None:
@@ -248,6 +252,7 @@ def _identity(motion: Motion) -> list[int | None]:
 
 
 def _pose(motion: Motion, index: int) -> Pose:
+    index = as_int("pose index", index)
     poses = motion_poses(motion)
     if not 0 <= index < len(poses):
         raise EditError(f"motion {motion.slot} has {len(poses)} poses; no pose {index + 1}")
@@ -263,6 +268,9 @@ def set_pose_entries(
 ) -> EntryEdit:
     """Pose ``index`` with the servos in ``positions`` changed (servos it did not name are
     added) and/or its frame count set to ``speed``."""
+    index = as_int("pose index", index)
+    positions = as_positions(f"motion {motion.slot} pose {index + 1}", positions)
+    speed = None if speed is None else as_int("frame count", speed)
     pose = _pose(motion, index)
     values = pose.values
     values.update(positions or {})
@@ -283,6 +291,9 @@ def insert_pose_entries(
 ) -> EntryEdit:
     """A new pose inserted as pose ``at`` (0 = first; the number of poses = after the last,
     before the block that follows it)."""
+    at = as_int("pose index", at)
+    positions = as_positions(f"motion {motion.slot} new pose {at + 1}", positions)
+    speed = as_int("frame count", speed)
     poses = motion_poses(motion)
     if not 0 <= at <= len(poses):
         raise EditError(f"motion {motion.slot}: insert at 1..{len(poses) + 1}, not {at + 1}")
@@ -338,6 +349,7 @@ def _chain(motion: Motion, index: int) -> list[Pose]:
 def move_pose_entries(motion: Motion, index: int, to: int) -> EntryEdit:
     """Pose ``index`` moved to be pose ``to``, inside its linear chain (swapping places with
     the poses between); EditError if ``to`` lies in another chain."""
+    index, to = as_int("pose index", index), as_int("target pose index", to)
     chain = _chain(motion, index)
     numbers = [p.index for p in chain]
     if to not in numbers:

@@ -10,10 +10,9 @@ integers lose leading zeros / ``+`` signs, comments are dropped.
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.files import write_atomic
+from rcb4hv.files import read_bytes, write_atomic
 from rcb4hv.hth4._xml import (
     PROJECT_LAYOUT,
     ExtraElement,
@@ -58,7 +57,7 @@ def read_project_file(path: str | os.PathLike[str]) -> tuple[Project, bytes]:
     """The project in file ``path`` and the bytes it was read from. A malformed file raises
     :class:`~rcb4hv.errors.Hth4FormatError` starting with the file's name (``project diff A
     B``: which one), and a 256 KB ROM image says that it is one."""
-    data = Path(path).read_bytes()
+    data = read_bytes(path)
     return parse_named_project(data, str(path)), data
 
 
@@ -81,6 +80,8 @@ def parse_named_project(data: bytes, name: str) -> Project:
 
 def parse_project(data: bytes | str) -> Project:
     """Parse the text of a ``.h4p`` file (bytes as stored, or an already decoded str)."""
+    if not isinstance(data, (bytes, bytearray, str)):
+        raise TypeError(f"a project's text is bytes or str, not {type(data).__name__}")
     root, layout = parse_document(data, ROOT, PROJECT_LAYOUT)
     r = root_reader(root)
     extras: list[ExtraElement] = []
@@ -235,6 +236,8 @@ def _read_raw_list(r: XmlReader, tag: str) -> tuple[XmlNode, ...] | None:
 
 def dump_project(project: Project) -> bytes:
     """The ``.h4p`` file contents for ``project`` (UTF-8, XmlSerializer layout)."""
+    if not isinstance(project, Project):
+        raise TypeError(f"project must be a Project, not {type(project).__name__}")
     b = Builder(ROOT, "")
     b.bytes_leaf("Config", project.config)
     b.bytes_leaf("AdcReference", project.adc_reference)
@@ -264,7 +267,11 @@ def dump_project(project: Project) -> bytes:
 
 
 def save_project(project: Project, path: str | os.PathLike[str]) -> None:
-    """Write ``project`` to ``path`` as a ``.h4p`` file."""
+    """Write ``project`` to ``path`` as a ``.h4p`` file, all at once, keeping the file's mode
+    and owner (:func:`rcb4hv.files.write_atomic`: a read-only file, a directory or a missing
+    directory raises :class:`~rcb4hv.errors.FileAccessError` naming ``path``, nothing
+    written; a file with several hard links is replaced under this name only, with a
+    warning)."""
     write_atomic(path, dump_project(project))
 
 

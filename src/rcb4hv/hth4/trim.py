@@ -11,10 +11,9 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 from rcb4hv.errors import Hth4FormatError
-from rcb4hv.files import write_atomic
+from rcb4hv.files import read_bytes, write_atomic
 from rcb4hv.hth4._xml import (
     XSI_FIRST_LAYOUT,
     ExtraElement,
@@ -61,7 +60,7 @@ class TrimFile:
 
 def load_trim(path: str | os.PathLike[str]) -> TrimFile:
     """Read a ``.h4t`` file."""
-    return parse_trim(Path(path).read_bytes())
+    return parse_trim(read_bytes(path))
 
 
 def parse_trim(data: bytes | str) -> TrimFile:

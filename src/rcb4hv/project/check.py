@@ -159,6 +159,13 @@ class _Map:
         return "warning", "target-not-motion-start", f"lands inside slot {m.slot}, not at its start"
 
 
+def _call_text(address: int) -> str:
+    """The CALL a setting makes, as text; an address past 24 bits cannot be one."""
+    if 0 <= address <= 0xFFFFFF:
+        return format_command(Call(address, ALWAYS))
+    return f"CALL {address} (does not fit a 24-bit address)"
+
+
 def _name(m: Motion | None) -> str:
     return (m.name or "") if m is not None else ""
 
@@ -323,7 +330,7 @@ def check_project(project: Project, model: RobotModel | None = None) -> list[Fin
                 slot=None if m is None else m.slot,
                 name=_name(m),
                 address=address,
-                instruction=format_command(Call(address, ALWAYS)),
+                instruction=_call_text(address),
             )
 
     if project.startup_motion_address >= 0:

@@ -40,24 +40,19 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Final
 
+from rcb4hv.errors import Hth4FormatError, LayoutError, ProtocolError
 from rcb4hv.hth4 import Project
 from rcb4hv.hth4 import ServoConfig as Hth4Servo
 from rcb4hv.hth4.motioncode import split_frames
 from rcb4hv.hth4.newproject import COMPARE, priority_port_source
 from rcb4hv.project.options import DEFAULT_OPTIONS, BuildOptions
-from rcb4hv.protocol import Button
 from rcb4hv.protocol.memory import (
-    AD_CHANNELS,
     ADDR,
-    PA_VALUES,
     Kri3Block,
     button_operand,
     mix_method,
-    mix_rate,
-    u16_bytes,
 )
 from rcb4hv.rom import (
     ImageDescription,
@@ -65,13 +60,11 @@ from rcb4hv.rom import (
     ImagePriorityMotion,
     ImageServo,
     Kri3Config,
-    UndecodedSlot,
     VectorPackage,
     layout,
-    undecoded_slots,
 )
 from rcb4hv.rom.layout import HTH4_22, MotionLayout
-from rcb4hv.rom.older import build_image_for, parse_image_for
+from rcb4hv.rom.older import build_image_for
 
 __all__ = [
     "COMPARE",
@@ -87,7 +80,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-_COMPARE_NAME: Final = {v: k for k, v in COMPARE.items()}
 
 AD0: Final = ADDR.ad(0)
 PA1: Final = ADDR.PA[0]
@@ -105,7 +97,10 @@ def motion_image_frames(entry_frames: Sequence[bytes]) -> list[bytes]:
     """
     out: list[bytes] = []
     for n, entry in enumerate(entry_frames):
-        frames, tail = split_frames(bytes(entry))
+        try:
+            frames, tail = split_frames(bytes(entry))
+        except ProtocolError as exc:  # a bad checksum: the board refuses the frame
+            raise ValueError(f"frame {n + 1} ({bytes(entry)[:8].hex(' ')}...): {exc}") from None
         if not frames or tail.strip(b"\xff"):
             raise ValueError(
                 f"frame {n + 1} ({bytes(entry)[:8].hex(' ')}...) is not a command frame"
@@ -114,26 +109,62 @@ def motion_image_frames(entry_frames: Sequence[bytes]) -> list[bytes]:
     return out
 
 
-def _rate_to_method(rate: int, what: str) -> int:
-    if not -127 <= rate <= 127:
-        raise ValueError(f"{what} {rate} is outside -127..127")
+def _servo_where(s: Hth4Servo) -> str:
+    """The element path of a servo entry, for errors: ``ServoConfigParams/S02 (ICS 2)``."""
+    return f"ServoConfigParams/{s.key} (ICS {s.device_number})"
+
+
+def _in_range(where: str, field: str, value: int, lo: int, hi: int, note: str = "") -> None:
+    if not lo <= value <= hi:
+        raise Hth4FormatError(f"{where}/{field}", f"{value} outside {lo}..{hi}{note}")
+
+
+def _rate_to_method(rate: int, where: str, field: str) -> int:
+    _in_range(where, field, rate, -127, 127)
     return mix_method(rate)
 
 
+def _mix_source(where: str, field: str, address: int) -> int:
+    """A mixing source RAM address (65535 = none; -1, the same 16 bits, too)."""
+    _in_range(where, field, address, -1, 0xFFFF, " (a RAM address; 65535 or -1: no mixing)")
+    return address & 0xFFFF
+
+
 def _servo(s: Hth4Servo) -> ImageServo:
-    where = f"servo {s.key!r} (ICS {s.device_number})"
-    if not 0 <= s.device_number <= 34:
-        raise ValueError(f"{where}: ICS number outside 0..34")
+    """The image servo block of one used servo entry; Hth4FormatError naming the servo and
+    the field for a value its block cannot hold (nothing is cut to fit)."""
+    where = _servo_where(s)
+    _in_range(where, "DeviceNumber", s.device_number, 0, 34, " (ICS 35 is the KRI-3 receiver)")
+    _in_range(where, "ID", s.id, 0, 0xFF)
+    _in_range(where, "Trim", s.trim, -0x8000, 0x7FFF)
+    _in_range(where, "Position", s.position, 0, 0xFFFF)
     return ImageServo(
         ics=s.device_number,
         servo_id=s.id,
         trim=s.trim,
         home=s.position,
-        mix1_source=s.mixing1_address & 0xFFFF,
-        mix1_method=_rate_to_method(s.mixing1_rate, f"{where}: mixing 1 rate"),
-        mix2_source=s.mixing2_address & 0xFFFF,
-        mix2_method=_rate_to_method(s.mixing2_rate, f"{where}: mixing 2 rate"),
+        mix1_source=_mix_source(where, "Mixing1Address", s.mixing1_address),
+        mix1_method=_rate_to_method(s.mixing1_rate, where, "Mixing1Rate"),
+        mix2_source=_mix_source(where, "Mixing2Address", s.mixing2_address),
+        mix2_method=_rate_to_method(s.mixing2_rate, where, "Mixing2Rate"),
     )
+
+
+def _servos(project: Project) -> tuple[ImageServo, ...]:
+    """The image servo blocks of the used servo entries; an ICS number two entries share is
+    refused, naming both."""
+    seen: dict[int, Hth4Servo] = {}
+    for s in project.servos:
+        if not s.in_use:
+            continue
+        first = seen.setdefault(s.device_number, s)
+        if first is not s:
+            raise Hth4FormatError(
+                f"{_servo_where(s)}/DeviceNumber",
+                f"ICS {s.device_number} is also servo {first.key}'s: each ICS number is "
+                "configured once",
+            )
+    return tuple(_servo(s) for s in project.servos if s.in_use)
 
 
 def _button_raw(buttons: int) -> int:
@@ -141,13 +172,18 @@ def _button_raw(buttons: int) -> int:
     return button_operand(buttons)
 
 
-def _vector_package(buttons: int, compare: str, target: int) -> VectorPackage:
+def _vector_package(
+    buttons: int, compare: str, target: int, where: str = "ButtonData"
+) -> VectorPackage:
     try:
         cmp = COMPARE[compare]
     except KeyError:
-        raise ValueError(f"unknown CompareType {compare!r}") from None
+        known = ", ".join(COMPARE)
+        raise Hth4FormatError(
+            f"{where}/CompareType", f"unknown CompareType {compare!r} (known: {known})"
+        ) from None
     if not 0 < buttons <= 0xFFFF:
-        raise ValueError(f"button word {buttons:#x} out of range")
+        raise Hth4FormatError(f"{where}/ButtonData", f"button word {buttons} outside 1..65535")
     raw = _button_raw(buttons)
     dst = ADDR.BUTTONS
     if cmp == "le":  # dst <= v  <=>  dst < v + 1
@@ -168,40 +204,13 @@ def _vector_package(buttons: int, compare: str, target: int) -> VectorPackage:
     return VectorPackage(dst, raw, target, z=False, compare_c=True, c=True)
 
 
-def _package_compare(p: VectorPackage) -> tuple[str, int] | None:
-    """(CompareType, button word) of a package made by :func:`_vector_package`, else None."""
-    if p.destination != ADDR.BUTTONS or not p.literal or not p.word:
-        return None
-    value = button_operand(p.source)  # swapping the bytes back gives the button word
-    key = (p.compare_z, p.z, p.compare_c, p.c)
-    names = {
-        (True, True, False, False): "Equals",
-        (True, False, False, False): "NotEquals",
-        (False, False, True, True): "GreaterThanOrEqualTo",
-        (False, False, True, False): "LessThan",
-        (True, False, True, True): "GreaterThan",
-    }
-    name = names.get(key)
-    return None if name is None else (name, value)
-
-
-def _port_name(source: int, size: int) -> str:
-    if size == 2 and source == AD0:
-        return "Battery"
-    if size == 2 and AD0 < source <= _AD_LAST and (source - AD0) % 2 == 0:
-        return f"AD{(source - AD0) // 2}"
-    if size == 1 and PA1 <= source < PA1 + PA_VALUES.size:
-        return f"PA{source - PA1 + 1}"
-    return f"RAM {source:04X}h"
-
-
 def _kri3_block(project: Project) -> bytes:
     k = project.kri3
     block = Kri3Block(k.code, k.id, 0, k.button_value, k.pa1, k.pa2, k.pa3, k.pa4, k.checksum)
     try:
         return block.to_bytes()
     except ValueError as exc:
-        raise ValueError(f"KRI-3 settings hold a value out of range: {exc}") from None
+        raise Hth4FormatError("Kri3", f"a value out of range: {exc}") from None
 
 
 def _title(text: str | None) -> str:
@@ -209,7 +218,9 @@ def _title(text: str | None) -> str:
     while len(t.encode("cp932", errors="replace")) > layout.TITLE_SIZE:
         t = t[:-1]
     if t != (text or "").replace("\x00", ""):
-        log.warning("project title %r cut to %r (32 bytes in ROM)", text, t)
+        log.warning(
+            "project title of %d characters cut to %r (32 bytes in ROM)", len(text or ""), t
+        )
     return t.encode("cp932", errors="replace").decode("cp932")
 
 
@@ -224,22 +235,35 @@ def project_description(
 ) -> ImageDescription:
     """The :class:`~rcb4hv.rom.ImageDescription` of ``project`` (see the module docstring).
 
-    ValueError when the project cannot be laid out in the 2.2 image: a motion stored for
-    another ROM address (another HeartToHeart4 version), a motion larger than its slot,
-    an unknown CompareType or priority port, more than 32 button bindings.
+    A project that cannot be laid out raises :class:`~rcb4hv.errors.LayoutError` (a motion
+    stored for another ROM address, i.e. another HeartToHeart4 version, or larger than its
+    slot); a value the image cannot hold raises :class:`~rcb4hv.errors.Hth4FormatError`
+    naming the element (servo, motion, setting) and the range: an unknown CompareType or
+    priority port, more than 32 button bindings, a trim, home, ID or mixing address outside
+    its field, an ICS number configured twice. Nothing is cut to fit. Both are ValueErrors.
     """
-    servos = tuple(_servo(s) for s in project.servos if s.in_use)
+    servos = _servos(project)
+    try:
+        system_register = project.system_register
+    except ValueError as exc:
+        raise Hth4FormatError("Config", str(exc)) from None
     if len(project.adc_reference) != 22:
-        raise ValueError(f"AdcReference holds {len(project.adc_reference)} bytes, expected 22")
+        raise Hth4FormatError(
+            "AdcReference", f"holds {len(project.adc_reference)} bytes, expected 22"
+        )
     motions: list[ImageMotion] = []
     packages: list[VectorPackage] = []
     for m in sorted(project.used_motions, key=lambda m: m.slot):
+        where = f"MotionDataCollection/{m.key} ({m.name})"
         count = motion_layout.motion_count
         if not 1 <= m.slot <= count:
-            raise ValueError(f"motion {m.key}: slot {m.slot} outside 1..{count}")
+            raise LayoutError(
+                f"{where}/Number: slot {m.slot} outside the HeartToHeart4 "
+                f"{motion_layout.version} layout's 1..{count}"
+            )
         address = motion_layout.address(m.slot)
         if m.address != address:
-            raise ValueError(
+            raise LayoutError(
                 f"motion {m.key} ({m.name}) is stored for ROM {m.address:05X}h, but the "
                 f"HeartToHeart4 {motion_layout.version} layout puts slot {m.slot} at "
                 f"{address:05X}h"
@@ -247,42 +271,60 @@ def project_description(
         try:
             motions.append(ImageMotion(m.slot, motion_image_frames(m.frames)))
         except ValueError as exc:
-            raise ValueError(f"motion {m.key} ({m.name}): {exc}") from None
+            raise Hth4FormatError(f"{where}/MotionData", str(exc)) from None
         if len(m.rom_bytes()) > layout.MOTION_SIZE:
-            raise ValueError(f"motion {m.key} ({m.name}) does not fit its 2048-byte slot")
+            raise LayoutError(f"motion {m.key} ({m.name}) does not fit its 2048-byte slot")
         if m.button_data:
-            packages.append(_vector_package(m.button_data, m.compare_type, address))
+            packages.append(_vector_package(m.button_data, m.compare_type, address, where))
     if len(packages) > layout.VECTOR_PACKAGE_COUNT:
-        raise ValueError(f"{len(packages)} button bindings; the board holds at most 32")
+        raise Hth4FormatError(
+            "MotionDataCollection", f"{len(packages)} button bindings; the board holds at most 32"
+        )
     priority: list[ImagePriorityMotion | None] = [None] * layout.PRIORITY_COUNT
     for index, pm in project.active_priority_motions:
+        where = f"PriorityMotionCollection/{index}"
         if index >= layout.PRIORITY_COUNT:
-            raise ValueError(f"priority check {index} outside 0..12")
-        source, size = priority_port_source(pm.port)
+            raise Hth4FormatError(where, f"priority check {index} outside 0..12")
+        try:
+            source, size = priority_port_source(pm.port)
+        except ValueError as exc:
+            raise Hth4FormatError(f"{where}/Port", str(exc)) from None
         try:
             compare = COMPARE[pm.compare_type]
         except KeyError:
-            raise ValueError(
-                f"priority check {index}: unknown CompareType {pm.compare_type!r}"
+            raise Hth4FormatError(
+                f"{where}/CompareType",
+                f"unknown CompareType {pm.compare_type!r} (known: {', '.join(COMPARE)})",
             ) from None
         target = pm.address
         if target < 0:  # a check configured with no motion
             if options.priority_none == "skip":
                 continue
             target = layout.STARTUP_STUB
-        priority[index] = ImagePriorityMotion(source, compare, pm.value, target, size)
+        _in_range(where, "Address", target, -1, 0xFFFFFF)
+        _in_range(where, "Value", pm.value, 0, 0xFFFF if size == 2 else 0xFF)
+        priority[index] = _priority(where, source, compare, pm.value, target, size)
     if project.low_power_motion_address >= 0:
+        _in_range("Rcb4", "LowPowerMotionAddress", project.low_power_motion_address, -1, 0xFFFFFF)
+        _in_range("Rcb4", "LowPowerValue", project.low_power_value, 0, 0xFFFF)
         free = [i for i, p in enumerate(priority) if p is None]
         if not free:
-            raise ValueError("no free priority check for the low-power motion")
-        priority[free[0]] = ImagePriorityMotion(
-            AD0, "le", project.low_power_value, project.low_power_motion_address
+            raise Hth4FormatError(
+                "LowPowerMotionAddress", "no free priority check for the low-power motion"
+            )
+        priority[free[0]] = _priority(
+            "Rcb4/LowPowerValue",
+            AD0,
+            "le",
+            project.low_power_value,
+            project.low_power_motion_address,
         )
+    _in_range("Rcb4", "StartupMotionAddress", project.startup_motion_address, -1, 0xFFFFFF)
     startup = project.startup_motion_address
     if options.empty_startup == "stub" and all(m.address != startup for m in motions):
         startup = -1
-    return ImageDescription(
-        system_register=project.system_register,
+    return _description(
+        system_register=system_register,
         ad_references=project.adc_reference_words,
         servos=servos,
         kri3=Kri3Config(_kri3_block(project)),
@@ -292,6 +334,24 @@ def project_description(
         priority_motions=tuple(priority),
         motions=tuple(motions),
     )
+
+
+def _priority(
+    where: str, source: int, compare: str, value: int, target: int, size: int = 2
+) -> ImagePriorityMotion:
+    """One main-loop check; a value it cannot compare is an Hth4FormatError at ``where``."""
+    try:
+        return ImagePriorityMotion(source, compare, value, target, size)  # type: ignore[arg-type]
+    except ValueError as exc:
+        raise Hth4FormatError(where, str(exc)) from None
+
+
+def _description(**fields: object) -> ImageDescription:
+    """The ImageDescription of ``fields``: a check it still refuses is an Hth4FormatError."""
+    try:
+        return ImageDescription(**fields)  # type: ignore[arg-type]
+    except ValueError as exc:
+        raise Hth4FormatError("Rcb4", f"the ROM image cannot hold it: {exc}") from None
 
 
 def build_project_image(
@@ -307,7 +367,12 @@ def build_project_image(
     included) over the builder's output, which holds the same frames.
     """
     desc = project_description(project, motion_layout, options=options)
-    image = bytearray(build_image_for(desc, motion_layout))
+    try:
+        image = bytearray(build_image_for(desc, motion_layout))
+    except LayoutError:
+        raise
+    except ValueError as exc:
+        raise Hth4FormatError("Rcb4", f"the ROM image cannot hold it: {exc}") from None
     for m in project.used_motions:
         data = m.rom_bytes()
         a = m.address
@@ -315,143 +380,10 @@ def build_project_image(
     return bytes(image)
 
 
-# ----------------------------------------------------------------------------- image -> data
-
-
-@dataclass(frozen=True)
-class ButtonBinding:
-    """A vector package: CALL/JUMP ``target`` when the button word compares to ``buttons``."""
-
-    buttons: int
-    compare_type: str
-    target: int
-    jump: bool = False
-
-    @property
-    def button_names(self) -> str:
-        """``UP|S1`` style names of the button word (``?`` for unknown bits)."""
-        return button_names(self.buttons)
-
-
-def button_names(word: int) -> str:
-    """``UP|S1`` style names of a remote's button word (``?`` for unknown bits)."""
-    b = Button(word & 0x1F7F)
-    names = [x.name for x in Button if x and x in b and x.name]
-    if word & ~0x1F7F:
-        names.append(f"?{word & ~0x1F7F:#x}")
-    return "|".join(names) or "NONE"
-
-
-@dataclass(frozen=True)
-class MotionSlot:
-    """One motion slot of an image: its frames (cut by SIZE byte) and what starts it."""
-
-    slot: int
-    address: int
-    frames: tuple[bytes, ...]
-    bindings: tuple[ButtonBinding, ...] = ()
-    startup: bool = False
-    priority: tuple[int, ...] = ()
-
-    @property
-    def size(self) -> int:
-        return sum(map(len, self.frames))
-
-    def rom_bytes(self) -> bytes:
-        return b"".join(self.frames)
-
-
-@dataclass(frozen=True)
-class ImageContents:
-    """What a HeartToHeart4 2.2 image holds, in the project's terms."""
-
-    description: ImageDescription
-    motions: tuple[MotionSlot, ...]
-    bindings: tuple[ButtonBinding, ...]
-    other_packages: tuple[VectorPackage, ...] = ()
-    servos: dict[int, dict[str, int]] = field(default_factory=dict)
-    priority: dict[int, dict[str, object]] = field(default_factory=dict)
-    undecoded: tuple[UndecodedSlot, ...] = ()
-    """The slots holding bytes that are neither erased nor frames (a slot with none before
-    them is in no :attr:`motions`)."""
-
-    @property
-    def system_register(self) -> int:
-        return self.description.system_register
-
-    @property
-    def config(self) -> bytes:
-        """The system register as the project's ``Config`` bytes."""
-        return u16_bytes(self.system_register)
-
-    @property
-    def adc_reference(self) -> bytes:
-        return AD_CHANNELS.pack(*self.description.ad_references)
-
-    @property
-    def title(self) -> str:
-        return self.description.title
-
-    @property
-    def startup_motion_address(self) -> int:
-        s = self.description.startup_motion
-        return -1 if s is None else s
-
-    def motion(self, slot: int) -> MotionSlot:
-        for m in self.motions:
-            if m.slot == slot:
-                return m
-        raise KeyError(f"no motion in slot {slot}")
-
-
-def read_image(rom: bytes | bytearray, motion_layout: MotionLayout = HTH4_22) -> ImageContents:
-    """The motions and settings of a HeartToHeart4 2.2 image (via :func:`rom.parse_image`).
-
-    :class:`~rcb4hv.errors.ProtocolError` if it is not such an image; ValueError for a wrong
-    size.
-    """
-    desc = parse_image_for(rom, motion_layout)
-    bindings: list[ButtonBinding] = []
-    others: list[VectorPackage] = []
-    for p in desc.vector_packages:
-        cmp = _package_compare(p)
-        if cmp is None:
-            others.append(p)
-        else:
-            bindings.append(ButtonBinding(cmp[1], cmp[0], p.target, p.jump))
-    priority: dict[int, dict[str, object]] = {}
-    for i, pm in enumerate(desc.priority_motions):
-        if pm is not None:
-            priority[i] = {
-                "port": _port_name(pm.source, pm.size),
-                "compare_type": _COMPARE_NAME[pm.compare],
-                "value": pm.value,
-                "address": pm.target,
-            }
-    slots: list[MotionSlot] = []
-    for m in desc.motions:
-        a = motion_layout.address(m.slot)
-        slots.append(
-            MotionSlot(
-                slot=m.slot,
-                address=a,
-                frames=m.frames,
-                bindings=tuple(b for b in bindings if b.target == a),
-                startup=desc.startup_motion == a,
-                priority=tuple(i for i, p in priority.items() if p["address"] == a),
-            )
-        )
-    servos = {
-        s.ics: {
-            "id": s.servo_id or 0,
-            "trim": s.trim,
-            "home": s.home,
-            "mixing1_address": s.mix1_source,
-            "mixing1_rate": mix_rate(s.mix1_method),
-            "mixing2_address": s.mix2_source,
-            "mixing2_rate": mix_rate(s.mix2_method),
-        }
-        for s in desc.servos
-    }
-    bad = undecoded_slots(rom, motion_layout)
-    return ImageContents(desc, tuple(slots), tuple(bindings), tuple(others), servos, priority, bad)
+from rcb4hv.project.imageread import (  # noqa: E402 - the reading half, re-exported here
+    ButtonBinding,
+    ImageContents,
+    MotionSlot,
+    read_image,
+)
+from rcb4hv.project.imageread import button_names as button_names  # noqa: E402

@@ -149,7 +149,9 @@ def effectors(model: RobotModel) -> dict[str, Literal["hand", "foot"]]:
 
 def effector_point(model: RobotModel, link: str) -> Vec3:
     """The point of ``link`` (its frame) a handle grabs: a foot's origin (the ankle, above
-    the sole's centre), a hand's tip (the far face of its shape farthest from the elbow)."""
+    the sole's centre), a hand's tip (the far face of its shape farthest from the elbow).
+    RobotModelError naming the model's links if it has no ``link``."""
+    require_link(model, link)
     shapes = model.link(link).geoms
     if effectors(model).get(link) != "hand" or not shapes:
         return (0.0, 0.0, 0.0)
@@ -366,6 +368,17 @@ def _as_target(target: Vec3 | Transform, current: Transform) -> Transform:
     )
 
 
+_ORIENTS: tuple[str, ...] = ("auto", "full", "normal", "none")
+
+
+def _check_solve_args(orient: object, restarts: object, max_iter: object) -> None:
+    if orient not in _ORIENTS:
+        raise RobotModelError(f"orient must be one of {', '.join(_ORIENTS)}, not {orient!r}")
+    for name, value, low in (("restarts", restarts, 0), ("max_iter", max_iter, 1)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise RobotModelError(f"{name} must be an int >= {low}, not {value!r}")
+
+
 def solve(
     model: RobotModel,
     link: str,
@@ -387,7 +400,11 @@ def solve(
     (``orient``, see the module docstring). When the seed does not reach, up to ``restarts``
     more seeds are tried (the middle of the limits, then points of a Halton sequence spread
     evenly over the limb's limits: deterministic); the best result is returned.
+
+    A ``restarts`` below 0, a ``max_iter`` below 1 or an unknown ``orient`` raises
+    :class:`~rcb4hv.errors.RobotModelError` (a ValueError) naming the argument.
     """
+    _check_solve_args(orient, restarts, max_iter)
     seed = {j.name: 0.0 for j in model.joints}
     seed.update(model.home if angles is None else angles)
     joints = limb(model, link)

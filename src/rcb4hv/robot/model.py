@@ -39,7 +39,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
-from rcb4hv.errors import ArgumentError, RobotModelError
+from rcb4hv.errors import ArgumentError, RobotLookupError, RobotModelError
 from rcb4hv.protocol.memory import CENTER, COUNTS_PER_DEGREE
 
 __all__ = [
@@ -233,23 +233,30 @@ class RobotModel:
 
     # ------------------------------------------------------------------ look-ups
 
+    def _missing(self, what: str, name: object, have: Iterable[object]) -> RobotLookupError:
+        listed = ", ".join(str(h) for h in have)
+        return RobotLookupError(f"{self.name}: no {what} {name!r} (it has: {listed or 'none'})")
+
     def link(self, name: str) -> Link:
+        """The link called ``name``; RobotLookupError (also a KeyError) listing the links."""
         for link in self.links:
             if link.name == name:
                 return link
-        raise KeyError(name)
+        raise self._missing("link", name, (lk.name for lk in self.links))
 
     def joint(self, name: str) -> Joint:
+        """The joint called ``name``; RobotLookupError (also a KeyError) listing the joints."""
         for j in self.joints:
             if j.name == name:
                 return j
-        raise KeyError(name)
+        raise self._missing("joint", name, (j.name for j in self.joints))
 
     def servo(self, index: int) -> ServoJoint:
+        """The servo at ``index``; RobotLookupError (also a KeyError) listing the indices."""
         for s in self.servos:
             if s.index == index:
                 return s
-        raise KeyError(index)
+        raise self._missing("servo at index", index, self.indices)
 
     def servo_for_joint(self, joint: str) -> ServoJoint | None:
         for s in self.servos:

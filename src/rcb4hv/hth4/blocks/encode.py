@@ -63,11 +63,18 @@ def _wrap(where: str, make: Callable[[], Command]) -> bytes:
         raise EditError(f"{where}: {exc}") from None
 
 
+def _numbered(prefix: str) -> tuple[int, int]:
+    """The numbers ``prefix`` names in RAM (COUNTER0-COUNTER10: (0, 10))."""
+    known = [n for n in range(100) if named_ram(f"{prefix}{n}") is not None]
+    return (min(known), max(known)) if known else (0, -1)
+
+
 def _numbered_ram(f: Fields, name: str, prefix: str) -> Ram:
-    n = f.integer(name, 0, 99)
+    lo, hi = _numbered(prefix)
+    n = f.integer(name, lo, hi)
     address = named_ram(f"{prefix}{n}")
     if address is None:
-        raise EditError(f"{f.path(name)}: there is no {prefix}{n}")
+        raise EditError(f"{f.path(name)}: there is no {prefix}{n} ({prefix}{lo}-{prefix}{hi})")
     return Ram(address)
 
 

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Final
 
 from rcb4hv.errors import EditError
+from rcb4hv.files import read_text
 from rcb4hv.hth4.blocks.fields import Fields, Json
 from rcb4hv.hth4.blocks.kinds import Block
 from rcb4hv.hth4.blocks.program import Program
@@ -57,10 +58,11 @@ def _opt_str(f: Fields, name: str) -> str | None:
     return None if f.obj.get(name) is None else f.text(name)
 
 
-def program_from_json(obj: Json, where: str = "program") -> Program:
-    """The program of a JSON object (EditError naming the field for a bad structure)."""
+def program_from_json(obj: Json, where: str = "") -> Program:
+    """The program of a JSON object (EditError naming the field for a bad structure: its
+    path after ``where``, e.g. the file's name: ``turn.json.blocks[1].frames``)."""
     if not isinstance(obj, dict):
-        raise EditError(f"{where}: a motion program is a JSON object")
+        raise EditError(f"{where or 'program'}: a motion program is a JSON object")
     f = Fields(obj, where)
     f.check_known(_KEYS)
     if obj.get("format", FORMAT) != FORMAT:
@@ -72,7 +74,7 @@ def program_from_json(obj: Json, where: str = "program") -> Program:
         raise EditError(f"{f.path('blocks')}: expected a list of blocks")
     slot = obj.get("slot")
     return Program(
-        blocks=tuple(Block.from_json(b, f"blocks[{n}]") for n, b in enumerate(blocks)),
+        blocks=tuple(Block.from_json(b, f.path(f"blocks[{n}]")) for n, b in enumerate(blocks)),
         name=_opt_str(f, "name"),
         date=_opt_str(f, "date"),
         button=f.integer("button", 0, 0xFFFF, 0),
@@ -95,9 +97,10 @@ def dump_program(program: Program) -> str:
 
 
 def load_program(path: str | os.PathLike[str]) -> Program:
-    """Read a program file (EditError for text that is not JSON or not a program)."""
+    """Read a program file (EditError for text that is not JSON or not a program;
+    :class:`~rcb4hv.errors.FileAccessError` for a file that cannot be read or is not UTF-8)."""
     try:
-        obj = json.loads(Path(path).read_text(encoding="utf-8"))
+        obj = json.loads(read_text(path))
     except json.JSONDecodeError as exc:
         raise EditError(f"{path}: not JSON: {exc}") from None
     return program_from_json(obj, str(Path(path).name))

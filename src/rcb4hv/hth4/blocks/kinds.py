@@ -103,7 +103,7 @@ class Block:
         if label is not None and (not isinstance(label, str) or not label):
             raise EditError(f"{where}.label: a label is a non-empty string, not {label!r}")
         rest = {k: v for k, v in obj.items() if k not in ("kind", "label")}
-        Fields(rest, where).check_known(FIELDS[str(kind)])
+        Fields(rest, where).check_known(("kind", "label", *FIELDS[str(kind)]))
         return cls(str(kind), rest, label)
 
 
