@@ -425,3 +425,31 @@ def test_an_exported_wheeled_kit_reads_back(code: str, tmp_path: Path) -> None:
     }
     wheels = {j.name for j in kit.joints if j.kind == "wheel"}
     assert wheels and wheels == {j.name for j in back.joints if j.kind == "wheel"}
+
+
+@pytest.mark.parametrize("code", ["kxr:L4T", "kxr:L4N", "kxr:L4R", "kxr:L4D"])
+def test_the_head_sits_on_the_body(code: str) -> None:
+    """The neck joint is kxreus's, 28.5 mm above the model's body box: the head floated over
+    the body in the 3D view until the body carried its neck servo's case up to the joint."""
+    from rcb4hv.robot.builtin import load_robot
+    from rcb4hv.robot.kinematics import forward
+
+    model = load_robot(code)
+    frames = forward(model, {j.name: 0.0 for j in model.joints})
+
+    def boxes(link: str) -> list[tuple[list[float], list[float]]]:
+        out = []
+        for g in next(k for k in model.links if k.name == link).geoms:
+            t = frames[link]
+            c = [sum(t[i][j] * g.pos[j] for j in range(3)) + t[i][3] for i in range(3)]
+            half = [sum(abs(t[i][j]) * g.size[j] / 2 for j in range(3)) for i in range(3)]
+            out.append(([c[i] - half[i] for i in range(3)], [c[i] + half[i] for i in range(3)]))
+        return out
+
+    neck = next(j for j in model.joints if j.name.startswith("neck"))
+    gap = min(
+        max(max(a0[i] - b1[i], b0[i] - a1[i], 0.0) for i in range(3))
+        for a0, a1 in boxes(neck.child)
+        for b0, b1 in boxes(neck.parent)
+    )
+    assert gap < 0.001

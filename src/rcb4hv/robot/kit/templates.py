@@ -325,6 +325,19 @@ def _six() -> Template:
     return Template("L6", (box(size, centre, True),), tuple(slots))
 
 
+def _neck_case(torso: tuple[Vec3, Vec3], joint: Vec3) -> tuple[Geom, ...]:
+    """The neck servo's case on the torso, from the torso box's top up to the joint it turns
+    (kxreus places the joint above the body; the case between is part of the torso link, and
+    without it the head floated 28.5 mm over the body). A column of the case's section, a
+    chosen shape (``servo.case``: 26 mm square)."""
+    (_, _, height), (_, _, middle) = torso
+    top = middle + height / 2
+    if joint[2] <= top:
+        return ()
+    side = vec("servo.case")[1]
+    return (box((side, side, joint[2] - top), (joint[0], joint[1], (top + joint[2]) / 2), True),)
+
+
 def _neck(family: Family, base: Vec3, pitches: int) -> list[Slot]:
     up = vec("l4t.neck_pitch")
     out = [
@@ -418,7 +431,8 @@ def _four(family: Family, arms: bool = False) -> Template:
             ),
         ]
         size, centre = _TORSO["L4D"]
-        return Template(family, (box(size, centre, True),), tuple(slots))
+        body = (box(size, centre, True), *_neck_case(_TORSO["L4D"], vec("l4d.neck")))
+        return Template(family, body, tuple(slots))
     if family == "R4LL":
         for limb, sx in (("front", 1.0), ("rear", -1.0)):
             hip = vec("r4ll.hip")
@@ -440,7 +454,8 @@ def _four(family: Family, arms: bool = False) -> Template:
                 ),
             ]
         size, centre = _TORSO["L4D"]
-        return Template(family, (box(size, centre, True),), tuple(slots))
+        body = (box(size, centre, True), *_neck_case(_TORSO["L4D"], vec("l4d.neck")))
+        return Template(family, body, tuple(slots))
     # L4T, L4N, L4R: the turtle body, legs sideways from a yaw joint
     for limb, sx in (("front", 1.0), ("rear", -1.0)):
         hip = vec("l4t.hip")
@@ -487,7 +502,8 @@ def _four(family: Family, arms: bool = False) -> Template:
         slots += [replace(s, optional=True) for s in arm]
     slots += _neck(family, vec("l4t.neck"), 3 if family == "L4N" else 1)
     size, centre = _TORSO["L4T"]
-    return Template(family, (box(size, centre, True),), tuple(slots))
+    body = (box(size, centre, True), *_neck_case(_TORSO["L4T"], vec("l4t.neck")))
+    return Template(family, body, tuple(slots))
 
 
 def template(code: KitCode, *, arms: bool | None = None) -> Template:
