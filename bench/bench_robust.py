@@ -27,7 +27,7 @@ def run(quick: bool = False) -> list[dict[str, Any]]:
 
     model = load_builtin("kxr-l2")
     w = walk(model, default_params(model, "forward", steps=1))
-    motion, _ = walk_motion(model, w, slot=2, name="walk")
+    motion = walk_motion(model, w, slot=2, name="walk").motion
     image, layout = project_image(add_motion(new_project(model), motion))
     robot_us = len(w.poses) * 15_000.0
     trials = 2 if quick else 8

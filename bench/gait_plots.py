@@ -61,7 +61,7 @@ def fall_vs_stride(robot: str, trials: int, out: Path) -> list[dict[str, float]]
     rows = []
     for stride in STRIDES:
         params = replace(default_params(model, "forward", steps=4), stride=stride)
-        motion, _ = walk_motion(model, walk(model, params), slot=2, name="walk")
+        motion = walk_motion(model, walk(model, params), slot=2, name="walk").motion
         image, layout = project_image(add_motion(new_project(model), motion))
         (m,) = robust(image, [2], layout=layout, robot=model, trials=trials, seed=0)
         rows.append({"stride_m": stride, "p": m["fall_probability"], "lo": m["ci"][0],
