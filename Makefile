@@ -58,6 +58,8 @@ bench: $(VENV)/.installed-bench
 screenshots: $(VENV)/.installed-dev
 	rm -rf build/screenshots
 	tools/ensure-browser $(BIN)/python
+	# Japanese motion names need a CJK font (Debian's IPA Gothic); without one they draw as boxes
+	fc-list | grep -qi ipa || ! command -v apt-get >/dev/null || apt-get install -y -q fonts-ipafont-gothic
 	$(BIN)/pytest -q tests/ui/test_browser.py tests/ui/test_browser3d.py tests/ui/test_posing_browser.py tests/ui/test_flow_editor_browser.py
 	mkdir -p docs
 	cp build/screenshots/servos.png build/screenshots/remote.png build/screenshots/project.png docs/
