@@ -11,7 +11,7 @@ import pytest
 
 from rcb4hv.emulator import Board, EmulatorConfig, VirtualClock
 from rcb4hv.emulator.romstore import RomStore
-from rcb4hv.errors import TransportError
+from rcb4hv.errors import MissingFileError, TransportError
 from rcb4hv.rom.default import default_image
 from rcb4hv.transport import SerialTransport
 
@@ -49,7 +49,8 @@ def test_load_removes_temp_files_of_an_interrupted_flush(tmp_path: Path) -> None
 def test_a_missing_directory_is_refused_not_created(tmp_path: Path) -> None:
     """A typo in the directory is a FileNotFoundError naming it; no tree is created."""
     path = tmp_path / "typo" / "dir" / "rom.bin"
-    with pytest.raises(FileNotFoundError, match=f"no directory {path.parent} for the ROM image"):
+    # a typed error (rcb4hv.errors), still a FileNotFoundError
+    with pytest.raises(MissingFileError, match=f"no directory {path.parent} for the ROM image"):
         RomStore(path, SIZE)
     with pytest.raises(FileNotFoundError, match=f"no directory {path.parent}"):
         Board(rom_path=path)

@@ -58,7 +58,7 @@ def test_a_rom_file_of_the_wrong_size(size: int, tmp_path: Path) -> None:
 def test_a_rom_file_in_a_missing_directory(tmp_path: Path) -> None:
     rom = tmp_path / "typo" / "rom.bin"
     r = CliRunner().invoke(cli, ["emulate", "--tcp", "127.0.0.1:0", "--rom", str(rom)])
-    _fails_with_one_line(r, f"no directory {rom.parent} for the ROM image", "FileNotFoundError")
+    _fails_with_one_line(r, f"no directory {rom.parent} for the ROM image", "MissingFileError")
     assert not rom.parent.exists()  # refused, not created
 
 

@@ -25,7 +25,7 @@ import logging
 import time
 from pathlib import Path
 
-from rcb4hv.errors import RomFileError
+from rcb4hv.errors import MissingFileError, RomFileError
 from rcb4hv.files import write_atomic
 from rcb4hv.rom.layout import ROM_SIZE
 
@@ -41,7 +41,7 @@ class RomStore:
         self.path = Path(path)
         directory = self.path.parent
         if not directory.is_dir():
-            raise FileNotFoundError(
+            raise MissingFileError(
                 f"no directory {directory} for the ROM image {self.path.name} "
                 "(it is not created: check the path)"
             )
