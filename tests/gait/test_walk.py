@@ -266,6 +266,9 @@ def test_walk_errors_are_typed_and_said_at_once() -> None:
     with pytest.raises(ValueError, match="motion slot must be") as info:
         walk_motion(KXR, w, slot=0, name="w")
     assert "servo's travel" not in str(info.value)  # said of every ValueError before
+    khr = load_builtin("khr3hv")
+    with pytest.raises(GaitError, match="a walk of another robot"):
+        walk_motion(khr, w, slot=2, name="w")  # the KXR-L2's walk on the KHR-3HV's servos
 
 
 def test_a_walk_is_not_played_on_another_robots_board(tmp_path: Path) -> None:

@@ -190,6 +190,8 @@ class Walk:
     poses: tuple[dict[str, float], ...]
     worst_error: float
     missed: int
+    robot: str = ""
+    """The name of the model the walk was made for ("" when not known)."""
 
 
 def _foot(row: tuple[float, float, float, float], home: Transform) -> Transform:
@@ -245,4 +247,4 @@ def walk(model: RobotModel, params: GaitParams, period_s: float = 0.015) -> Walk
     if missed:
         log.warning("%s: %d of %d poses out of reach (worst %.1f mm)", model.name, missed,
                     len(poses), worst * 1000)  # fmt: skip
-    return Walk(params, pat, tuple(poses), worst, missed)
+    return Walk(params, pat, tuple(poses), worst, missed, model.name)

@@ -211,6 +211,12 @@ def walk_motion(
     """The walk as a motion for ``slot``: one chain of poses, or its settled cycle in a loop
     when that keeps more of them (module docstring)."""
     lay = HTH4_22 if layout is None else layout
+    joints = {j.name for j in model.joints}
+    if (w.robot and w.robot != model.name) or (w.poses and not set(w.poses[0]) <= joints):
+        raise GaitError(
+            f"the walk was made for {w.robot or 'another robot'}, not {model.name}: a walk of "
+            "another robot (its joint angles are that robot's)"
+        )
     if period not in FRAME_PERIODS_MS:
         raise GaitError(f"the output period is one of {FRAME_PERIODS_MS} ms, not {period!r}")
     motion_from_frames((), slot=slot, name=name, button=button, layout=lay)  # checks them

@@ -27,6 +27,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
+from rcb4hv.errors import RobotLookupError
 from rcb4hv.robot.geometry import Stance, convex_hull, geom_points
 from rcb4hv.robot.ik import effectors, solve_linear
 from rcb4hv.robot.kinematics import (
@@ -352,6 +353,12 @@ def pose_balance(
     iteration (:data:`COMPLIANCE_ITERATIONS`). ``compliant=False``: the joints are rigid.
     """
     target = {j.name: 0.0 for j in model.joints}
+    unknown = sorted(set(angles) - set(target))
+    if unknown:  # a typo would be balanced as the zero pose of that joint, in silence
+        raise RobotLookupError(
+            f"{model.name} has no joint {', '.join(unknown)} (its joints: "
+            f"{', '.join(sorted(target))})"
+        )
     target.update(angles)
     result = rigid_balance(model, target)
     if not compliant:
