@@ -28,7 +28,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from rcb4hv.errors import RobotLookupError
-from rcb4hv.robot.geometry import Stance, convex_hull, geom_points
+from rcb4hv.robot.geometry import Stance, convex_hull, geom_points, signed_margin
 from rcb4hv.robot.ik import effectors, solve_linear
 from rcb4hv.robot.kinematics import (
     IDENTITY,
@@ -197,33 +197,6 @@ def ground_frame(
 
 def _column(t: Transform, k: int) -> Vec3:
     return (t[0][k], t[1][k], t[2][k])
-
-
-def _segment_distance(p: Point2, a: Point2, b: Point2) -> float:
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    length2 = dx * dx + dy * dy
-    t = (
-        0.0
-        if length2 == 0
-        else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2))
-    )
-    return math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
-
-
-def signed_margin(polygon: Sequence[Point2], p: Point2) -> float:
-    """Distance from ``p`` to the edge of convex ``polygon`` (counter-clockwise): positive
-    inside, negative outside; minus the distance for a segment or a point."""
-    n = len(polygon)
-    if n == 0:
-        return -math.inf
-    if n < 3:
-        return -_segment_distance(p, polygon[0], polygon[-1])
-    edges = [(polygon[i], polygon[(i + 1) % n]) for i in range(n)]
-    inside = all(
-        (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) >= 0 for a, b in edges
-    )
-    d = min(_segment_distance(p, a, b) for a, b in edges)
-    return d if inside else -d
 
 
 def floor_forces(weight: float, com: Vec3, at: Sequence[Vec3]) -> list[float]:
