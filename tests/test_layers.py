@@ -19,7 +19,7 @@ ROOT = SRC.parent.parent
 
 # lowest first; a package may import packages on lower layers only
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors",),  # the exception tree
+    ("errors", "values"),  # the exception tree; values as given and as shown
     ("files", "__init__"),  # reading and atomic saves (typed FileAccessErrors), the root package
     ("protocol",),
     ("transport",),

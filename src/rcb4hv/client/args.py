@@ -8,13 +8,13 @@ Every check raises :class:`~rcb4hv.errors.ArgumentError` (a ValueError) or
 from __future__ import annotations
 
 import math
-import operator
 from collections.abc import Iterable, Mapping
-from numbers import Integral, Real
+from numbers import Real
 
 from rcb4hv.errors import ArgumentError, ArgumentTypeError, TransportError
 from rcb4hv.protocol import ICS_COUNT
 from rcb4hv.protocol.ranges import check_documented_position
+from rcb4hv.values import as_index, plain
 
 __all__ = [
     "check_choice",
@@ -31,26 +31,13 @@ __all__ = [
 ]
 
 
-def plain(value: object) -> str:
-    """``value`` as a user reads it: numbers (numpy's too) by their value, text quoted."""
-    if isinstance(value, bool):
-        return repr(value)
-    if isinstance(value, Integral):
-        return str(int(value))
-    if isinstance(value, Real):
-        return repr(float(value))
-    return repr(value)
-
-
 def integer(name: str, value: object) -> int:
-    """``value`` as an int: ints and numpy integers (``operator.index``), not bools, floats
-    (``1.0`` too: a position or slot is counted, not measured) or text."""
-    if not isinstance(value, bool):
-        try:
-            return operator.index(value)  # type: ignore[arg-type]
-        except TypeError:
-            pass
-    raise ArgumentTypeError(f"{name} must be an int, not {plain(value)}")
+    """``value`` as an int (:func:`rcb4hv.values.as_index`: ints and numpy integers, not
+    bools, floats or text)."""
+    out = as_index(value)
+    if out is None:
+        raise ArgumentTypeError(f"{name} must be an int, not {plain(value)}")
+    return out
 
 
 def finite(name: str, value: object) -> float:

@@ -9,25 +9,24 @@ is a count, and a float usually means a missing ``round``.
 
 from __future__ import annotations
 
-import operator
 import unicodedata
 from collections.abc import Mapping
 
 from rcb4hv.errors import EditError, NoRobotModelError
 from rcb4hv.hth4._xml import is_xml_text
 from rcb4hv.robot.model import RobotModel
+from rcb4hv.values import as_index, plain
 
 __all__ = ["as_int", "as_model", "as_name", "as_positions"]
 
 
 def as_int(what: str, value: object) -> int:
-    """``value`` as an ``int``; EditError "``what`` must be an int, not …" otherwise."""
-    if not isinstance(value, bool):
-        try:
-            return operator.index(value)  # type: ignore[arg-type]
-        except TypeError:
-            pass
-    raise EditError(f"{what} must be an int, not {value!r}")
+    """``value`` as an ``int`` (:func:`rcb4hv.values.as_index`); EditError "``what`` must be
+    an int, not …" otherwise."""
+    out = as_index(value)
+    if out is None:
+        raise EditError(f"{what} must be an int, not {plain(value)}")
+    return out
 
 
 def as_positions(what: str, positions: Mapping[int, int] | None) -> dict[int, int]:
