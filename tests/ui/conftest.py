@@ -45,15 +45,21 @@ def browser(chromium_path: str) -> Iterator[Any]:
         b.close()
 
 
-@pytest.fixture
-def page(browser: Any, app_url: str) -> Iterator[Any]:
-    context = browser.new_context(viewport={"width": 1400, "height": 900}, accept_downloads=True)
+def open_page(browser: Any, app_url: str, viewport: dict[str, int]) -> Iterator[Any]:
+    """A page of the dashboard in a new browser context of ``viewport``, loaded (its STOP
+    button shown); the context is closed after."""
+    context = browser.new_context(viewport=viewport, accept_downloads=True)
     pg = context.new_page()
     pg.set_default_timeout(15_000)
     pg.goto(app_url, timeout=PAGE_LOAD_MS)
     pg.get_by_test_id("stop").wait_for(timeout=PAGE_LOAD_MS)
     yield pg
     context.close()
+
+
+@pytest.fixture
+def page(browser: Any, app_url: str) -> Iterator[Any]:
+    yield from open_page(browser, app_url, {"width": 1400, "height": 900})
 
 
 def shot(page: Any, name: str) -> None:

@@ -9,8 +9,7 @@ from typing import Any
 
 import pytest
 
-from tests.ui.browser import PAGE_LOAD_MS
-from tests.ui.conftest import shot
+from tests.ui.conftest import open_page, shot
 
 pytestmark = pytest.mark.slow
 
@@ -19,13 +18,7 @@ LAPTOP = {"width": 1280, "height": 800}
 
 @pytest.fixture
 def laptop(browser: Any, app_url: str) -> Iterator[Any]:
-    context = browser.new_context(viewport=LAPTOP)
-    pg = context.new_page()
-    pg.set_default_timeout(15_000)
-    pg.goto(app_url, timeout=PAGE_LOAD_MS)
-    pg.get_by_test_id("stop").wait_for(timeout=PAGE_LOAD_MS)
-    yield pg
-    context.close()
+    yield from open_page(browser, app_url, LAPTOP)
 
 
 def _wait(cond: Any, timeout: float = 15.0) -> None:

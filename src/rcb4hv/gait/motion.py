@@ -36,7 +36,7 @@ from rcb4hv.hth4.keyframes import (
 )
 from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.newproject import new_project
-from rcb4hv.protocol import FRAME_PERIODS_MS, RunConstFrameServo, SystemRegister
+from rcb4hv.protocol import FRAME_PERIODS_MS, RunConstFrameServo, SystemRegister, move_periods
 from rcb4hv.robot.ik import limb
 from rcb4hv.robot.model import RobotModel
 from rcb4hv.rom.layout import HTH4_22, MOTION_SIZE, MotionLayout
@@ -121,7 +121,8 @@ def _segment(
         picks.append(hi)
     out, last = [], lo
     for i in picks:
-        time_s = max(1, i - last - 1) * period / 1000.0
+        speed = max(1, i - last - move_periods(0))  # its move holds the program i - last periods
+        time_s = speed * period / 1000.0
         out.append(Keyframe(time_s, {k: values[i][k] for k in legs}))
         last = i
     return out
@@ -303,5 +304,5 @@ def play_moves(
     flag clears the period after it ends)."""
     for move in moves:
         client.run_const_frame_servo(move.speed, dict(move.positions))
-        sleep((move.speed + 1) * period / 1000.0)
+        sleep(move_periods(move.speed) * period / 1000.0)
     return len(moves)

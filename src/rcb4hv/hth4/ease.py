@@ -27,6 +27,7 @@ from rcb4hv.errors import EditError
 from rcb4hv.hth4.edit import insert_pose, set_pose, used_motion
 from rcb4hv.hth4.model import Motion, Project
 from rcb4hv.hth4.poses import DEFAULT_CHECKS, SPECIAL_POSITIONS, Checks, motion_poses
+from rcb4hv.protocol import move_periods
 
 __all__ = ["CURVES", "Curve", "ease_pose", "eased_poses"]
 
@@ -78,7 +79,7 @@ def eased_poses(
     if over < 2:
         raise EditError(f"easing needs 2 or more poses, not {over}")
     target = poses[index]
-    periods = target.frames + 1  # on the board (module docstring)
+    periods = move_periods(target.frames)  # on the board (module docstring)
     if 2 * over > periods:
         raise EditError(
             f"motion {motion.slot} pose {index + 1} moves over {target.frames} frames: it "
@@ -98,7 +99,7 @@ def eased_poses(
                 values[ics] = b
             else:
                 values[ics] = round(a + (b - a) * s)
-        out.append((end - done - 1, values if k < over else dict(target.values)))
+        out.append((end - done - move_periods(0), values if k < over else dict(target.values)))
         done = end
     return out
 

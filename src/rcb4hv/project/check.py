@@ -174,11 +174,22 @@ def _ics_list(items: Iterable[int]) -> str:
     return ", ".join(str(k) for k in items)
 
 
+def _allocated(project: Project) -> set[int]:
+    """The ICS numbers a servo instruction may select: the servo table's, and the KRI-3's."""
+    return {s.device_number for s in project.servos if s.in_use} | {KRI3_ICS}
+
+
+def _selected(cmd: object) -> list[int]:
+    """The ICS numbers a servo instruction moves, stretches or speeds (none for others)."""
+    if isinstance(cmd, (SetStretch, SetSpeed)):
+        return [k for k, _ in cmd.values]
+    return [k for k, _ in _moves(cmd)]
+
+
 def _value_findings(cmd: object, allocated: set[int]) -> list[tuple[Severity, str, str]]:
     """Documented-range and servo-table problems of one decoded instruction."""
     out: list[tuple[Severity, str, str]] = []
     moves: list[tuple[int, int, int]] = []
-    selected: list[int] = []
     if isinstance(cmd, RunSingleServo):
         moves = [(cmd.ics, cmd.speed, cmd.position)]
     elif isinstance(cmd, RunConstFrameServo):
@@ -186,7 +197,6 @@ def _value_findings(cmd: object, allocated: set[int]) -> list[tuple[Severity, st
     elif isinstance(cmd, RunSeriesServo):
         moves = list(cmd.moves)
     if moves:
-        selected = [k for k, _, _ in moves]
         bad = [(k, p) for k, _, p in moves if not documented_position(p)]
         if bad:
             text = ", ".join(f"ICS {k}: {p}" for k, p in bad[:6]) + (" ..." if len(bad) > 6 else "")
@@ -203,13 +213,12 @@ def _value_findings(cmd: object, allocated: set[int]) -> list[tuple[Severity, st
                 )
             )
     if isinstance(cmd, (SetStretch, SetSpeed)):
-        selected = [k for k, _ in cmd.values]
         what = "stretch" if isinstance(cmd, SetStretch) else "speed"
         bad = [(k, v) for k, v in cmd.values if not documented_stretch(v)]
         if bad:
             text = ", ".join(f"ICS {k}: {v}" for k, v in bad[:6]) + (" ..." if len(bad) > 6 else "")
             out.append(("warning", "stretch-out-of-range", f"{what} outside 1-127 ({text})"))
-    missing = sorted(k for k in selected if k not in allocated)
+    missing = sorted(k for k in _selected(cmd) if k not in allocated)
     if missing:
         out.append(("warning", "unknown-ics", _ics_list(missing)))
     for attr in ("dst", "src"):
@@ -239,14 +248,8 @@ def _moves(cmd: object) -> list[tuple[int, int]]:
 def unlisted_servos(project: Project, slot: int) -> list[int]:
     """The ICS numbers motion ``slot`` moves, stretches or speeds that the project's servo
     table lacks: the board skips them (``unknown-ics``), as in a motion of another robot."""
-    allocated = {s.device_number for s in project.servos if s.in_use} | {KRI3_ICS}
-    found: set[int] = set()
-    for _, cmd in motion_code(project.motion(slot)).instructions:
-        if isinstance(cmd, (SetStretch, SetSpeed)):
-            found.update(k for k, _ in cmd.values)
-        else:
-            found.update(k for k, _ in _moves(cmd))
-    return sorted(found - allocated)
+    found = {k for _, cmd in motion_code(project.motion(slot)).instructions for k in _selected(cmd)}
+    return sorted(found - _allocated(project))
 
 
 def _limit_findings(
@@ -317,7 +320,7 @@ def check_project(project: Project, model: RobotModel | None = None) -> list[Fin
         add("error", "build-error", str(exc))
     codes = {m.slot: motion_code(m) for m in project.used_motions}
     rom = _Map(project, codes, lay.startup_stub)
-    allocated = {s.device_number for s in project.servos if s.in_use} | {KRI3_ICS}
+    allocated = _allocated(project)
 
     def setting(what: str, address: int) -> None:
         p = rom.problem(address, entry=True)

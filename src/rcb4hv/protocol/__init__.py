@@ -78,6 +78,7 @@ from rcb4hv.protocol.servocmds import (
     RunSingleServo,
     SetSpeed,
     SetStretch,
+    move_periods,
 )
 
 __all__ = [
@@ -156,6 +157,7 @@ __all__ = [
     "ics_number",
     "ics_to_id_port",
     "is_valid_position",
+    "move_periods",
     "position_to_degrees",
     "reply_length",
     "seal",

@@ -24,7 +24,16 @@ __all__ = [
     "SetSpeed",
     "SetStretch",
     "SpeedStretch",
+    "move_periods",
 ]
+
+
+def move_periods(speed: int) -> int:
+    """Output periods a ROM program's servo move of ``speed`` frames holds the program: the
+    servo reaches its end in ``speed`` periods and its update flag clears in the next (spec 9,
+    the firmware's interpolation), and only then is the next instruction fetched. The one
+    rule the walk generator, ``project ease`` and a host playing poses time themselves by."""
+    return speed + 1
 
 
 def _bitmap(ics_numbers: Iterable[int], flag: bool) -> bytes:
