@@ -1,6 +1,7 @@
 """How sensitive the physics verdicts are to the model's chosen constants (``make sensitivity``).
 
-For each chosen figure (:class:`rcb4hv.physics.PhysicsOptions`: stretch -> stiffness, speed cap,
+For each chosen figure (:class:`rcb4hv.physics.PhysicsOptions`: stretch -> stiffness, the
+servos' stall torque, speed cap,
 free-servo damping, armature, the controller's braking, foot friction, gyro and accelerometer
 scales) and each factor (default x0.5, x0.75, x1.33, x2) it plays every motion of each project
 with physics, as ``rcb4hv project simulate --physics`` does (a fresh boot, standing, per
@@ -11,7 +12,7 @@ went (the larger of dx, dy when at least 5 cm) and the way it turned (when at le
 Usage::
 
     python -m bench.sensitivity [PROJECT.h4p ...] [--extra DIR] [--factors 0.5,0.75,1.33,2]
-                                [--out FILE]
+                                [--figure NAME ...] [--motion SLOT ...] [--out FILE]
 
 Without projects: the fixture (``../shared/fixtures/hth4/kxr-l2-hac``). ``--extra DIR`` adds
 every ``.h4p`` below DIR (e.g. local copies of Kondo's sample projects, never committed). The
@@ -24,10 +25,11 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import fields
 from pathlib import Path
 
-from rcb4hv.cli.project_common import load_image
+from rcb4hv.cli.project_common import load_file
 from rcb4hv.cli.project_physics import physics_robot
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions
 from rcb4hv.physics.options import NOT_FACTORS
@@ -42,6 +44,7 @@ MOVED_M = 0.05  # a displacement below this is "in place"
 TURNED_DEG = 5.0  # a turn below this is "no turn"
 FIGURES = {
     "stiffness": f"stretch -> stiffness ({FULL_TORQUE_ERROR_DEG:g}° error at stall, stretch 127)",
+    "torque": "servo stall torque (13.9 kgf·cm, the KRS-3304R2's catalogue figure)",
     "speed_cap": "speed cap (ICS speed / 127 x no-load speed)",
     "free_damping": f"free-servo damping ({FREE_DAMPING_FRACTION:g} x back-EMF)",
     "armature": f"armature ({MOTOR_TIME_CONSTANT * 1000:g} ms motor time constant)",
@@ -69,12 +72,17 @@ def verdict(o: PhysicsOutcome) -> str:
     return ", ".join(parts)
 
 
-def verdicts(path: Path, options: PhysicsOptions) -> dict[int, tuple[str, str]]:
-    """``{slot: (name, verdict)}`` of every motion of the project at ``path``."""
-    image, lay, names = load_image(path)
-    model = physics_robot(path, image, None)
-    slots = sorted(names)
-    run = run_motions(image, slots, names=names, motion_layout=lay, robot=model, options=options)
+def verdicts(
+    path: Path, options: PhysicsOptions, slots: Sequence[int] = ()
+) -> dict[int, tuple[str, str]]:
+    """``{slot: (name, verdict)}`` of every motion of the project at ``path`` (of ``slots``
+    when given)."""
+    f = load_file(path)
+    model = physics_robot(f.project, f.image, None)
+    slots = sorted(slots or f.names)
+    run = run_motions(
+        f.image, slots, names=f.names, motion_layout=f.layout, robot=model, options=options
+    )
     return {r.result.slot or 0: (r.result.name, verdict(r.outcome)) for r in run.motions}
 
 
@@ -82,10 +90,13 @@ def flips(base: dict[int, tuple[str, str]], other: dict[int, tuple[str, str]]) -
     return [f"{slot}: {other[slot][1]}" for slot in sorted(base) if other[slot][1] != base[slot][1]]
 
 
-def study(path: Path, factors: list[float]) -> list[str]:
-    """The markdown section of one project."""
+def study(
+    path: Path, factors: list[float], figures: Sequence[str] = (), slots: Sequence[int] = ()
+) -> list[str]:
+    """The markdown section of one project: every figure of :data:`FIGURES` (or ``figures``),
+    every motion (or ``slots``)."""
     t0 = time.process_time()
-    base = verdicts(path, PhysicsOptions())
+    base = verdicts(path, PhysicsOptions(), slots)
     lines = [
         f"### {path.name}",
         "",
@@ -104,11 +115,11 @@ def study(path: Path, factors: list[float]) -> list[str]:
     ]
     details: list[str] = []
     for f in fields(PhysicsOptions):
-        if f.name in NOT_FACTORS or f.name not in FIGURES:
+        if f.name in NOT_FACTORS or f.name not in FIGURES or (figures and f.name not in figures):
             continue
         cells = []
         for factor in factors:
-            changed = flips(base, verdicts(path, PhysicsOptions(**{f.name: factor})))
+            changed = flips(base, verdicts(path, PhysicsOptions(**{f.name: factor}), slots))
             cells.append(", ".join(c.split(":")[0] for c in changed) if changed else "none")
             if changed:
                 details.append(f"- {f.name} x{factor:g}: " + "; ".join(changed))
@@ -126,6 +137,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--extra", type=Path, help="also every .h4p below this directory")
     ap.add_argument("--factors", default="0.5,0.75,1.33,2")
     ap.add_argument("--out", type=Path)
+    ap.add_argument(
+        "--figure", action="append", choices=sorted(FIGURES), help="only this figure (repeatable)"
+    )
+    ap.add_argument("--motion", action="append", type=int, help="only this slot (repeatable)")
     args = ap.parse_args(argv)
     factors = [float(v) for v in args.factors.split(",")]
     projects = list(args.projects) or [FIXTURE]
@@ -134,7 +149,7 @@ def main(argv: list[str] | None = None) -> int:
     lines: list[str] = []
     for path in projects:
         print(f"{path}:", file=sys.stderr)
-        lines += study(path, factors)
+        lines += study(path, factors, args.figure or (), args.motion or ())
     text = "\n".join(lines)
     print(text)
     if args.out is not None:

@@ -65,3 +65,19 @@ def test_a_quick_pass_of_every_benchmark_runs(
         for key in ("ours_us", "wire_us", "ratio"):
             assert isinstance(r[key], float | int) and not math.isnan(r[key]), (r["name"], key)
         assert r["wire_us"] > 0, r["name"]
+
+
+FIXTURE = BENCH.parents[1] / "shared/fixtures/hth4/kxr-l2-hac/HAC_KXR_HTH4_project.h4p"
+
+
+@pytest.mark.skipif(not FIXTURE.exists(), reason="needs ../shared/fixtures/hth4 beside the repo")
+def test_the_sensitivity_study_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    """`make sensitivity` plays real motions on the detected model (it once called the robot
+    picker with a path where a project goes, and nothing noticed): one figure, two motions."""
+    pytest.importorskip("mujoco")
+    import bench.sensitivity as sensitivity
+
+    assert sensitivity.main(["--figure", "torque", "--factors", "0.5", "--motion", "21"]) == 0
+    out = capsys.readouterr().out
+    assert "| 21 | XL2G_201_挨拶 | upright |" in out
+    assert "| servo stall torque" in out

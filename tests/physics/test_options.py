@@ -6,6 +6,7 @@ from __future__ import annotations
 import pytest
 
 from rcb4hv.physics import DEFAULT_SENSORS, PhysicsOptions, PhysicsWorld
+from rcb4hv.physics.world import with_torque
 from rcb4hv.robot.builtin import load_builtin
 from rcb4hv.robot.mjcf import FLOOR_FRICTION, TORSIONAL_FRICTION
 from rcb4hv.robot.servos import armature, stiffness
@@ -32,6 +33,25 @@ def test_each_factor_scales_its_figure_and_the_defaults_change_nothing() -> None
     plain.release(index)
     scaled.release(index)
     assert scaled.m.dof_damping[dof] == pytest.approx(3.0 * plain.m.dof_damping[dof])
+
+
+def test_torque_scales_each_servo_and_what_the_servo_model_derives_from_it() -> None:
+    plain = PhysicsWorld(KXR)
+    weak = PhysicsWorld(KXR, options=PhysicsOptions(torque=0.5))
+    assert with_torque(KXR, 1.0) is KXR
+    for index, s in plain.servos.items():
+        w = weak.servos[index]
+        assert w.spec.stall_torque == pytest.approx(0.5 * s.spec.stall_torque)
+        assert w.spec.no_load_speed == s.spec.no_load_speed
+        assert weak.stiffness(index, 60) == pytest.approx(0.5 * plain.stiffness(index, 60))
+        assert weak.m.actuator_forcerange[w.actuator][1] == pytest.approx(
+            0.5 * plain.m.actuator_forcerange[s.actuator][1]
+        )
+        assert weak.m.dof_armature[w.dof] == pytest.approx(0.5 * plain.m.dof_armature[s.dof])
+        assert weak.m.dof_damping[w.dof] == pytest.approx(0.5 * plain.m.dof_damping[s.dof])
+    # the robot model itself is not changed: a what-if is not another robot
+    assert weak.model is KXR
+    assert PhysicsOptions.parse(["torque=0.48"]).changed() == (("torque", 0.48),)
 
 
 def test_sensor_scales() -> None:

@@ -45,6 +45,12 @@ class PhysicsOptions:
 
     stiffness: float = 1.0
     """x the stretch -> stiffness gain (``servos.stiffness``: FULL_TORQUE_ERROR_DEG)."""
+    torque: float = 1.0
+    """x every servo's stall torque (its catalogue figure, ``robot.servos``); what the servo
+    model derives from it follows: the stiffness at a stretch, the torque limit, the back-EMF
+    damping, the armature and the controller's braking. A weaker servo: a lower supply
+    voltage, or a KXR built with KRS-3302 servos (6.7 kgf·cm: x0.48 of the KRS-3304R2's
+    13.9, the servo kxreus's KXR models assume by default, KXR-KITS.md §6)."""
     speed_cap: float = 1.0
     """x the speed cap (``servos.speed_cap``: the ICS speed as a fraction of no-load speed)."""
     free_damping: float = 1.0

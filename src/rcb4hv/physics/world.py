@@ -10,7 +10,7 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from rcb4hv.errors import PhysicsError, PhysicsUnavailableError
@@ -39,7 +39,7 @@ from rcb4hv.robot.servos import (
     stiffness,
 )
 
-__all__ = ["BasePose", "PhysicsWorld", "engine_version", "require_mujoco"]
+__all__ = ["BasePose", "PhysicsWorld", "engine_version", "require_mujoco", "with_torque"]
 
 SATURATION = 0.999
 """An actuator at this fraction of its stall torque counts as saturated (rounding margin)."""
@@ -77,6 +77,25 @@ class BasePose:
     up: tuple[float, float, float]
 
 
+def with_torque(model: RobotModel, factor: float) -> RobotModel:
+    """``model`` with every servo's stall torque ``x factor`` (``PhysicsOptions.torque``;
+    the same model at 1). Each servo's other figures (no-load speed, mass) are kept."""
+    if factor == 1.0:
+        return model
+    servos = tuple(
+        replace(
+            s,
+            servo=replace(
+                spec := s.servo or DEFAULT_SERVO,
+                stall_torque=spec.stall_torque * factor,
+                source=f"{spec.source} (stall torque x{factor:g}: a what-if)",
+            ),
+        )
+        for s in model.servos
+    )
+    return replace(model, servos=servos)
+
+
 @dataclass(frozen=True, slots=True)
 class _Servo:
     index: int
@@ -104,8 +123,9 @@ class PhysicsWorld:
         self.timestep = timestep
         self.options = opts = options or PhysicsOptions()
         """Factors on the model's chosen figures (default: none)."""
+        built = with_torque(model, opts.torque)
         mjcf = to_mjcf(
-            model,
+            built,
             timestep=timestep,
             floor_friction=FLOOR_FRICTION * opts.friction,
             armature_scale=opts.armature,
@@ -129,7 +149,7 @@ class PhysicsWorld:
             add_load(mj, m, model, "right", opts.carry_right_g)
         self.d = mj.MjData(self.m)
         self.servos: dict[int, _Servo] = {}
-        for s in model.servos:
+        for s in built.servos:
             j = m.joint(s.joint)
             self.servos[s.index] = _Servo(
                 s.index,
