@@ -2,8 +2,9 @@
 
 The cases of the API bad-input sweep: NaN/inf/0/negative waits (a NaN timeout used to poll
 forever), non-finite angles and durations (OverflowError), ``kind="bogus"``, wrong types
-reaching internals, numpy integers, the closed-client message, a bad ``fault://`` URL on the
-asyncio face and a close racing a call from another thread.
+reaching internals, numpy integers, a calibration that is not a finite number, a degree
+conversion for a servo the robot does not have, the closed-client message, a bad ``fault://``
+URL on the asyncio face and a close racing a call from another thread.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 import pytest
 
 from rcb4hv.aio import AsyncRcb4Client
-from rcb4hv.client import Rcb4Client
+from rcb4hv.client import Calibration, Rcb4Client
 from rcb4hv.emulator import Board, emulator_url
 from rcb4hv.errors import (
     ArgumentError,
@@ -127,6 +128,54 @@ def test_numpy_integers_are_ints_and_floats_are_shown_plainly(rig: Rig) -> None:
         r.move({2: 7500.0})  # type: ignore[dict-item]
     with pytest.raises(ArgumentError, match=r"ICS 2: position 3000 outside 3500..11500"):
         r.move({2: np.int64(3000)})
+
+
+@pytest.mark.parametrize(
+    ("fields", "error", "message"),
+    [
+        ({"trim": NAN}, ArgumentError, "trim must be a finite number, not nan"),
+        ({"trim": INF}, ArgumentError, "trim must be a finite number, not inf"),
+        ({"trim": -INF}, ArgumentError, "trim must be a finite number, not -inf"),
+        ({"trim": "40"}, ArgumentTypeError, "trim must be a number, not '40'"),
+        ({"trim": None}, ArgumentTypeError, "trim must be a number, not None"),
+        ({"direction": NAN}, ArgumentError, "direction must be a finite number, not nan"),
+        ({"direction": 0}, ArgumentError, r"direction must be \+1 or -1, not 0"),
+        ({"direction": "-1"}, ArgumentTypeError, "direction must be a number, not '-1'"),
+        ({"direction": True}, ArgumentTypeError, "direction must be a number, not True"),
+    ],
+)
+def test_a_calibration_refuses_a_field_that_is_not_a_finite_number(
+    fields: dict[str, Any], error: type, message: str
+) -> None:
+    """``Calibration(trim=nan)`` was made, and every angle through it came out NaN (or an
+    OverflowError for inf): a typed error naming the field, at construction."""
+    with pytest.raises(error, match=message):
+        Calibration(**fields)
+    assert Calibration(trim=np.int64(40), direction=-1).to_position(10.0) == 7540 - 296
+    assert Calibration(trim=12.5).to_position(0.0) == 7512  # a fractional trim is a number
+
+
+def test_degree_conversions_refuse_an_ics_number_the_robot_does_not_have(rig: Rig) -> None:
+    """``to_degrees(99, 7500)`` answered 0.0 (the default calibration) for a servo that is not
+    there: an ArgumentError naming the number and the robot's servos, on both faces, and
+    ``to_position`` the same; before the servo table is read, the servo slots 0..34."""
+    fresh = rig.new_robot()  # its servo table not read yet
+    for call in (lambda: fresh.to_degrees(99, 7500), lambda: fresh.to_position(99, 0.0)):
+        with pytest.raises(ArgumentError, match=r"no servo at ICS 99 \(servos are ICS 0\.\.34\)"):
+            call()
+    with pytest.raises(ArgumentError, match="no servo at ICS 35"):
+        fresh.to_degrees(35, 7500)  # the remote-control receiver's slot
+    r = rig.robot
+    assert 1 not in r.servo_ids()  # the servo table read: the robot's own servos count
+    for ics in (99, 1):
+        has = rf"no servo at ICS {ics} \(the robot has ICS \[0, 2, 3, 4, "
+        with pytest.raises(ArgumentError, match=has):
+            r.to_degrees(ics, 7500)
+        with pytest.raises(ArgumentError, match=has):
+            r.to_position(ics, 0.0)
+    with pytest.raises(ArgumentTypeError, match="ICS number must be an int, not '2'"):
+        r.to_degrees("2", 7500)  # type: ignore[arg-type]
+    assert r.to_degrees(np.int64(2), 7500) == 0.0 and r.to_position(2, 0.0) == 7500
 
 
 def test_open_names_a_wrong_url_or_baudrate() -> None:

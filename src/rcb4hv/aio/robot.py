@@ -40,6 +40,7 @@ from rcb4hv.client.robot_types import (
     BoardInfo,
     Calibration,
     ServoInfo,
+    servo_calibration,
 )
 from rcb4hv.errors import ArgumentError, Rcb4TimeoutError
 from rcb4hv.protocol import (
@@ -332,13 +333,15 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         return [ServoInfo(k, known[k].block_address, ServoBlock.from_bytes(raw[k])) for k in sel]
 
     def to_degrees(self, ics: int, position: int) -> float:
-        return self.calibration.get(ics, _NO_CAL).to_degrees(position)
+        """The angle of raw ``position`` (host calibration); ArgumentError for an ICS number
+        the robot does not have (:func:`~rcb4hv.client.robot_types.servo_calibration`)."""
+        return servo_calibration(self.calibration, self._servos, ics).to_degrees(position)
 
     def to_position(self, ics: int, degrees: float) -> int:
-        """The raw position of ``degrees`` (host calibration); ArgumentError for an angle that
-        is not a finite number."""
-        degrees = finite(f"ICS {ics}: angle", degrees)
-        return self.calibration.get(ics, _NO_CAL).to_position(degrees)
+        """The raw position of ``degrees`` (host calibration); ArgumentError for an ICS number
+        the robot does not have (as :meth:`to_degrees`) or an angle that is not finite."""
+        cal = servo_calibration(self.calibration, self._servos, ics)
+        return cal.to_position(finite(f"ICS {ics}: angle", degrees))
 
     async def angles(
         self, ics: Iterable[int] | None = None, kind: Literal["measured", "output"] = "measured"
@@ -486,6 +489,3 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         (``check_range`` as for :meth:`set_stretch`)."""
         vals = await self._stretch_values("speed", values, ics, check_range)
         await self.client.set_speed(vals)
-
-
-_NO_CAL = Calibration()

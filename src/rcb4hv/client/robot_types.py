@@ -4,9 +4,11 @@ calibration)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 from typing import Final, Literal
 
+from rcb4hv.client.args import finite, integer
 from rcb4hv.errors import ArgumentError
 from rcb4hv.protocol import (
     COUNTS_PER_DEGREE,
@@ -17,6 +19,7 @@ from rcb4hv.protocol import (
 from rcb4hv.protocol.memory import CENTER, SYS, TimerState
 from rcb4hv.protocol.servomode import output_mode
 from rcb4hv.rom.layout import LAYOUTS
+from rcb4hv.values import plain
 
 __all__ = [
     "HTH4_20",
@@ -28,6 +31,7 @@ __all__ = [
     "MotionStatus",
     "ServoInfo",
     "TimerState",
+    "servo_calibration",
 ]
 
 MAX_SPEED: Final = 255
@@ -44,14 +48,17 @@ HTH4_20: Final = LAYOUTS["2.0"]
 @dataclass(frozen=True, slots=True)
 class Calibration:
     """Host-side angle calibration of one servo: ``trim`` in counts added to the centre
-    (7500) and ``direction`` (+1 or -1) of positive angles."""
+    (7500) and ``direction`` (+1 or -1) of positive angles. A field that is not a number is
+    an :class:`~rcb4hv.errors.ArgumentTypeError`, a trim that is not finite (NaN, inf) or a
+    direction other than +1/-1 an :class:`~rcb4hv.errors.ArgumentError`, both naming it."""
 
     trim: int = 0
     direction: Literal[1, -1] = 1
 
     def __post_init__(self) -> None:
-        if self.direction not in (1, -1):
-            raise ValueError("direction must be +1 or -1")
+        finite("trim", self.trim)
+        if finite("direction", self.direction) not in (1, -1):
+            raise ArgumentError(f"direction must be +1 or -1, not {plain(self.direction)}")
 
     def to_position(self, degrees: float) -> int:
         if not math.isfinite(degrees):
@@ -60,6 +67,25 @@ class Calibration:
 
     def to_degrees(self, position: int) -> float:
         return self.direction * (position - CENTER - self.trim) / COUNTS_PER_DEGREE
+
+
+_NO_CALIBRATION: Final = Calibration()
+
+
+def servo_calibration(
+    calibration: Mapping[int, Calibration], servos: Collection[int] | None, ics: object
+) -> Calibration:
+    """The host calibration of servo ``ics`` (trim 0, direction +1 without an entry), for a
+    robot's degree conversions. An ICS number the robot does not have is refused, an
+    :class:`~rcb4hv.errors.ArgumentError` naming the ones it has: not one of ``servos`` (its
+    servo table, once discovered), or before that (``servos`` None) not a servo's 0..34."""
+    k = integer("ICS number", ics)
+    if servos is None:
+        if not 0 <= k < SERVO_LIMIT:
+            raise ArgumentError(f"no servo at ICS {k} (servos are ICS 0..{SERVO_LIMIT - 1})")
+    elif k not in servos:
+        raise ArgumentError(f"no servo at ICS {k} (the robot has ICS {sorted(servos)})")
+    return calibration.get(k, _NO_CALIBRATION)
 
 
 @dataclass(frozen=True, slots=True)

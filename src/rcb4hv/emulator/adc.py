@@ -14,11 +14,33 @@ from collections.abc import Iterable
 from typing import Final
 
 from rcb4hv.emulator.memmap import AD_CHANNELS, AD_REFERENCE, AD_VALUES, read_u16, s16
+from rcb4hv.errors import ArgumentError, ArgumentTypeError
+from rcb4hv.values import as_index, plain
 
-__all__ = ["AD_MAX", "AdConverter"]
+__all__ = ["AD_MAX", "AdConverter", "check_input"]
 
 AD_MAX: Final = 1023  # a 10-bit converter
 _WORDS: Final = struct.Struct(f"<{AD_CHANNELS}H")  # the 11 references, the 11 measured words
+
+
+def check_input(channel: object, counts: object, *, first: int = 0) -> tuple[int, int]:
+    """``(channel, counts)`` as ints: the one rule for an AD input a host hook sets
+    (:meth:`Board.set_ad_input`, :meth:`Board.measure`, ``emulate --ad`` and ``?adCH=`` with
+    ``first=1``: AD0 is the supply). :class:`~rcb4hv.errors.ArgumentTypeError` (a TypeError)
+    for a channel or count that is not an int, :class:`~rcb4hv.errors.ArgumentError` (a
+    ValueError) for a channel outside ``first``..10 or counts outside 0..1023."""
+    ch = as_index(channel)
+    if ch is None:
+        raise ArgumentTypeError(f"AD channel must be an int, not {plain(channel)}")
+    if not first <= ch < AD_CHANNELS:
+        supply = " (AD0 is the supply)" if first else ""
+        raise ArgumentError(f"AD{ch}: inputs are set on AD{first}-AD{AD_CHANNELS - 1}{supply}")
+    n = as_index(counts)
+    if n is None:
+        raise ArgumentTypeError(f"AD{ch}: the input must be an int (counts), not {plain(counts)}")
+    if not 0 <= n <= AD_MAX:
+        raise ArgumentError(f"AD{ch}: the input {n} is outside 0..{AD_MAX} counts")
+    return ch, n
 
 
 class AdConverter:
@@ -27,18 +49,6 @@ class AdConverter:
     def __init__(self, ram: bytearray, inputs: Iterable[int]) -> None:
         self.ram = ram
         self.inputs = list(inputs)
-
-    @staticmethod
-    def check(channel: int, counts: int) -> None:
-        """ValueError unless ``channel`` is AD0-AD10 and ``counts`` 0..1023."""
-        if not 0 <= channel < AD_CHANNELS or not 0 <= counts <= AD_MAX:
-            raise ValueError(f"AD channels 0-{AD_CHANNELS - 1} take inputs of 0..{AD_MAX}")
-
-    def clamp(self, channel: int, counts: int) -> None:
-        """Set one input clamped to 0..1023 (a backend's measurement)."""
-        if not 0 <= channel < AD_CHANNELS:
-            raise ValueError("AD channels are 0-10")
-        self.inputs[channel] = min(max(counts, 0), AD_MAX)
 
     def sample(self) -> None:
         """Each measured register gets the channel's input minus its reference."""

@@ -24,13 +24,13 @@ from pathlib import Path
 from typing import Final
 
 from rcb4hv.emulator import accel
-from rcb4hv.emulator.adc import AdConverter
+from rcb4hv.emulator.adc import AdConverter, check_input
 from rcb4hv.emulator.clock import Clock, VirtualClock
 from rcb4hv.emulator.config import EmulatorConfig
 from rcb4hv.emulator.events import Stop
 from rcb4hv.emulator.icslines import IcsLines
 from rcb4hv.emulator.interpreter import STACK_DEPTH, Interpreter
-from rcb4hv.emulator.link import Link, nak
+from rcb4hv.emulator.link import Link, nak, received
 from rcb4hv.emulator.memmap import (
     AD_CHANNELS,
     AD_VALUES,
@@ -51,7 +51,7 @@ from rcb4hv.emulator.memmap import (
     write_u16,
 )
 from rcb4hv.emulator.romstore import RomStore, initial_rom
-from rcb4hv.emulator.servos import Servos, ServoState, servo_slots
+from rcb4hv.emulator.servos import Servos, ServoState, check_reading, servo_slots
 from rcb4hv.emulator.timers import TIMER_PERIOD_US, reset_timers, tick_timers, timers_idle
 from rcb4hv.emulator.vectors import Vectors
 from rcb4hv.errors import EmulatedCommandError, EmulatedReset, ProtocolError, RomFileError
@@ -271,12 +271,12 @@ class Board:
 
     # ------------------------------------------------------------------ input / output
 
-    def feed(self, data: bytes | bytearray) -> bytes:
-        """Process received bytes; return the reply bytes of every complete frame."""
+    def feed(self, data: bytes | bytearray | memoryview) -> bytes:
+        """Process received bytes; return the reply bytes of every complete frame. ``data`` not
+        bytes-like (an int, a str) is refused at once: ArgumentTypeError (a TypeError)."""
+        raw = received(data)
         self.tick()
-        if not data:
-            return b""
-        return self._link.receive(bytes(data), self._handle_frame)
+        return self._link.receive(raw, self._handle_frame) if raw else b""
 
     def reset_input(self) -> None:
         """Drop partial input silently (the link was closed)."""
@@ -394,7 +394,7 @@ class Board:
     def set_ad_input(self, channel: int, counts: int) -> None:
         """Set the input of AD0-AD10 (0..1023 counts of 0-5 V, what the pin sees). The measured
         register (0022h) then reads the input minus the channel's reference (spec 10.4)."""
-        AdConverter.check(channel, counts)
+        channel, counts = check_input(channel, counts)  # ArgumentError: AD0-AD10, 0..1023
         self.tick()
         self._adc.inputs[channel] = counts
         self._sample_ad()
@@ -424,8 +424,7 @@ class Board:
     def set_servo_position(self, ics: int, position: int) -> None:
         """Move a virtual servo by hand (as if pushed while free)."""
         physical = self._servos.physical
-        if ics not in physical or not 0 <= position <= 0xFFFF:
-            raise ValueError(f"ICS {ics} has no virtual servo, or position out of range")
+        ics, position = check_reading(ics, position, physical)  # ArgumentError: none there
         self.tick()
         physical[ics] = position
 
@@ -441,17 +440,18 @@ class Board:
         self._servos.external = bool(on)
 
     def measure(self, positions: Mapping[int, int], ad: Mapping[int, int]) -> None:
-        """A servo backend's measurements: virtual servo positions (ICS -> position, reported
-        at the next output period) and AD channel inputs (counts, clamped to 0..1023). Unlike
-        :meth:`set_servo_position` and :meth:`set_ad_input` this does not tick, so an output
-        listener may call it."""
+        """A servo backend's measurements: virtual servo positions (ICS 0..35 -> 0..65535,
+        reported at the next output period; an ICS without a virtual servo is ignored) and AD
+        inputs (AD0-AD10 -> 0..1023 counts). All are checked before any is set: an ICS number,
+        channel or value out of range is an ArgumentError. Unlike :meth:`set_servo_position`
+        and :meth:`set_ad_input` this does not tick, so an output listener may call it."""
+        readings = [check_reading(ics, p) for ics, p in positions.items()]
+        inputs = [check_input(ch, v) for ch, v in ad.items()]
         physical = self._servos.physical
-        for ics, p in positions.items():
-            if ics in physical:
-                physical[ics] = min(max(p, 0), 0xFFFF)
-        for ch, v in ad.items():
-            self._adc.clamp(ch, v)
-        if ad:
+        physical.update((ics, p) for ics, p in readings if ics in physical)
+        for ch, v in inputs:
+            self._adc.inputs[ch] = v
+        if inputs:
             self._sample_ad()
 
     def add_output_listener(self, callback: OutputListener) -> None:

@@ -43,6 +43,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Final, Literal
 
+from rcb4hv.emulator.adc import check_input
+
 __all__ = ["DEFAULT_SERVOS", "DEFAULT_VERSION", "EmulatorConfig", "ad_inputs_from"]
 
 DEFAULT_VERSION: Final = b"CB-4 V1.0      090715          \xc7"
@@ -165,10 +167,7 @@ def ad_inputs_from(settings: Iterable[tuple[int, int]]) -> tuple[int, ...]:
     ``rcb4hv emulate --ad CH=COUNTS`` and ``rcb4emu://?adCH=COUNTS`` give them. AD0 is the
     supply: its input follows ``supply_voltage``."""
     inputs = [0] * 10
-    for channel, counts in settings:
-        if not 1 <= channel <= 10:
-            raise ValueError(f"AD{channel}: inputs are set on AD1-AD10 (AD0 is the supply)")
-        if not 0 <= counts <= 1023:
-            raise ValueError(f"AD{channel}: {counts} is outside 0..1023")
+    for ch, v in settings:
+        channel, counts = check_input(ch, v, first=1)  # typed: ArgumentError / ArgumentTypeError
         inputs[channel - 1] = counts
     return tuple(inputs)

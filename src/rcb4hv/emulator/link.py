@@ -12,10 +12,10 @@ from collections.abc import Callable
 
 from rcb4hv.emulator.clock import Clock
 from rcb4hv.emulator.config import EmulatorConfig
-from rcb4hv.errors import ChecksumError, FrameError
+from rcb4hv.errors import ArgumentTypeError, ChecksumError, FrameError
 from rcb4hv.protocol import NEED_DATA, FrameDecoder, Nak, encode_reply
 
-__all__ = ["Link", "nak"]
+__all__ = ["Link", "nak", "received"]
 
 log = logging.getLogger(__name__)
 
@@ -24,6 +24,17 @@ MAX_FRAME = 128
 
 def nak(cmd: int) -> bytes:
     return encode_reply(Nak(cmd))
+
+
+def received(data: object) -> bytes:
+    """``data`` as the bytes the link receives: bytes, bytearray or memoryview. Anything else
+    (an int: ``bytes(5)`` would be five zero bytes; a str, a list) is the caller's mistake, not
+    line noise: :class:`~rcb4hv.errors.ArgumentTypeError` (a TypeError)."""
+    if not isinstance(data, bytes | bytearray | memoryview):
+        raise ArgumentTypeError(
+            f"data must be bytes, bytearray or memoryview, not {type(data).__name__}"
+        )
+    return bytes(data)
 
 
 class Link:

@@ -11,7 +11,7 @@ layout is *safe* (see :meth:`Servos.rescan`) and no write touched the table or a
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from itertools import pairwise
 
@@ -46,11 +46,12 @@ from rcb4hv.emulator.memmap import (
     mix_rate,
     mix_source,
 )
-from rcb4hv.errors import EmulatedCommandError, EmulatedReset
+from rcb4hv.errors import ArgumentError, ArgumentTypeError, EmulatedCommandError, EmulatedReset
 from rcb4hv.protocol import ICS_COUNT, RunConstFrameServo, RunSeriesServo, RunSingleServo
 from rcb4hv.protocol.servomode import ServoMode, output_mode
+from rcb4hv.values import as_index, plain
 
-__all__ = ["ServoState", "Servos", "ramp"]
+__all__ = ["ServoState", "Servos", "check_reading", "ramp"]
 
 ServoCommand = RunSingleServo | RunConstFrameServo | RunSeriesServo
 _u16 = U16.unpack_from
@@ -94,6 +95,29 @@ def servo_slots(config: EmulatorConfig, rom: bytes | bytearray) -> tuple[int, ..
     from rcb4hv.rom.calibration import image_servos
 
     return image_servos(rom) or DEFAULT_SERVOS
+
+
+def check_reading(
+    ics: object, position: object, virtual: Collection[int] | None = None
+) -> tuple[int, int]:
+    """``(ics, position)`` as ints: the one rule for a servo position a host hook sets
+    (:meth:`Board.measure`, :meth:`Board.set_servo_position`). The ICS number is 0..35 (one
+    of the ``virtual`` servos, when given) and the position a value the 16-bit register holds
+    (0..65535); :class:`~rcb4hv.errors.ArgumentTypeError` (a TypeError) for one that is not
+    an int, :class:`~rcb4hv.errors.ArgumentError` (a ValueError) for one out of range."""
+    k = as_index(ics)
+    if k is None:
+        raise ArgumentTypeError(f"ICS number must be an int, not {plain(ics)}")
+    if not 0 <= k < ICS_COUNT:
+        raise ArgumentError(f"ICS number {k} outside 0..{ICS_COUNT - 1}")
+    if virtual is not None and k not in virtual:
+        raise ArgumentError(f"ICS {k} has no virtual servo (those with one: {sorted(virtual)})")
+    p = as_index(position)
+    if p is None:
+        raise ArgumentTypeError(f"ICS {k}: position must be an int, not {plain(position)}")
+    if not 0 <= p <= 0xFFFF:
+        raise ArgumentError(f"ICS {k}: position {p} is not 16 bits (0..65535)")
+    return k, p
 
 
 class Servos:

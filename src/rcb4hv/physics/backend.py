@@ -280,10 +280,11 @@ class PhysicsBackend:
         positions: dict[int, int] = {}
         for index, _, base in blocks:
             if index in wheels:  # a wheel reports the speed it was sent (its angle grows)
-                positions[index] = wheel_sent.get(index, base + CENTER)
+                p = wheel_sent.get(index, base + CENTER)
             else:
                 zero, sign = terms[index]
                 angle = q[servos[index].qpos]
-                positions[index] = round(zero + sign * degrees(angle) * COUNTS_PER_DEGREE) + base
+                p = round(zero + sign * degrees(angle) * COUNTS_PER_DEGREE) + base
+            positions[index] = min(max(p, 0), 0xFFFF)  # the 16-bit register (measure refuses more)
         gyro, accel = world.imu()
         self.board.measure(positions, self.sensors.channels(gyro, accel, self.rest))
