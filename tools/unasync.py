@@ -27,6 +27,7 @@ SRC = ROOT / "src" / "rcb4hv"
 
 FILES = {
     "aio/client.py": "client/core.py",
+    "aio/client_commands.py": "client/core_commands.py",
     "aio/robot.py": "client/robot.py",
     "aio/robot_io.py": "client/robot_io.py",
     "aio/robot_motion.py": "client/robot_motion.py",
@@ -45,12 +46,14 @@ SUBS = [
     (r"\bfrom asyncio import sleep\b", "from time import sleep"),
     # the two faces' names
     (r"\bAsyncRcb4Client\b", "Rcb4Client"),
+    (r"\bAsyncRcb4Commands\b", "Rcb4Commands"),
     (r"\bAsyncRobotMotions\b", "RobotMotions"),
     (r"\bAsyncRobotIO\b", "RobotIO"),
     (r"\bAsyncRobot\b", "Robot"),
     (r"\bAsyncTransport\b", "Transport"),
     (r"\bopen_async_transport\b", "open_transport"),
     # the modules
+    (r"\brcb4hv\.aio\.client_commands\b", "rcb4hv.client.core_commands"),
     (r"\brcb4hv\.aio\.client\b", "rcb4hv.client.core"),
     (r"\brcb4hv\.aio\.robot_io\b", "rcb4hv.client.robot_io"),
     (r"\brcb4hv\.aio\.robot_motion\b", "rcb4hv.client.robot_motion"),

@@ -13,10 +13,11 @@ from __future__ import annotations
 import logging
 import time
 from asyncio import Lock
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from types import TracebackType
 from typing import Final, TypeVar
 
+from rcb4hv.aio.client_commands import AsyncRcb4Commands
 from rcb4hv.aio.transport import AsyncTransport, open_async_transport
 from rcb4hv.client import exchange
 from rcb4hv.client.args import check_link_args, closed_error
@@ -27,12 +28,12 @@ from rcb4hv.client.plans import (
     ROM_WRITE_CHUNK,
     Plan,
     Progress,
-    data_of,
     read_memory,
 )
 from rcb4hv.client.plans import write_ram as write_ram_plan
 from rcb4hv.client.plans import write_rom as write_rom_plan
 from rcb4hv.errors import (
+    ChecksumError,
     CommandNotAllowedError,
     FrameError,
     NakError,
@@ -41,44 +42,22 @@ from rcb4hv.errors import (
     TransportError,
 )
 from rcb4hv.protocol import (
-    ALWAYS,
     MAX_REPLY_SIZE,
+    NEED_DATA,
     RAM_SIZE,
     AcknowledgeCheck,
-    Add,
-    And,
-    Call,
     Command,
     CommunicateDevice,
-    Condition,
-    DataReply,
-    Destination,
-    Div,
     FrameDecoder,
     GetVersionInfo,
-    Jump,
-    Mod,
-    Move,
-    Mul,
     Nak,
-    Not,
-    Or,
     Reply,
-    Return,
-    RunSeriesServo,
-    SetSpeed,
-    SetStretch,
-    Shift,
-    Source,
-    Sub,
     VersionReply,
-    Xor,
     decode_reply,
     reply_length,
 )
 from rcb4hv.protocol.frame import sum_ok
 from rcb4hv.protocol.replies import ACK_BYTE, NAK_BYTE
-from rcb4hv.protocol.servoframes import const_frame_servo_frame, single_servo_frame
 from rcb4hv.transport import BAUD_RATES, DEFAULT_BAUD
 
 __all__ = [
@@ -101,7 +80,7 @@ def _name(command: Command) -> str:
     return type(command).__name__
 
 
-class AsyncRcb4Client:
+class AsyncRcb4Client(AsyncRcb4Commands):
     """A connection to one board speaking the RCB-4HV protocol.
 
     ``async with await AsyncRcb4Client.open("rcb4emu://") as rcb: await rcb.acknowledge_check()``
@@ -116,8 +95,9 @@ class AsyncRcb4Client:
 
     One transaction at a time, under a lock (callers from several threads or tasks are
     serialised). Bytes that arrive before the reply and cannot start it (stray bytes, late
-    replies to earlier requests) are discarded and logged; a call cancelled while waiting
-    leaves the client usable, since the next call flushes the input before it sends.
+    replies to earlier requests) are discarded and logged; a call cancelled, interrupted or
+    timed out leaves the client usable: the next call waits out the reply its request still
+    gets (:meth:`_settle`), then flushes the input and sends.
     """
 
     def __init__(
@@ -136,6 +116,12 @@ class AsyncRcb4Client:
         self._lock = Lock()
         self._closed = False
         self._decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
+        self._owed = 0
+        """Replies still owed to requests sent and then abandoned (the call was cancelled,
+        interrupted or timed out): the next call waits them out before it sends."""
+        self._owed_wait = timeout
+        """How long the next call waits for them at most: the abandoned call's timeout, or
+        the client's when that is longer (a reply that missed a short timeout is late)."""
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -192,6 +178,7 @@ class AsyncRcb4Client:
         """Whether one of ``tries`` ACK checks, each after a flush of the input, is answered."""
         for _ in range(max(1, tries)):
             self.transport.reset_input()
+            self._owed = 0  # a probe's late reply is the second check's business, not a wait
             try:
                 await self.acknowledge_check(timeout=timeout)
             except (Rcb4TimeoutError, ProtocolError, NakError):
@@ -210,6 +197,7 @@ class AsyncRcb4Client:
         """Reopen the transport (after a disconnect, or after :meth:`close`)."""
         async with self._lock:
             await self.transport.reopen()
+            self._owed = 0  # a new link: nothing is on its way on it
             self._closed = False
 
     async def __aenter__(self) -> AsyncRcb4Client:
@@ -278,9 +266,13 @@ class AsyncRcb4Client:
         async with self._lock:
             if self._closed:
                 raise closed_error(transport.url)
+            if self._owed:
+                await self._settle()
             deadline = time.monotonic() + timeout
             transport.reset_input()
             transport.write(frame)
+            self._owed += 1
+            self._owed_wait = max(timeout, self.timeout)
             chunk = await transport.read_some(expected, deadline)
             if (
                 len(chunk) == expected
@@ -288,145 +280,55 @@ class AsyncRcb4Client:
                 and chunk[1] == cmd
                 and sum_ok(chunk)
             ):
+                self._owed -= 1
                 return chunk
             matcher = ReplyMatcher(self._decoder, cmd, expected, name, self.corrupt_grace)
             try:
                 while True:
                     raw = matcher.feed(chunk, time.monotonic())
                     if raw is not None:
+                        self._owed -= 1
                         return raw
                     chunk = await transport.read(matcher.need, matcher.until(deadline))
                     if not chunk:
-                        raise matcher.timeout_error(timeout)
+                        error = matcher.timeout_error(timeout)
+                        if isinstance(error, ChecksumError):
+                            self._owed -= 1  # the reply came, damaged: none is owed
+                        raise error
             finally:
                 matcher.report()  # the stray bytes of the whole exchange, in one line
 
-    # ------------------------------------------------------------------ data commands
+    async def _settle(self) -> None:
+        """Wait out the replies owed to abandoned requests before the next one is sent.
 
-    async def move(self, dst: Destination, src: Source, size: int | None = None) -> bytes | None:
-        """00h MOVE: ``dst <- src``. Returns the bytes read when ``dst`` is ``Com()``."""
-        reply = await self.transact(Move(dst, src, size))
-        return reply.data if isinstance(reply, DataReply) else None
-
-    async def _data(self, command: Command) -> bytes:
-        return data_of(await self.transact(command), command)
-
-    async def _int(self, command: Command) -> int:
-        return int.from_bytes(await self._data(command), "little")
-
-    async def and_(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> bytes:
-        """01h AND; returns the result bytes."""
-        return await self._data(And(dst, src, size, no_write))
-
-    async def or_(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> bytes:
-        """02h OR; returns the result bytes."""
-        return await self._data(Or(dst, src, size, no_write))
-
-    async def xor(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> bytes:
-        """03h XOR; returns the result bytes."""
-        return await self._data(Xor(dst, src, size, no_write))
-
-    async def not_(self, dst: Destination, size: int, no_write: bool = False) -> bytes:
-        """04h NOT; returns the result bytes."""
-        return await self._data(Not(dst, size, no_write))
-
-    async def shift(self, dst: Destination, size: int, count: int, no_write: bool = False) -> bytes:
-        """05h SHIFT (count 1-127 right, 128-255 left by 256 - count); returns the result."""
-        return await self._data(Shift(dst, size, no_write, count))
-
-    async def add(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> int:
-        """06h ADD (1 or 2 bytes); returns the result as an unsigned int."""
-        return await self._int(Add(dst, src, size, no_write))
-
-    async def sub(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> int:
-        """07h SUB (1 or 2 bytes); returns the result as an unsigned int."""
-        return await self._int(Sub(dst, src, size, no_write))
-
-    async def multiply(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> int:
-        """08h MUL (1 or 2 bytes, low bytes kept); returns the result."""
-        return await self._int(Mul(dst, src, size, no_write))
-
-    async def division(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> int:
-        """09h DIV (1 or 2 bytes, unsigned); returns the quotient."""
-        return await self._int(Div(dst, src, size, no_write))
-
-    async def modulo(
-        self, dst: Destination, src: Source, size: int | None = None, no_write: bool = False
-    ) -> int:
-        """0Ah MOD (1 or 2 bytes, unsigned); returns the remainder."""
-        return await self._int(Mod(dst, src, size, no_write))
-
-    # ------------------------------------------------------------------ control flow
-
-    async def jump(self, address: int, condition: Condition = ALWAYS) -> None:
-        """0Bh JUMP: set the ROM program counter (if ``condition`` holds)."""
-        await self.transact(Jump(address, condition))
-
-    async def call(self, address: int, condition: Condition = ALWAYS) -> None:
-        """0Ch CALL: push the PC and jump (how a host starts a motion)."""
-        await self.transact(Call(address, condition))
-
-    async def return_(self) -> None:
-        """0Dh RETURN: pop the PC."""
-        await self.transact(Return())
-
-    async def communicate_device(
-        self, ics: int, tx_count: int, tx_address: int, rx_address: int
-    ) -> None:
-        """0Eh ICS communication. Refused (CommandNotAllowedError) unless the client was created
-        with ``allow_communicate_device=True``: the reference says it must not be used."""
-        await self.transact(CommunicateDevice(ics, tx_count, tx_address, rx_address))
-
-    # ------------------------------------------------------------------ servo commands
-
-    async def run_single_servo(
-        self, ics: int, speed: int, position: int, set_update_flag: bool = True
-    ) -> None:
-        """0Fh: one servo to ``position`` in ``speed`` output periods (any 7-bit ICS number,
-        speed and 16-bit position: the wire layer takes what the board takes)."""
-        frame = single_servo_frame(ics, speed, position, set_update_flag)
-        await self._ack(frame, 0x0F, "RunSingleServo")
-
-    async def run_const_frame_servo(
-        self,
-        speed: int,
-        positions: Mapping[int, int] | Iterable[tuple[int, int]],
-        set_update_flag: bool = True,
-    ) -> None:
-        """10h: several servos, one speed; ``positions`` maps ICS number to position."""
-        frame = const_frame_servo_frame(speed, positions, set_update_flag)
-        await self._ack(frame, 0x10, "RunConstFrameServo")
-
-    async def run_series_servo(
-        self, moves: Iterable[tuple[int, int, int]], set_update_flag: bool = True
-    ) -> None:
-        """11h: several servos, each ``(ics, speed, position)``. One report says it resets a
-        real RCB-4HV; HeartToHeart4 never sends it."""
-        await self.transact(RunSeriesServo(moves, set_update_flag))
-
-    async def set_speed(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 02: servo speed parameter per ICS number (any byte; documented 1-127,
-        which :meth:`Robot.set_speed` checks)."""
-        await self.transact(SetSpeed(values))
-
-    async def set_stretch(self, values: Mapping[int, int] | Iterable[tuple[int, int]]) -> None:
-        """12h sub 01: servo stretch (holding gain) per ICS number (any byte; documented
-        1-127, which :meth:`Robot.set_stretch` checks)."""
-        await self.transact(SetStretch(values))
+        A call cancelled, interrupted or timed out after its request went out leaves the
+        board's reply on its way; flushing the input before the next request does not stop
+        it arriving after the flush, where it would be taken for the next reply (and that
+        one's for the call after: wrong data, call after call). So the owed frames are read
+        and dropped first, waiting at most the abandoned call's timeout (or the client's, if
+        longer): what has not come by then is not expected any more. So the first call after
+        a reply that never comes (a dropped frame, a board gone) takes up to that much
+        longer; a call after one that was only cancelled waits for its reply, milliseconds."""
+        transport = self.transport
+        deadline = time.monotonic() + self._owed_wait
+        decoder = FrameDecoder(max_size=MAX_REPLY_SIZE, resync="byte")
+        dropped = 0
+        try:
+            while self._owed and (chunk := await transport.read(4, deadline)):
+                dropped += len(chunk)
+                decoder.receive_data(chunk)
+                while self._owed:
+                    try:
+                        frame = decoder.next_frame()
+                    except ProtocolError:
+                        continue  # a damaged or stray byte: the decoder has dropped it
+                    if frame is NEED_DATA:
+                        break
+                    self._owed -= 1
+        finally:
+            self._owed = 0
+        if dropped:
+            log.info("dropped %d byte(s) of replies to abandoned requests", dropped)
 
     # ------------------------------------------------------------------ system
 

@@ -124,6 +124,12 @@ class ReplyMatcher:
                 self.need = max(pending[0] - len(pending), 1)
                 return None
             assert isinstance(frame, bytes)
+            if len(frame) == 4 and expected != 4 and frame[2] != NAK_BYTE:
+                # an ACK where data is expected: a late reply to an earlier command, not this
+                # one's (only a NAK is a 4-byte answer to a data command)
+                self.discarded += 4
+                self._shown += frame[: max(0, min(4, STRAY_SHOWN - len(self._shown)))]
+                continue
             return frame
 
     def report(self) -> None:
