@@ -258,3 +258,41 @@ def test_a_close_racing_a_call_ends_it_with_the_closed_client_error() -> None:
         assert served.closer is not None
         served.closer.join(timeout=5)
         board.close()
+
+
+@pytest.mark.parametrize(
+    ("kw", "error", "words"),
+    [
+        ({"calibration": 5}, ArgumentTypeError, "calibration must map"),
+        ({"calibration": {2: 40}}, ArgumentTypeError, "ICS 2 needs a Calibration"),
+        ({"calibration": {99: Calibration()}}, ArgumentError, "ICS 99 is not a servo"),
+        ({"layout": "9.9"}, ArgumentError, "layout '9.9'"),
+        ({"layout": 21}, ArgumentTypeError, "layout must be"),
+        ({"link_cost": 5}, ArgumentTypeError, "link_cost must be a LinkCost"),
+    ],
+)
+def test_robot_options_are_checked_before_the_link_opens(
+    monkeypatch: pytest.MonkeyPatch, kw: dict[str, Any], error: type[Exception], words: str
+) -> None:
+    """They failed later (AttributeError on play_motion, TypeError after the link was open,
+    which the asyncio face then leaked)."""
+    from rcb4hv.aio import AsyncRobot
+    from rcb4hv.client import Robot
+
+    def never(*_a: object, **_k: object) -> None:
+        raise AssertionError("the link was opened")
+
+    monkeypatch.setattr(Rcb4Client, "open", never)
+    monkeypatch.setattr(AsyncRcb4Client, "open", never)
+    with pytest.raises(error, match=words):
+        Robot.open("rcb4emu://", **kw)
+    with pytest.raises(error, match=words):
+        asyncio.run(AsyncRobot.open("rcb4emu://", **kw))
+
+
+def test_a_robot_takes_a_layout_by_its_version() -> None:
+    from rcb4hv.client import Robot
+    from rcb4hv.rom.layout import LAYOUTS
+
+    with Robot.open("rcb4emu://", layout="2.1") as robot:
+        assert robot.layout is LAYOUTS["2.1"]

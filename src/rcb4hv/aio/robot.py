@@ -40,6 +40,7 @@ from rcb4hv.client.robot_types import (
     BoardInfo,
     Calibration,
     ServoInfo,
+    robot_options,
     servo_calibration,
 )
 from rcb4hv.errors import ArgumentError, Rcb4TimeoutError
@@ -98,11 +99,12 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         calibration: Mapping[int, Calibration] | None = None,
         link_cost: LinkCost | None = None,
     ) -> None:
+        layout, cal, cost = robot_options(layout, calibration, link_cost)  # typed errors
         self.client = client
-        self.link_cost = link_cost if link_cost is not None else LinkCost()
+        self.link_cost = cost
         self._plans: dict[tuple[LinkCost, tuple[tuple[int, int], ...]], list[tuple[int, int]]] = {}
         self.layout = layout
-        self.calibration: dict[int, Calibration] = dict(calibration or {})
+        self.calibration: dict[int, Calibration] = cal
         self._servos: dict[int, ServoInfo] | None = None
         self._period: float | None = None
 
@@ -117,7 +119,9 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
         calibration: Mapping[int, Calibration] | None = None,
         link_cost: LinkCost | None = None,
     ) -> AsyncRobot:
-        """Open ``url`` (see :meth:`AsyncRcb4Client.open`) and wrap it."""
+        """Open ``url`` (see :meth:`AsyncRcb4Client.open`) and wrap it. ``layout``,
+        ``calibration`` and ``link_cost`` are checked before the link is opened."""
+        robot_options(layout, calibration, link_cost)
         client = await AsyncRcb4Client.open(url, baudrate=baudrate, timeout=timeout)
         return cls(client, layout=layout, calibration=calibration, link_cost=link_cost)
 

@@ -9,7 +9,8 @@ from dataclasses import dataclass, field
 from typing import Final, Literal
 
 from rcb4hv.client.args import finite, integer
-from rcb4hv.errors import ArgumentError
+from rcb4hv.client.readplan import LinkCost
+from rcb4hv.errors import ArgumentError, ArgumentTypeError
 from rcb4hv.protocol import (
     COUNTS_PER_DEGREE,
     ServoBlock,
@@ -18,7 +19,7 @@ from rcb4hv.protocol import (
 )
 from rcb4hv.protocol.memory import CENTER, SYS, TimerState
 from rcb4hv.protocol.servomode import output_mode
-from rcb4hv.rom.layout import LAYOUTS
+from rcb4hv.rom.layout import LAYOUTS, MotionLayout
 from rcb4hv.values import plain
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "MotionStatus",
     "ServoInfo",
     "TimerState",
+    "robot_options",
     "servo_calibration",
 ]
 
@@ -70,6 +72,49 @@ class Calibration:
 
 
 _NO_CALIBRATION: Final = Calibration()
+
+
+def robot_options(
+    layout: object, calibration: object, link_cost: object
+) -> tuple[MotionLayout | None, dict[int, Calibration], LinkCost]:
+    """A robot's ``layout``, ``calibration`` and ``link_cost`` as it keeps them, checked before
+    anything is opened or sent: ``layout`` a :class:`~rcb4hv.rom.layout.MotionLayout` or a
+    HeartToHeart4 version naming one (``"2.1"``), ``calibration`` a mapping of ICS number to
+    :class:`Calibration`, ``link_cost`` a :class:`~rcb4hv.client.readplan.LinkCost` (None:
+    the defaults). A wrong type is an :class:`~rcb4hv.errors.ArgumentTypeError`, an unknown
+    version or ICS number an :class:`~rcb4hv.errors.ArgumentError`, each naming the argument."""
+    if isinstance(layout, str):
+        if layout not in LAYOUTS:
+            raise ArgumentError(
+                f"layout {layout!r}: HeartToHeart4 layouts are {', '.join(sorted(LAYOUTS))}"
+            )
+        layout = LAYOUTS[layout]
+    elif layout is not None and not isinstance(layout, MotionLayout):
+        raise ArgumentTypeError(
+            f"layout must be a MotionLayout or a version such as '2.1', not {plain(layout)}"
+        )
+    if calibration is None:
+        calibration = {}
+    if not isinstance(calibration, Mapping):
+        raise ArgumentTypeError(
+            f"calibration must map ICS numbers to Calibration, not {plain(calibration)}"
+        )
+    cal: dict[int, Calibration] = {}
+    for key, value in calibration.items():
+        k = integer("calibration: ICS number", key)
+        if not 0 <= k < SERVO_LIMIT:
+            raise ArgumentError(f"calibration: ICS {k} is not a servo (0..{SERVO_LIMIT - 1})")
+        if not isinstance(value, Calibration):
+            raise ArgumentTypeError(
+                f"calibration: ICS {k} needs a Calibration (e.g. Calibration(trim=40)), "
+                f"not {plain(value)}"
+            )
+        cal[k] = value
+    if link_cost is None:
+        link_cost = LinkCost()
+    elif not isinstance(link_cost, LinkCost):
+        raise ArgumentTypeError(f"link_cost must be a LinkCost, not {plain(link_cost)}")
+    return layout, cal, link_cost
 
 
 def servo_calibration(
