@@ -296,3 +296,28 @@ def test_a_robot_takes_a_layout_by_its_version() -> None:
 
     with Robot.open("rcb4emu://", layout="2.1") as robot:
         assert robot.layout is LAYOUTS["2.1"]
+
+
+@pytest.mark.parametrize(
+    ("call", "error"),
+    [
+        (lambda c: c.write_ram(0x0462, bytes(100)), ArgumentError),  # past the end of RAM
+        (lambda c: c.read_ram(0, 0), ArgumentError),
+        (lambda c: c.read_rom(0x3FFF0, 100), ArgumentError),
+        (lambda c: c.write_rom(0x3FFF0, bytes(100)), ArgumentError),
+        (lambda c: c.write_ram(0x0462, [1, 300]), ArgumentError),
+        (lambda c: c.write_ram(0, "ab"), ArgumentTypeError),
+        (lambda c: c.write_ram(0x0462, 5), ArgumentTypeError),  # bytes(5): five zero bytes
+        (lambda c: c.read_ram(0x0462, 2.0), ArgumentTypeError),
+    ],
+)
+def test_memory_helpers_raise_typed_errors_before_sending(
+    call: Any, error: type[Exception]
+) -> None:
+    with Rcb4Client.open("rcb4emu://") as rcb:
+        before = rcb.read_ram(0x0462, 8)
+        with pytest.raises(error):
+            call(rcb)
+        assert rcb.read_ram(0x0462, 8) == before
+        rcb.write_ram(0x0462, [1, 2])  # a sequence of ints 0..255 is still bytes
+        assert rcb.read_ram(0x0462, 2) == b"\x01\x02"

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator
 from typing import Final, TypeVar
 
-from rcb4hv.errors import FrameError, VerifyError
+from rcb4hv.errors import ArgumentError, ArgumentTypeError, FrameError, VerifyError
 from rcb4hv.protocol import (
     MAX_READ,
     RAM_SIZE,
@@ -27,6 +27,7 @@ from rcb4hv.protocol import (
     Rom,
 )
 from rcb4hv.protocol.operands import MAX_LITERAL
+from rcb4hv.values import as_index, plain
 
 __all__ = [
     "MAX_READ",
@@ -53,13 +54,34 @@ Progress = Callable[[int, int], None]
 """Progress callback: ``progress(done_bytes, total_bytes)``."""
 
 
-def check_span(kind: str, address: int, size: int, limit: int) -> None:
-    if not isinstance(address, int) or not isinstance(size, int):
-        raise ValueError(f"{kind} address and size must be ints")
-    if size < 1:
-        raise ValueError(f"{kind} size {size} must be at least 1")
-    if address < 0 or address + size > limit:
-        raise ValueError(f"{kind} {address:#x}+{size} runs outside 0..{limit - 1:#x}")
+def check_span(kind: str, address: object, size: object, limit: int) -> None:
+    """ArgumentTypeError unless ``address`` and ``size`` are ints (numpy integers too, not
+    bools); ArgumentError (a ValueError) unless the span is 1 byte or more inside 0..limit-1."""
+    a, n = as_index(address), as_index(size)
+    if a is None or n is None:
+        raise ArgumentTypeError(
+            f"{kind} address and size must be ints, not {plain(address)} and {plain(size)}"
+        )
+    if n < 1:
+        raise ArgumentError(f"{kind} size {n} must be at least 1")
+    if a < 0 or a + n > limit:
+        raise ArgumentError(f"{kind} {a:#x}+{n} runs outside 0..{limit - 1:#x}")
+
+
+def data_bytes(kind: str, data: object) -> bytes:
+    """``data`` to write as bytes: bytes, bytearray, memoryview or a sequence of ints 0..255.
+    An int (``bytes(5)`` would be five zero bytes), a str or anything else is an
+    ArgumentTypeError; an item outside 0..255 an ArgumentError."""
+    if isinstance(data, bytes | bytearray | memoryview):
+        return bytes(data)
+    if isinstance(data, str | int) or not hasattr(data, "__iter__"):
+        raise ArgumentTypeError(f"{kind} data must be bytes, not {plain(data)}")
+    try:
+        return bytes(data)
+    except TypeError:
+        raise ArgumentTypeError(f"{kind} data must be bytes or ints 0..255") from None
+    except ValueError:
+        raise ArgumentError(f"{kind} data: every byte is 0..255") from None
 
 
 def data_of(reply: Reply, command: Command) -> bytes:
@@ -87,7 +109,7 @@ def read_memory(
 
 def write_ram(address: int, data: bytes) -> Plan[None]:
     """Write ``data`` to RAM, 121 bytes per MOVE literal."""
-    data = bytes(data)
+    data = data_bytes("RAM", data)
     check_span("RAM", address, len(data), RAM_SIZE)
     for i in range(0, len(data), MAX_WRITE):
         yield Move(Ram(address + i), Data(data[i : i + MAX_WRITE]))
@@ -97,7 +119,7 @@ def write_rom(
     address: int, data: bytes, verify: bool = True, progress: Progress | None = None
 ) -> Plan[None]:
     """Write ``data`` to ROM in page-aligned 64-byte chunks, reading each back if ``verify``."""
-    data = bytes(data)
+    data = data_bytes("ROM", data)
     check_span("ROM", address, len(data), ROM_SIZE)
     total, done, a = len(data), 0, address
     while done < total:
