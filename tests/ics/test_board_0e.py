@@ -5,6 +5,7 @@ RXL RXH SUM`` (SUM = low byte of the sum of the bytes before it)."""
 from __future__ import annotations
 
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
@@ -205,3 +206,31 @@ def test_a_scan_through_a_board_that_refuses_0eh_says_so() -> None:
     )
     assert r.exit_code == 0 and r.stdout == "no servo answered\n"
     assert "a board that does not serve 0Eh" in r.stderr and "--ics-comm" in r.stderr
+
+
+def test_via_board_leaves_a_heart_to_heart_program_as_it_found_it(kxr_project_path: Path) -> None:
+    """0Eh's scratch RAM is HeartToHeart4's vector-jump table (its button bindings): the link
+    pauses the program, saves the bytes and puts both back. Before, a scan through the board
+    left ICS replies in the table, and the running program jumped into the walk bound to UP
+    (motion 9 of the fixture) with no button pressed."""
+    from rcb4hv.emulator import emulator_url
+    from rcb4hv.hth4 import load_project
+    from rcb4hv.project.image import build_project_image
+    from rcb4hv.transport import SerialTransport
+
+    image = build_project_image(load_project(kxr_project_path))
+    board = Board(EmulatorConfig(ics_comm=True), clock=VirtualClock(), rom_image=image)
+    try:
+        board.run_for(2.0)  # the start-up motion, then the main loop reading the remote
+        table = bytes(board.ram[TX : TX + 130])
+        sysreg = bytes(board.ram[0:2])
+        assert sysreg[0] & 0x0A == 0x0A  # ROM_F and VEC_F: the program runs, vector jumps on
+        with IcsBus(BoardIcsLink(SerialTransport.open(emulator_url(board)), ics=4)) as bus:
+            assert bus.scan(range(4))
+            assert bus.servo(2).stretch() > 0
+        assert bytes(board.ram[TX : TX + 130]) == table
+        assert bytes(board.ram[0:2]) == sysreg
+        board.run_for(1.0)
+        assert board.ram[5] == 0, "the program called a motion: no button was pressed"
+    finally:
+        board.close()

@@ -19,11 +19,12 @@ import logging
 import time
 from typing import Final, Protocol
 
-from rcb4hv.errors import IcsError, IcsNoReply, NakError
+from rcb4hv.errors import IcsError, IcsNoReply, NakError, Rcb4Error
 from rcb4hv.ics.codec import BAUD_RATES, Kind, Sc, reply_length, strip_echo
 from rcb4hv.protocol import (
     Ack,
     Com,
+    Command,
     CommunicateDevice,
     Data,
     DataReply,
@@ -34,6 +35,8 @@ from rcb4hv.protocol import (
     encode_command,
 )
 from rcb4hv.protocol import reply_length as frame_reply_length
+from rcb4hv.protocol.memory import ADDR
+from rcb4hv.protocol.sequences import set_system, suspend_program
 from rcb4hv.transport import Transport
 
 __all__ = [
@@ -53,10 +56,15 @@ log = logging.getLogger(__name__)
 REPLY_TIMEOUT_S: Final = 0.1
 EEPROM_READ_TIMEOUT_S: Final = 1.0
 EEPROM_WRITE_TIMEOUT_S: Final = 2.0
-# Scratch RAM for --via-board: HeartToHeart4's vector packages (0357h, 32 x 8 bytes; unused
-# unless vector jumps are on). TX up to 64 bytes, then RX up to 66 (an EEPROM read).
+# Scratch RAM for --via-board: HeartToHeart4's vector packages (0357h, 32 x 8 bytes), which
+# a project running with vector jumps on reads as its button -> motion table. TX up to 64
+# bytes, then RX up to 66 (an EEPROM read). BoardIcsLink pauses the program and saves these
+# bytes before its first exchange, and puts both back when it closes.
 DEFAULT_TX_ADDRESS: Final = 0x0357
 DEFAULT_RX_ADDRESS: Final = 0x0397
+TX_MAX: Final = 64
+RX_MAX: Final = 66
+COPY_CHUNK: Final = 64  # bytes per MOVE when the scratch RAM is saved and put back
 BOARD_TIMEOUT_S: Final = 1.0
 ECHO_NOT_BOARD: Final = (
     "the port echoes the frame sent: an ICS bus (servos: the adapter in ICS mode, icsemu://, "
@@ -150,7 +158,14 @@ class SerialIcsLink:
 
 class BoardIcsLink:
     """An ICS bus behind an RCB-4HV, through 0Eh (``ics`` picks the SIO line: its low bit
-    is the side, SIO1-4 or SIO5-8, as in ICS number = 2 x ID + side)."""
+    is the side, SIO1-4 or SIO5-8, as in ICS number = 2 x ID + side).
+
+    0Eh takes its command from RAM and leaves the answer in RAM: the scratch area
+    (``tx_address``, ``rx_address``) is HeartToHeart4's vector-jump table, which a project's
+    program reads for its button bindings. Before the first exchange the link pauses the
+    board's program (ROM_F cleared) and saves the scratch bytes; :meth:`close` writes them
+    back and restores the system register, so the program runs on with its bindings intact
+    (without this a mere ``ics --via-board scan`` started a walk on a HeartToHeart4 board)."""
 
     def __init__(
         self,
@@ -164,8 +179,44 @@ class BoardIcsLink:
         self.ics = ics
         self.tx_address = tx_address
         self.rx_address = rx_address
+        self._saved: tuple[int, int, bytes] | None = None
+        """(system register, scratch start, scratch bytes) before the first exchange."""
 
-    def _board(self, frame_cmd: Move | CommunicateDevice) -> Ack | Nak | DataReply:
+    def _scratch(self) -> tuple[int, int]:
+        """The RAM span (start, end) the exchanges write: TX and RX areas together."""
+        lo = min(self.tx_address, self.rx_address)
+        return lo, max(self.tx_address + TX_MAX, self.rx_address + RX_MAX)
+
+    def _read_ram(self, address: int, size: int) -> bytes:
+        reply = self._board(Move(Com(), Ram(address), size))
+        if not isinstance(reply, DataReply):
+            raise IcsError(f"the board did not return RAM {address:04X}h")
+        return bytes(reply.data)
+
+    def _pause(self) -> None:
+        """Pause the program and save the scratch RAM (once, before the first exchange)."""
+        if self._saved is not None:
+            return
+        word = int.from_bytes(self._read_ram(ADDR.SYSTEM, 2), "little")
+        for command in suspend_program(word):
+            self._board(command)
+        lo, hi = self._scratch()
+        saved = b"".join(
+            self._read_ram(a, min(COPY_CHUNK, hi - a)) for a in range(lo, hi, COPY_CHUNK)
+        )
+        self._saved = (word, lo, saved)
+
+    def _restore(self) -> None:
+        """Put the scratch RAM and the system register back as they were."""
+        if self._saved is None:
+            return
+        word, lo, saved = self._saved
+        for i in range(0, len(saved), COPY_CHUNK):
+            self._board(Move(Ram(lo + i), Data(saved[i : i + COPY_CHUNK])))
+        self._board(set_system(word))
+        self._saved = None
+
+    def _board(self, frame_cmd: Command) -> Ack | Nak | DataReply:
         t = self.transport
         frame = encode_command(frame_cmd)
         t.reset_input()
@@ -182,11 +233,12 @@ class BoardIcsLink:
         return reply
 
     def exchange(self, command: bytes) -> bytes:
-        if len(command) > 64:
+        if len(command) > TX_MAX:
             raise IcsError(
-                f"0Eh sends at most 64 bytes; this command has {len(command)} "
+                f"0Eh sends at most {TX_MAX} bytes; this command has {len(command)} "
                 "(write the EEPROM through the USB adapter in ICS mode instead)"
             )
+        self._pause()
         if isinstance(self._board(Move(Ram(self.tx_address), Data(command))), Nak):
             raise NakError(f"the board refused the RAM write at {self.tx_address:04X}h")
         comm = CommunicateDevice(self.ics, len(command), self.tx_address, self.rx_address)
@@ -208,4 +260,12 @@ class BoardIcsLink:
         raise IcsError(f"the servo now talks at {baud} baud; a board's SIO line cannot follow")
 
     def close(self) -> None:
-        self.transport.close()
+        """Put back what the exchanges changed on the board (the scratch RAM, the paused
+        program), then close the link; a board that no longer answers is left as it is."""
+        try:
+            if self.transport.is_open:
+                self._restore()
+        except (IcsError, Rcb4Error) as exc:
+            log.warning("could not restore the board's RAM after --via-board: %s", exc)
+        finally:
+            self.transport.close()
