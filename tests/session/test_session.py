@@ -8,6 +8,7 @@ from collections.abc import Iterator
 
 import pytest
 
+from rcb4hv.client import Robot
 from rcb4hv.emulator import Board, EmulatorConfig, RealClock, emulator_url
 from rcb4hv.errors import TransportError
 from rcb4hv.protocol.memory import ADDR, SERVO
@@ -141,9 +142,10 @@ def test_nothing_clicked_while_the_link_is_down_runs_when_it_comes_back(board: B
         k = DEFAULT_ICS[0]
         started, release = threading.Event(), threading.Event()
 
-        def link_breaks(_robot: object) -> None:
+        def link_breaks(robot: Robot) -> None:
             started.set()
             release.wait(5)
+            robot.client.transport.close()  # the board no longer answers an ACK check
             raise OSError("the cable came out")
 
         broken = s.submit(link_breaks)

@@ -13,8 +13,11 @@ queue, so nothing ever talks to the link concurrently and no caller's event loop
   frame at most once per servo output period, so a dragged slider cannot flood the link.
 * :meth:`BoardSession.stop` jumps the queue: stop the motion, then hold every servo.
 
-A link failure marks the state disconnected with the error text and fails every queued job
-and pending move (:class:`~rcb4hv.errors.TransportError`): nothing clicked while the board
+A job's error goes to its future, and only there unless the link failed
+(:func:`rcb4hv.session.jobs.judge`): a NAK, a ``wait_motion`` that ends with the motion still
+playing, a program stopped by a ROM error or a refused command leave the link and the queue
+alone. A link failure marks the state disconnected with the error text and fails every queued
+job and pending move (:class:`~rcb4hv.errors.TransportError`): nothing clicked while the board
 was away runs when it comes back (a "free all" would drop the robot then). While the link is
 down, new jobs and moves are refused at once; the worker reopens the link every ``retry``
 seconds until it answers again. Before the first attempt to connect, jobs wait for it.
@@ -32,13 +35,13 @@ import collections
 import logging
 import threading
 import time
-from collections.abc import Callable, Generator
+from collections.abc import Callable
 from concurrent.futures import Future
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any, TypeVar
 
 from rcb4hv.client import HTH4_22, MotionLayout, Rcb4Client, Robot
-from rcb4hv.client.args import check_link_args, finite, integer, plain, seconds, servo_targets
+from rcb4hv.client.args import check_link_args, finite, plain, seconds, servo_targets
 from rcb4hv.client.exchange import check_timeout
 from rcb4hv.errors import (
     ArgumentError,
@@ -46,6 +49,17 @@ from rcb4hv.errors import (
     Rcb4Error,
     Rcb4TimeoutError,
     TransportError,
+)
+from rcb4hv.session.jobs import (
+    Job,
+    Progress,
+    StepJob,
+    Steps,
+    answers,
+    closed_while_running,
+    fail_all,
+    judge,
+    rom_dump_steps,
 )
 from rcb4hv.session.meter import MeteredTransport
 from rcb4hv.session.state import AngleHistory, BoardState, poll_state
@@ -56,36 +70,6 @@ __all__ = ["BoardSession", "Progress", "StepJob"]
 log = logging.getLogger(__name__)
 
 T = TypeVar("T")
-
-StepJob = Generator[tuple[int, int], None, T]
-"""A long job: yields ``(done, total)`` after each short step and returns its result."""
-
-
-@dataclass(frozen=True, slots=True)
-class Progress:
-    """How far the current long job is (``total`` 0: none running)."""
-
-    label: str = ""
-    done: int = 0
-    total: int = 0
-
-    @property
-    def fraction(self) -> float:
-        return self.done / self.total if self.total else 0.0
-
-
-@dataclass
-class _Job:
-    fn: Callable[[Robot], Any]
-    future: Future[Any]
-    label: str = ""
-
-
-@dataclass
-class _Steps:
-    gen: Generator[tuple[int, int], None, Any]
-    future: Future[Any]
-    label: str
 
 
 class BoardSession:
@@ -128,8 +112,8 @@ class BoardSession:
         self.robot: Robot | None = None
         self.latencies: collections.deque[float] = collections.deque(maxlen=10_000)
         self.moves_sent = 0
-        self._jobs: collections.deque[_Job] = collections.deque()
-        self._steps: collections.deque[_Steps] = collections.deque()
+        self._jobs: collections.deque[Job] = collections.deque()
+        self._steps: collections.deque[Steps] = collections.deque()
         self._targets: dict[int, int] = {}
         self._target_t: float | None = None
         self._last_move = 0.0
@@ -138,6 +122,9 @@ class BoardSession:
         self._closed = False
         self._thread: threading.Thread | None = None
         self._state_lock = threading.Lock()
+        self._link_lock = threading.Lock()
+        """Guards :attr:`robot` and the client being opened (close() closes either)."""
+        self._opening: Rcb4Client | None = None
         self._reopen = False
         self._failures = 0
         """Failed attempts since the link was last up (only the first is logged as a
@@ -154,14 +141,31 @@ class BoardSession:
             self._thread.start()
         return self
 
-    def close(self) -> None:
-        """Stop the worker, fail queued jobs, close the link."""
+    def close(self, timeout: float = 10.0) -> None:
+        """Stop the worker, fail queued jobs, close the link; idempotent.
+
+        The link is closed at once, under a job that is running: its next exchange with the
+        board fails, and its future gets :class:`~rcb4hv.errors.TransportError` ("... was
+        closed while this job ran"), so a ``wait_motion(timeout=30)`` ends within one
+        exchange. Then close waits up to ``timeout`` seconds for the worker thread to end: only
+        a job that keeps computing without the link can make it wait that long (close then
+        logs a warning and returns; the worker ends when that job returns)."""
+        check_timeout(timeout)
         with self._cond:
             self._closed = True
             self._cond.notify_all()
-        if self._thread is not None:
-            self._thread.join(timeout=10)
-            self._thread = None
+        with self._link_lock:
+            opening = self._opening
+        if opening is not None:
+            opening.close()  # a link being opened: _connect fails at its next exchange
+        self._disconnect()
+        thread = self._thread
+        if thread is not None and thread is not threading.current_thread():
+            thread.join(timeout)
+            if thread.is_alive():
+                log.warning("closing %s: a job still running after %g s", self.url, timeout)
+            else:
+                self._thread = None
         self._fail_pending(TransportError(f"the board session for {self.url} is closed"))
         self._disconnect()
 
@@ -209,7 +213,7 @@ class BoardSession:
             if down is not None:
                 fut.set_exception(down)
                 return fut
-            job = _Job(fn, fut, label)
+            job = Job(fn, fut, label)
             if urgent:
                 self._jobs.appendleft(job)
             else:
@@ -227,7 +231,7 @@ class BoardSession:
 
         def start(robot: Robot) -> None:
             with self._cond:
-                self._steps.append(_Steps(make(robot), holder, label))
+                self._steps.append(Steps(make(robot), holder, label))
 
         started = self.submit(start, label=label)
 
@@ -278,19 +282,7 @@ class BoardSession:
 
     def rom_dump(self, chunk: int = 1024) -> Future[bytes]:
         """Read the whole 256 KB ROM as a long job (1 KB per step)."""
-        from rcb4hv.rom.layout import ROM_SIZE
-
-        if not 0 < integer("chunk", chunk) <= ROM_SIZE:
-            raise ArgumentError(f"chunk must be 1..{ROM_SIZE} bytes, not {chunk}")
-
-        def job(robot: Robot) -> StepJob[bytes]:
-            out = bytearray()
-            while len(out) < ROM_SIZE:
-                out += robot.read_rom(len(out), min(chunk, ROM_SIZE - len(out)))
-                yield len(out), ROM_SIZE
-            return bytes(out)
-
-        return self.submit_steps(job, "ROM dump")
+        return self.submit_steps(rom_dump_steps(chunk), "ROM dump")
 
     # ------------------------------------------------------------------ worker
 
@@ -312,19 +304,17 @@ class BoardSession:
             self._steps.clear()
             self._targets.clear()
             self._target_t = None
-        for j in jobs:
-            if not j.future.done():
-                j.future.set_exception(exc)
-        for s in steps:
-            s.gen.close()
-            if not s.future.done():
-                s.future.set_exception(exc)
+        fail_all(jobs, steps, exc)
         self.progress = Progress()
 
     def _connect(self) -> None:
         transport = MeteredTransport(open_transport(self.url, self.baudrate or DEFAULT_BAUD))
         client = Rcb4Client(transport, timeout=self.timeout)
+        with self._link_lock:
+            self._opening = client
         try:
+            if self._closed:
+                raise self._closed_error()
             if self.baudrate is None:
                 client.detect_baudrate()
             robot = Robot(client, layout=self.layout)
@@ -335,11 +325,17 @@ class BoardSession:
                 log.warning("%s: %s", self.url, exc)
             robot.discover_servos()
             self._period = robot.output_period(refresh=True)
+            with self._link_lock:
+                self._opening = None
+                if self._closed:  # close() saw neither this client nor the robot
+                    raise self._closed_error()
+                self.meter, self.robot = transport, robot
         except BaseException:
+            with self._link_lock:
+                self._opening = None
             client.close()
             raise
         inner: Any = getattr(transport.inner, "baudrate", 0)
-        self.meter, self.robot = transport, robot
         self.state = replace(
             self.state, connected=True, error=None, version=version, baudrate=int(inner or 0)
         )
@@ -352,7 +348,8 @@ class BoardSession:
         self._failures = 0
 
     def _disconnect(self, error: str | None = None) -> None:
-        robot, self.robot = self.robot, None
+        with self._link_lock:
+            robot, self.robot = self.robot, None
         if robot is not None:
             try:
                 robot.close()
@@ -368,12 +365,8 @@ class BoardSession:
             self._down_since = time.monotonic()
         self._failures += 1
         if self._failures == 1 or msg != self.state.error:  # news: warn once, not per retry
-            log.warning(
-                "link to %s failed: %s (retrying every %g s; logged again when this changes)",
-                self.url,
-                msg,
-                self.retry,
-            )
+            log.warning("link to %s failed: %s (retrying every %g s; logged again when this "
+                        "changes)", self.url, msg, self.retry)  # fmt: skip
         else:
             log.debug("link to %s still down (attempt %d): %s", self.url, self._failures, msg)
         self._disconnect(msg)
@@ -395,23 +388,28 @@ class BoardSession:
                     self._connect()
                     next_poll = 0.0
                 except Exception as exc:  # a bad URL, a board that does not answer, a bug
+                    if self._closed:
+                        return
                     self._link_failed(exc)
                     with self._cond:
                         self._cond.wait(self.retry)
                     continue
             robot = self.robot
-            assert robot is not None
+            if robot is None:  # close() took it
+                continue
             try:
                 self._work_once(robot)
                 now = time.monotonic()
-                if self.poll_hz and now >= next_poll:
+                if self.poll_hz and now >= next_poll and not self._closed:
                     self._poll(robot)
                     next_poll = max(next_poll + 1 / self.poll_hz, now)
             except (Rcb4Error, OSError) as exc:
-                self._link_failed(exc)
+                if not self._closed:  # close() closed the link under the worker: no failure
+                    self._link_failed(exc)
                 continue
             except Exception as exc:  # one bad move or poll must not end the worker
-                self._fault(exc)
+                if not self._closed:
+                    self._fault(exc)
             self._idle(next_poll)
 
     def _fault(self, exc: Exception) -> None:
@@ -435,33 +433,44 @@ class BoardSession:
             job = self._jobs.popleft() if self._jobs else None
         if job is not None and job.future.set_running_or_notify_cancel():
             try:
-                job.future.set_result(job.fn(robot))
-            except (Rcb4Error, OSError) as exc:
-                job.future.set_exception(exc)
-                if not isinstance(exc, Rcb4Error) or _is_link_error(exc):
-                    raise
+                result = job.fn(robot)
             except Exception as exc:
-                job.future.set_exception(exc)
+                self._job_failed(robot, job.future, exc)
+            else:
+                job.future.set_result(result)
+        if self._closed:
+            return
         self._send_targets(robot)
         with self._cond:
             steps = self._steps[0] if self._steps else None
         if steps is not None:
-            self._step(steps)
+            self._step(robot, steps)
 
-    def _step(self, s: _Steps) -> None:
+    def _step(self, robot: Robot, s: Steps) -> None:
         try:
             done, total = next(s.gen)
             self.progress = Progress(s.label, done, total)
         except StopIteration as stop:
             self._end_steps(s)
-            s.future.set_result(stop.value)
+            if not s.future.done():
+                s.future.set_result(stop.value)
         except Exception as exc:
             self._end_steps(s)
-            s.future.set_exception(exc)
-            if isinstance(exc, (Rcb4Error, OSError)) and _is_link_error(exc):
-                raise
+            self._job_failed(robot, s.future, exc)
 
-    def _end_steps(self, s: _Steps) -> None:
+    def _job_failed(self, robot: Robot, future: Future[Any], exc: Exception) -> None:
+        """Give a job's error to its future; re-raise it when the link failed (the worker
+        then fails the queue and reopens). Anything else was that job's alone."""
+        closed = self._closed  # close() closed the link under the job
+        if not future.done():
+            future.set_exception(closed_while_running(self.url, exc) if closed else exc)
+        if closed:
+            return
+        verdict = judge(exc)
+        if verdict == "link" or (verdict == "check" and not answers(robot)):
+            raise exc
+
+    def _end_steps(self, s: Steps) -> None:
         with self._cond:
             if self._steps and self._steps[0] is s:
                 self._steps.popleft()
@@ -488,10 +497,3 @@ class BoardSession:
         with self._state_lock:
             self.state = state
             self.history.add(state)
-
-
-def _is_link_error(exc: BaseException) -> bool:
-    """A failure of the link itself (not a NAK or a bad argument)."""
-    from rcb4hv.errors import NakError
-
-    return not isinstance(exc, NakError | ValueError)  # ValueError: ArgumentError, EditError
