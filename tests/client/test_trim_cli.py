@@ -43,3 +43,24 @@ def test_trim_save_refuses_another_robots_board(kxr_project_path: Path, tmp_path
         cli, ["trim", "save", str(kxr_project_path), "-o", str(out), "--port", port]
     )
     assert r.exit_code == 0 and "trims of 18 servos stored" in r.output, r.output
+
+
+def test_trim_save_refuses_a_board_that_holds_none_of_the_projects_motions(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    """Another robot with the same ICS numbers (a tester's KXR-L6 board, ICS 2-19 as the
+    fixture's humanoid) passed the ICS check, and its trims replaced the project's in silence.
+    The board's ROM must hold one of the project's motions as uploaded; each change is listed."""
+    image = tmp_path / "fx.bin"
+    r = CliRunner().invoke(cli, ["project", "build", str(kxr_project_path), "-o", str(image)])
+    assert r.exit_code == 0, r.output
+    port = f"rcb4emu://?rom={image}"
+    other = tmp_path / "g.h4p"
+    r = CliRunner().invoke(cli, ["project", "new", "--robot", "kxr-l2-gripper", "-o", str(other)])
+    assert r.exit_code == 0, r.output
+    before = other.read_bytes()
+    r = CliRunner().invoke(cli, ["trim", "save", str(other), "--port", port])
+    assert r.exit_code == 1 and "holds none of g.h4p's motions" in r.output, r.output
+    assert other.read_bytes() == before
+    r = CliRunner().invoke(cli, ["trim", "save", str(other), "--force", "--port", port])
+    assert r.exit_code == 0 and "  ICS 2: trim 0 -> " in r.output, r.output

@@ -9,6 +9,7 @@ project (``rcb4hv project upload``) makes them permanent.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, Final
 
 import click
 
@@ -21,6 +22,9 @@ from rcb4hv.cli._util import (
     print_table,
 )
 from rcb4hv.protocol.memory import SERVO
+
+if TYPE_CHECKING:
+    from rcb4hv.hth4.model import Project
 
 __all__ = ["register"]
 
@@ -38,6 +42,30 @@ def board_trims(conn: Connection) -> dict[int, int]:
     """ICS number -> trim of every servo the board has."""
     with conn.open() as robot:
         return {s.ics: s.trim for s in robot.discover_servos()}
+
+
+MOTION_PROBE: Final = 64
+"""Bytes of each motion compared between the project and the board's ROM."""
+
+
+def holds_a_motion_of(conn: Connection, motions: list[tuple[int, bytes]]) -> bool | None:
+    """Whether the board's ROM holds one of ``motions`` ((address, first bytes) of a
+    project's motions) byte for byte: a board the project was uploaded to does, even after
+    later edits of some motions; another robot's board does not. None when there is nothing
+    to compare (a project without motions)."""
+    if not motions:
+        return None
+    with conn.open() as robot:
+        return any(robot.client.read_rom(a, len(code)) == code for a, code in motions)
+
+
+def project_motions(project: Project) -> list[tuple[int, bytes]]:
+    """(ROM address, first :data:`MOTION_PROBE` bytes) of each motion of ``project``."""
+    return [
+        (m.address, b"".join(m.frames)[:MOTION_PROBE])
+        for m in project.motions
+        if m.frames and m.address
+    ]
 
 
 @trim.command("get")
@@ -88,9 +116,10 @@ def set_command(conn: Connection, ics: int, value: int) -> None:
 def save_command(conn: Connection, file: Path, output: Path | None, force: bool) -> None:
     """Store the board's trims into project FILE's servo settings.
 
-    The board's servos must be the project's (the same ICS numbers in use), or its trims
-    would land on other joints: another robot's board is refused unless --force, which
-    stores only the trims of the servos both use."""
+    The board must be the project's robot, or its trims would land on other joints: its
+    servos the project's (the same ICS numbers in use) and its ROM holding at least one of
+    the project's motions as uploaded. Another robot's board is refused unless --force,
+    which stores only the trims of the servos both use. Each trim that changes is listed."""
     from rcb4hv.errors import EditError
     from rcb4hv.hth4.edit import set_trim
     from rcb4hv.hth4.session import EditSession
@@ -105,10 +134,19 @@ def save_command(conn: Connection, file: Path, output: Path | None, force: bool)
             f"{only_board or 'none'}; only in the project: {only_file or 'none'}): is it "
             "this robot's board? (--force stores the trims of the servos both use)"
         )
+    if not force and holds_a_motion_of(conn, project_motions(session.project)) is False:
+        raise EditError(
+            f"the board's ROM holds none of {file.name}'s motions: is it this robot's board? "
+            "(upload the project first, or --force stores the board's trims anyway)"
+        )
     both = sorted(set(trims) & used)
+    before = {s.device_number: s.trim for s in session.project.servos}
     for ics in both:
         session.apply(set_trim, ics, trims[ics])
     session.save(output or file)
+    for ics in both:
+        if before.get(ics) != trims[ics]:
+            click.echo(f"  ICS {ics}: trim {before.get(ics)} -> {trims[ics]}")
     skipped = len(trims) - len(both)
     note = f" ({skipped} of the board's not in the project: left out)" if skipped else ""
     click.echo(f"{output or file}: trims of {len(both)} servos stored{note}")
