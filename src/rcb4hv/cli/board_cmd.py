@@ -4,6 +4,7 @@ button (``rcb4hv demo`` is in :mod:`rcb4hv.cli.demo_cmd`)."""
 from __future__ import annotations
 
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -215,8 +216,16 @@ def rom_write(
     data = image.read_bytes()
     if not data:
         raise ValueError(f"{image} is empty")
-    with conn.open() as robot, _output.progress(len(data), "rom write", progress) as bar:
-        robot.write_rom(address, data, verify=verify, progress=bar)
+    try:
+        with conn.open() as robot, _output.progress(len(data), "rom write", progress) as bar:
+            robot.write_rom(address, data, verify=verify, progress=bar)
+    except KeyboardInterrupt:
+        click.echo(
+            f"interrupted: the ROM from {address:06X} is partly written "
+            f"(up to {len(data)} bytes); run the command again to write it whole",
+            err=True,
+        )
+        sys.exit(130)
     checked = " and verified" if verify else ""
     click.echo(f"wrote{checked} {len(data)} bytes at {address:06X}")
 

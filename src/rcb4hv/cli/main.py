@@ -60,6 +60,10 @@ def repeat_hint(exc: click.UsageError, argv: list[str]) -> str | None:
     return None
 
 
+INTERRUPTED = 130
+"""Exit status after Ctrl-C (128 + SIGINT), as shells report an interrupted command."""
+
+
 class _Cli(click.Group):
     """The root group: a usage error of a repeatable option given a list says how to repeat."""
 
@@ -70,6 +74,11 @@ class _Cli(click.Group):
     def invoke(self, ctx: click.Context) -> object:
         try:
             return super().invoke(ctx)
+        except KeyboardInterrupt:
+            # Ctrl-C: one word and the shell's status for SIGINT (130), as `project upload`
+            # and `gait tune` say more; click's "Aborted!" and status 1 read as a failure
+            click.echo("interrupted", err=True)
+            sys.exit(INTERRUPTED)
         except click.UsageError as exc:
             hint = repeat_hint(exc, ctx.meta.get("rcb4hv.argv", []))
             if hint is None:

@@ -326,7 +326,8 @@ def upload(
         except KeyboardInterrupt:
             click.echo(
                 "interrupted: the board's ROM is partly written and its program is stopped; "
-                f"`rcb4hv project upload {file} --only-changed` writes the rest",
+                f"`rcb4hv project upload {file} --only-changed` (with the same --port) "
+                "writes the rest",
                 err=True,
             )
             sys.exit(130)
