@@ -35,6 +35,29 @@ def register(cli: click.Group) -> None:
     cli.add_command(gait_command)
 
 
+def _given(ctx: click.Context, name: str) -> bool:
+    return ctx.get_parameter_source(name) == click.core.ParameterSource.COMMANDLINE
+
+
+def _check_ignored(ctx: click.Context, direction: str, into: Path | None) -> None:
+    """A usage error for an option this walk would ignore: ``--turn`` on a walk that does
+    not turn, ``--stride`` on a turn, and the stored motion's ``--slot``, ``--button``,
+    ``--name`` and ``--replace`` without ``--into`` (a walk only played is stored nowhere)."""
+    turning = direction.startswith("turn-")
+    if _given(ctx, "turn") and not turning:
+        raise click.UsageError(
+            f"--turn is the turn per step of turn-left/turn-right; a {direction} walk does not turn"
+        )
+    if _given(ctx, "stride") and turning:
+        raise click.UsageError(f"--stride is a walk's step length; {direction} turns on the spot")
+    if into is None:
+        stored = [f"--{n}" for n in ("slot", "button", "name", "replace") if _given(ctx, n)]
+        if stored:
+            raise click.UsageError(
+                f"{', '.join(stored)}: the motion is stored only with --into FILE.h4p"
+            )
+
+
 @click.group("gait", invoke_without_command=True)
 @click.option("--robot", "robot_name", default=None, help="Robot model (rcb4hv robot list).")
 @DIRECTION
@@ -81,6 +104,7 @@ def gait_command(
     from rcb4hv.project.relocate import project_layout
     from rcb4hv.robot.builtin import load_robot
 
+    _check_ignored(ctx, direction, into)
     if into is None and not play:
         raise click.UsageError("say where the walk goes: --into FILE.h4p and/or --play")
     model = load_robot(robot_name)
@@ -102,12 +126,15 @@ def gait_command(
         layout=project_layout(project) if project is not None else None,
     )  # fmt: skip
     motion, every, loop = stored.motion, stored.every, stored.loop
+    turning = direction.startswith("turn-")
     summary = {
         "robot": model.name, "direction": direction, "steps": steps,
         "slot": slot if into is not None else None,
-        "stride_m": params.stride, "turn_deg": params.turn, "lift_m": params.lift,
+        "stride_m": None if turning else params.stride,
+        "turn_deg": params.turn if turning else None, "lift_m": params.lift,
         "width_m": params.width, "step_time_s": params.step_time,
-        "commanded": params.commanded, "seconds": len(w.poses) * period / 1000.0,
+        "commanded": params.commanded, "commanded_unit": "deg" if turning else "m",
+        "seconds": len(w.poses) * period / 1000.0,
         "periods_per_pose": every, "looped_cycles": 0 if loop is None else loop.repeats,
         "ik_missed": w.missed, "ik_worst_mm": w.worst_error * 1000,
     }  # fmt: skip
