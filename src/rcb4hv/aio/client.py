@@ -298,6 +298,13 @@ class AsyncRcb4Client(AsyncRcb4Commands):
             finally:
                 matcher.report()  # the stray bytes of the whole exchange, in one line
 
+    async def settle(self) -> None:
+        """Wait out the replies still owed to abandoned requests now (the next call would
+        first): a no-op when none is, so a timing can leave that wait out."""
+        async with self._lock:
+            if self._owed:
+                await self._settle()
+
     async def _settle(self) -> None:
         """Wait out the replies owed to abandoned requests before the next one is sent.
 

@@ -147,6 +147,7 @@ class AsyncRobot(AsyncRobotMotions, AsyncRobotIO):
 
     async def ping(self) -> float:
         """Round-trip time of one ACK check, in seconds."""
+        await self.client.settle()  # not the wait for a reply an earlier call left owed
         t0 = time.perf_counter()
         await self.client.acknowledge_check()
         return time.perf_counter() - t0

@@ -85,16 +85,33 @@ def _parse_button(name: str) -> Button:
 @click.option("-n", "--count", type=click.IntRange(min=1), default=1, show_default=True)
 @handle_errors
 def ping(conn: Connection, count: int) -> None:
-    """ACK check: is a board there? Prints the round-trip time."""
+    """ACK check: is a board there? Prints the round-trip time.
+
+    With -n N it sends N checks and goes on past a lost or damaged reply, as ping does:
+    the times of those answered and how many were lost; exit status 1 when none was."""
+    from rcb4hv.errors import ProtocolError, Rcb4TimeoutError
+
+    times: list[float] = []
+    last: Exception | None = None
     with conn.open() as robot:
-        times = [robot.ping() for _ in range(count)]
+        for _ in range(count):
+            try:
+                times.append(robot.ping())
+            except (Rcb4TimeoutError, ProtocolError) as exc:
+                if count == 1:
+                    raise
+                last = exc
     url = robot.client.transport.url
+    lost = count - len(times)
+    if not times:
+        raise Rcb4TimeoutError(f"no ACK from {url} in {count} checks (last: {last})")
     if count == 1:
         click.echo(f"ACK from {url} in {times[0] * 1000:.2f} ms")
     else:
         click.echo(
-            f"{count} ACKs from {url}: min {min(times) * 1000:.2f} ms, "
+            f"{len(times)} ACKs from {url}: min {min(times) * 1000:.2f} ms, "
             f"median {statistics.median(times) * 1000:.2f} ms, max {max(times) * 1000:.2f} ms"
+            + (f"; {lost} of {count} lost" if lost else "")
         )
 
 

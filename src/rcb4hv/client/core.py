@@ -295,6 +295,13 @@ class Rcb4Client(Rcb4Commands):
             finally:
                 matcher.report()  # the stray bytes of the whole exchange, in one line
 
+    def settle(self) -> None:
+        """Wait out the replies still owed to abandoned requests now (the next call would
+        first): a no-op when none is, so a timing can leave that wait out."""
+        with self._lock:
+            if self._owed:
+                self._settle()
+
     def _settle(self) -> None:
         """Wait out the replies owed to abandoned requests before the next one is sent.
 

@@ -149,6 +149,7 @@ class Robot(RobotMotions, RobotIO):
 
     def ping(self) -> float:
         """Round-trip time of one ACK check, in seconds."""
+        self.client.settle()  # not the wait for a reply an earlier call left owed
         t0 = time.perf_counter()
         self.client.acknowledge_check()
         return time.perf_counter() - t0
