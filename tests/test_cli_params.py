@@ -3,6 +3,7 @@ object every board command receives (``click.make_pass_decorator``)."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import click
@@ -12,18 +13,58 @@ from click.testing import CliRunner
 from rcb4hv.cli._util import ADDRESS, BAUD, INTEGER, Connection, pass_connection
 from rcb4hv.cli.main import cli
 from rcb4hv.client import DEFAULT_TIMEOUT
+from rcb4hv.hth4.newproject import mixing_source
 from rcb4hv.transport import DEFAULT_BAUD
 
 
-@pytest.mark.parametrize("text", ["0B80h", "0b80H", "0x0B80", "2944", "2_944", 2944])
+@pytest.mark.parametrize(
+    "text", ["0B80h", "0b80H", "0x0B80", "2944", "2_944", "$0B80", "$000b80", " 0B80h ", 2944]
+)
 def test_address_forms(text: str | int) -> None:
     assert ADDRESS.convert(text, None, None) == 0x0B80
 
 
-@pytest.mark.parametrize("text", ["", "B80", "0x", "12hh", "1.5"])
+@pytest.mark.parametrize("text", ["", "B80", "0x", "12hh", "1.5", "$", "h", "$12h", "0010"])
 def test_bad_numbers_are_usage_errors(text: str) -> None:
-    with pytest.raises(click.BadParameter, match="is not a number"):
+    with pytest.raises(click.BadParameter, match=r"is not a number \(decimal, 0x.., ..h or \$..\)"):
         INTEGER.convert(text, None, None)
+    with pytest.raises(click.BadParameter, match=r"is not an address \(decimal, 0x.., ..h or \$"):
+        ADDRESS.convert(text, None, None)
+
+
+def test_every_command_that_takes_an_address_reads_every_form(tmp_path: Path) -> None:
+    """docs/cli.md says addresses take decimal, 0x.. or ..h: `disasm --origin 4B80h` and
+    `asm --origin 4B80h` were refused (asm_cmd had a parser of its own: 0x.., $.. or decimal)
+    and `rom read '$4B80'` too (the board commands' parser took no $..)."""
+    runner = CliRunner()
+    frames = "03 0D 10"  # RETURN
+    (tmp_path / "m.bin").write_bytes(bytes.fromhex(frames))
+    (tmp_path / "m.s").write_text("RETURN\n")
+    for rom, ram in zip(
+        ("4B80h", "0x4B80", "$004B80", "19328"), ("0380h", "0x0380", "$0380", "896"), strict=True
+    ):
+        for args in (
+            ["disasm", "--bin", str(tmp_path / "m.bin"), "--origin", rom],
+            ["disasm", "--origin", rom, frames],
+            ["asm", str(tmp_path / "m.s"), "--origin", rom],
+            ["rom", "read", rom, "3", "--port", "rcb4emu://"],
+            ["ram", "read", ram, "2", "--port", "rcb4emu://", "--json"],
+        ):
+            r = runner.invoke(cli, args)
+            assert r.exit_code == 0, (args, r.output)
+            if args[0] == "ram":
+                assert json.loads(r.stdout)["address"] == 0x0380, args
+            else:
+                assert "004B80" in r.stdout, (args, r.stdout)
+    # one parser, so one message; each command keeps its own range check
+    for args in (["disasm", "--origin", "zz", frames], ["rom", "read", "zz", "--port", "x"]):
+        r = runner.invoke(cli, args)
+        assert r.exit_code == 2 and "is not an address (decimal, 0x.., ..h or $..)" in r.output
+    r = runner.invoke(cli, ["disasm", "--origin", "40000h", frames])
+    assert r.exit_code == 1 and "origin 0x40000 outside ROM" in r.output
+    r = runner.invoke(cli, ["rom", "read", "$40000", "4", "--port", "rcb4emu://"])
+    assert r.exit_code == 1 and "runs outside 0..0x3ffff" in r.output
+    assert mixing_source("$24") == mixing_source("24h") == mixing_source("0x24") == 0x24
 
 
 def test_baud_type() -> None:

@@ -17,12 +17,14 @@ import click
 from rcb4hv.client import DEFAULT_TIMEOUT, Robot
 from rcb4hv.errors import Rcb4Error
 from rcb4hv.transport import BAUD_RATES, DEFAULT_BAUD
+from rcb4hv.values import parse_address
 
 __all__ = [
     "ADDRESS",
     "BAUD",
     "INTEGER",
     "MOTION_SLOT",
+    "NUMBER_FORMS",
     "OUTPUT_FILE",
     "AddressType",
     "BaudType",
@@ -92,24 +94,32 @@ class FiniteFloat(_FloatParam):
 FINITE = FiniteFloat()
 
 
+NUMBER_FORMS: Final = "decimal, 0x.., ..h or $.."
+"""The forms :func:`rcb4hv.values.parse_address` reads, as the CLI's errors and help name them."""
+
+
 class IntegerType(_IntParam):
-    """An integer in decimal, ``0x..`` or ``..h`` hex (``_`` separators allowed)."""
+    """An integer in decimal, ``0x..``, ``..h`` or ``$..`` hex (``_`` separators allowed):
+    :func:`rcb4hv.values.parse_address`, the one parser of the CLI's numbers and addresses."""
 
     name = "integer"
+    what = "a number"
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
         if isinstance(value, int):  # a default given as an int
             return value
         try:
-            return _to_int(str(value))
+            return parse_address(str(value))
         except ValueError:
-            self.fail(f"{value!r} is not a number (decimal, 0x.. or ..h)", param, ctx)
+            self.fail(f"{value!r} is not {self.what} ({NUMBER_FORMS})", param, ctx)
 
 
 class AddressType(IntegerType):
-    """A board address: ``0B80h``, ``0x0B80`` or ``2944`` (decimal)."""
+    """A board address: ``0B80h``, ``0x0B80``, ``$000B80`` or ``2944`` (decimal). Every
+    command that takes an address reads it with this type; the command checks its range."""
 
     name = "address"
+    what = "an address"
 
 
 class BaudType(_BaudParam):
@@ -224,16 +234,9 @@ def pass_connection(func: Callable[..., Any]) -> Callable[..., Any]:
     return connection_options(wrapper)
 
 
-def _to_int(text: str) -> int:
-    t = text.strip().lower().replace("_", "")
-    if t.endswith("h"):
-        return int(t[:-1], 16)
-    return int(t, 0)
-
-
 def parse_int(text: str | int) -> int:
-    """An integer in decimal, ``0x..`` or ``..h`` hex (as :data:`INTEGER`, for values found
-    inside another argument such as ``ICS=VALUE``)."""
+    """An integer in decimal, ``0x..``, ``..h`` or ``$..`` hex (as :data:`INTEGER`, for values
+    found inside another argument such as ``ICS=VALUE``)."""
     return INTEGER.convert(text, None, None)
 
 

@@ -9,23 +9,10 @@ from typing import NoReturn
 import click
 
 from rcb4hv.asm import assemble, disassemble, disassemble_frames, disassemble_image
+from rcb4hv.cli._util import ADDRESS, NUMBER_FORMS
 from rcb4hv.cli.decode_cmd import parse_hex
 from rcb4hv.errors import AsmError, Rcb4Error
 from rcb4hv.files import read_bytes, read_text, write_atomic
-
-
-def _address(text: str) -> int:
-    t = text.strip()
-    try:
-        return int(t[1:], 16) if t.startswith("$") else int(t, 0)
-    except ValueError:
-        raise click.BadParameter(
-            f"not an address: {text!r} (use 0x0B80, $000B80 or 2944)"
-        ) from None
-
-
-def _address_option(ctx: click.Context, param: click.Parameter, value: str | None) -> int | None:
-    return None if value is None else _address(value)
 
 
 def _fail(message: str) -> NoReturn:
@@ -34,7 +21,10 @@ def _fail(message: str) -> NoReturn:
 
 
 _ORIGIN = click.option(
-    "--origin", callback=_address_option, metavar="ADDR", help="ROM address of the first byte."
+    "--origin",
+    type=ADDRESS,
+    metavar="ADDR",
+    help=f"ROM address of the first byte ({NUMBER_FORMS}).",
 )
 
 

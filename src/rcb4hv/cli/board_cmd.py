@@ -24,6 +24,8 @@ from rcb4hv.cli._util import (
     print_table,
 )
 from rcb4hv.client import MotionLayout, Robot, ServoInfo
+from rcb4hv.client.args import servo_targets
+from rcb4hv.errors import ProgramStoppedError
 from rcb4hv.files import write_atomic
 from rcb4hv.protocol import POSITION_FREE, POSITION_HOLD, ROM_SIZE, Button
 from rcb4hv.rom.layout import LAYOUTS as ROM_LAYOUTS
@@ -172,7 +174,7 @@ def ram() -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 @handle_errors
 def ram_read(conn: Connection, address: int, size: int, as_json: bool) -> None:
-    """Read SIZE bytes at ADDRESS (decimal, 0x.. or ..h)."""
+    """Read SIZE bytes at ADDRESS (decimal, 0x.., ..h or $..)."""
     with conn.open() as robot:
         data = robot.read_ram(address, size)
     if as_json:
@@ -288,7 +290,7 @@ def servo_list(conn: Connection, as_json: bool) -> None:
 @click.option("--deg", is_flag=True, help="VALUEs are degrees, not raw positions.")
 @click.option("-d", "--duration", type=click.FloatRange(min=0), default=0.5, show_default=True)
 @click.option("--wait/--no-wait", default=True, show_default=True)
-@click.option("--unchecked", is_flag=True, help="Allow positions outside 3500..11500.")
+@click.option("--unchecked", is_flag=True, help="Send positions outside 3500..11500 too.")
 @pass_connection
 @handle_errors
 def servo_move(
@@ -299,7 +301,10 @@ def servo_move(
     wait: bool,
     unchecked: bool,
 ) -> None:
-    """Move servos, e.g. `servo move 2=8000 4=7000` or `servo move --deg 2=30`."""
+    """Move servos, e.g. `servo move 2=8000 4=7000` or `servo move --deg 2=30`.
+
+    A position outside 3500..11500 (hold 32767 and free 32768 aside) is refused unless
+    --unchecked is given."""
     values: dict[int, float] = {}
     for t in targets:
         k, sep, v = t.partition("=")
@@ -309,11 +314,15 @@ def servo_move(
             values[parse_int(k)] = float(v)
         except ValueError as exc:
             raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
+
+    def checked(positions: dict[int, int]) -> dict[int, int]:
+        """The robot API's check; its message names --unchecked, not check_range=False."""
+        return servo_targets(positions, not unchecked, override="--unchecked")
+
+    raw = None if deg else checked({k: round(v) for k, v in values.items()})  # no link needed
     with conn.open() as robot:
-        if deg:
-            positions = {k: robot.to_position(k, a) for k, a in values.items()}
-        else:
-            positions = {k: round(v) for k, v in values.items()}
+        degrees = {k: robot.to_position(k, a) for k, a in values.items()} if deg else {}
+        positions = checked(degrees) if raw is None else raw
         robot.move(positions, duration, check_range=not unchecked)
         if wait:
             robot.wait_interpolation(positions, timeout=duration + 2.0)
@@ -351,6 +360,31 @@ layout_option = click.option(
 )
 
 
+START_CHECK_S = 0.25
+"""How long `motion play` may watch the program run the motion's first instruction (a slot
+that holds no motion stops it there with a ROM error, in the board's next cycle)."""
+
+
+def _check_started(robot: Robot, number: int, address: int) -> None:
+    """ProgramStoppedError if the program stopped with a ROM error as motion ``number`` (at
+    ``address``) started; returns once it is past the first instruction or out of the motion
+    (or after :data:`START_CHECK_S`), without waiting for the end (as ``wait_motion`` does)."""
+    deadline = time.monotonic() + START_CHECK_S
+    while True:
+        st = robot.motion_status()
+        if st.rom_error:
+            why = f"slot {number} holds no motion" if st.pc == address else f"motion {number}"
+            raise ProgramStoppedError(
+                f"{why}: the board's program stopped with a ROM error at PC {st.pc:06X} "
+                "(`rcb4hv motion stop` sets it going again)",
+                st.pc,
+                st.motion,
+            )
+        if st.pc != address or not st.running or time.monotonic() >= deadline:
+            return
+        time.sleep(0.01)
+
+
 @click.group()
 def motion() -> None:
     """Play, stop and wait for ROM motions (HeartToHeart4 layout)."""
@@ -366,12 +400,18 @@ def motion() -> None:
 def motion_play(
     conn: Connection, number: int, wait: bool, wait_timeout: float, layout: str
 ) -> None:
-    """Play motion NUMBER (1 to the layout's motion count: 120, or 50 in 1.3)."""
+    """Play motion NUMBER (1 to the layout's motion count: 120, or 50 in 1.3).
+
+    Exit status 1 when the board's program stops with a ROM error as the motion starts (a
+    slot that holds no motion); --wait also waits for the end (and reports a later stop).
+    """
     with conn.open() as robot:
         robot.layout = LAYOUTS.get(layout) or robot.layout
+        address = robot.board_layout().address(number)
         t0 = time.monotonic()
         robot.play_motion(number)
-        click.echo(f"playing motion {number} ({robot.board_layout().address(number):06X})")
+        _check_started(robot, number, address)
+        click.echo(f"playing motion {number} ({address:06X})")
         if wait:
             robot.wait_motion(timeout=wait_timeout)
             click.echo(f"motion {number} ended after {time.monotonic() - t0:.2f} s")

@@ -13,7 +13,7 @@ from numbers import Real
 
 from rcb4hv.errors import ArgumentError, ArgumentTypeError, TransportError
 from rcb4hv.protocol import ICS_COUNT
-from rcb4hv.protocol.ranges import check_documented_position
+from rcb4hv.protocol.ranges import OVERRIDE, check_documented_position
 from rcb4hv.values import as_index, plain
 
 __all__ = [
@@ -83,9 +83,13 @@ def check_ics_list(ics: object) -> list[int]:
     return [integer("ICS number", k) for k in ics]
 
 
-def servo_targets(positions: object, check_range: bool) -> dict[int, int]:
+def servo_targets(
+    positions: object, check_range: bool, *, override: str = OVERRIDE
+) -> dict[int, int]:
     """``positions`` (ICS number -> raw position) as ints, each ICS number 0..35 and each
     position in the documented 3500..11500 (or hold/free), or 16 bits without ``check_range``.
+    A position outside the range is refused with a message that tells to pass ``override``
+    (``check_range=False``; the CLI says ``--unchecked``).
     """
     if not isinstance(positions, Mapping):
         raise ArgumentTypeError(
@@ -97,7 +101,7 @@ def servo_targets(positions: object, check_range: bool) -> dict[int, int]:
         p = integer(f"ICS {k}: position", value)
         if check_range:
             try:
-                check_documented_position(k, p)
+                check_documented_position(k, p, override=override)
             except ValueError as exc:
                 raise ArgumentError(str(exc)) from None
         elif not 0 <= p <= 0xFFFF:

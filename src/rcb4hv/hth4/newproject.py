@@ -41,6 +41,7 @@ from rcb4hv.hth4.model import (
 from rcb4hv.protocol.memory import ADDR, CENTER, FRAME_PERIODS_MS, SystemRegister
 from rcb4hv.robot.kit.stockhome import with_stock_home
 from rcb4hv.robot.model import RobotModel
+from rcb4hv.values import parse_address
 
 __all__ = [
     "HOME_FRAMES",
@@ -230,7 +231,7 @@ def set_mixing(
 
 def mixing_source(text: str) -> int | None:
     """A mixing source written ``AD1`` (its measured word), a RAM address (``0024h``, ``0x24``,
-    ``36``) or ``none`` (None)."""
+    ``$24``, ``36``: :func:`rcb4hv.values.parse_address`) or ``none`` (None)."""
     t = text.strip().upper()
     if t in ("", "NONE"):
         return None
@@ -239,7 +240,7 @@ def mixing_source(text: str) -> int | None:
             raise EditError(f"mixing source {text!r}: the board has AD0-AD{ADDR.AD_COUNT - 1}")
         return int(ADDR.AD_VALUES + 2 * int(t[2:]))
     try:
-        return int(t[:-1], 16) if t.endswith("H") else int(t, 0)
+        return parse_address(t)
     except ValueError:
         raise EditError(f"mixing source {text!r}: ADn, a RAM address or none") from None
 

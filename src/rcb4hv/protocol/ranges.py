@@ -21,6 +21,7 @@ from rcb4hv.protocol import (
 )
 
 __all__ = [
+    "OVERRIDE",
     "SERVO_SPEED_MAX",
     "SERVO_SPEED_MIN",
     "STRETCH_MAX",
@@ -70,21 +71,29 @@ def check_documented_ics(ics: int) -> None:
         raise ValueError(f"ICS number {ics} outside 0..{ICS_COUNT - 1}")
 
 
-def check_documented_position(ics: int, position: int) -> None:
-    """ValueError unless ``position`` is 3500..11500, hold or free."""
+OVERRIDE: Final = "check_range=False"
+"""What the message of a range check tells the caller to pass to send a value anyway: the
+argument of the Python API. A caller with another way to say it (the CLI's ``--unchecked``)
+passes its own as ``override``."""
+
+
+def check_documented_position(ics: int, position: int, *, override: str = OVERRIDE) -> None:
+    """ValueError unless ``position`` is 3500..11500, hold or free (the message tells to pass
+    ``override`` to send it anyway)."""
     if not documented_position(_int(f"ICS {ics}: position", position)):
         raise ValueError(
             f"ICS {ics}: position {position} outside {POSITION_MIN}..{POSITION_MAX} "
-            "(pass check_range=False to send it anyway)"
+            f"(pass {override} to send it anyway)"
         )
 
 
-def check_documented_stretch(what: str, ics: int, value: int) -> None:
-    """ValueError unless ``value`` is a documented SetStretch/SetSpeed value (1-127)."""
+def check_documented_stretch(what: str, ics: int, value: int, *, override: str = OVERRIDE) -> None:
+    """ValueError unless ``value`` is a documented SetStretch/SetSpeed value (1-127) (the
+    message tells to pass ``override`` to send it anyway)."""
     if not documented_stretch(_int(f"ICS {ics}: {what}", value)):
         raise ValueError(
             f"ICS {ics}: {what} {value} outside {STRETCH_MIN}..{STRETCH_MAX} "
-            "(pass check_range=False to send it anyway)"
+            f"(pass {override} to send it anyway)"
         )
 
 
