@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "rcb4hv.cli.decode_cmd",
     "rcb4hv.cli.emulate_cmd",
     "rcb4hv.cli.board_cmd",
+    "rcb4hv.cli.motion_cmd",
     "rcb4hv.cli.demo_cmd",
     "rcb4hv.cli.project_cmd",
     "rcb4hv.cli.asm_cmd",
