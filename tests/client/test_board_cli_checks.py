@@ -96,3 +96,11 @@ def test_the_python_api_still_names_its_argument() -> None:
         Robot.check_position(2, 3000)
     with Robot.open("rcb4emu://") as robot, pytest.raises(ArgumentError, match="check_range"):
         robot.move({2: 3000})
+
+
+@pytest.mark.parametrize("value", ["inf", "nan", "7500.5"])
+def test_servo_move_refuses_a_position_that_is_not_a_whole_number(value: str) -> None:
+    """`servo move 2=inf` ended in an OverflowError traceback (round(inf)); 7500.5 was
+    rounded in silence."""
+    r = CliRunner().invoke(cli, ["servo", "move", "--port", "rcb4emu://", f"2={value}"])
+    assert r.exit_code == 2 and "a position is a whole number of counts" in r.output, r.output

@@ -301,6 +301,8 @@ def servo_move(
             values[parse_int(k)] = float(v)
         except ValueError as exc:
             raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
+        if not deg and not values[parse_int(k)].is_integer():
+            raise click.BadParameter(f"{t!r}: a position is a whole number of counts")
 
     def checked(positions: dict[int, int]) -> dict[int, int]:
         """The robot API's check; its message names --unchecked, not check_range=False."""
