@@ -32,8 +32,7 @@ def board_url() -> Iterator[str]:
 
 
 def _status(url: str) -> tuple[int | None, str]:
-    """The motion and state the board's program is in (read by a Robot: the CLI's commands
-    on an rcb4emu:// board first wait for the program to be back in its main loop)."""
+    """The motion and state the board's program is in, read by a Robot."""
     with Robot.open(url) as robot:
         st = robot.motion_status()
     return st.motion, st.state
@@ -104,3 +103,15 @@ def test_servo_move_refuses_a_position_that_is_not_a_whole_number(value: str) ->
     rounded in silence."""
     r = CliRunner().invoke(cli, ["servo", "move", "--port", "rcb4emu://", f"2={value}"])
     assert r.exit_code == 2 and "a position is a whole number of counts" in r.output, r.output
+
+
+def test_motion_status_from_the_shell_sees_the_motion_a_shared_board_plays(
+    board_url: str,
+) -> None:
+    """On `rcb4emu://?board=N` (a board already running in the process) every command first
+    waited for the program to be back in its main loop, so `motion status` never saw a
+    motion playing. Only a fresh in-process board is waited for (its start-up program)."""
+    assert _run("motion", "play", "1", "--port", board_url).exit_code == 0
+    r = _run("motion", "status", "--json", "--port", board_url)
+    assert r.exit_code == 0, r.output
+    assert '"motion": 1' in r.output, r.output

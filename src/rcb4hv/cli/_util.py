@@ -11,6 +11,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, TypeVar
+from urllib.parse import parse_qs, urlsplit
 
 import click
 
@@ -189,9 +190,15 @@ def connection_options(func: F) -> F:
 def open_robot(port: str | None, baud: int | None, timeout: float) -> Robot:
     """Open the board. An in-process ``rcb4emu://`` board is new for every command, so wait for
     its start-up program (it copies the servo table to RAM) before the command looks at it; a
-    real board, or an emulator served by ``rcb4hv emulate``, is used as it is."""
+    real board, an emulator served by ``rcb4hv emulate``, or a board already running in this
+    process (``rcb4emu://?board=N``, whose motion a ``motion status`` must see) is used as
+    it is."""
     robot = Robot.open(port, baudrate=baud, timeout=timeout)
-    if port is not None and port.startswith("rcb4emu:"):
+    if (
+        port is not None
+        and port.startswith("rcb4emu:")
+        and "board" not in parse_qs(urlsplit(port).query)
+    ):
         try:
             robot.wait_ready(timeout=10.0)
         except BaseException:
