@@ -59,6 +59,15 @@ def test_bad_layout_in_the_url() -> None:
         Robot.open("rcb4emu://?layout=9.9")
 
 
+@pytest.mark.parametrize("url", ["rcb4emu://?speed=10&speed=0.001", "icsemu://?ids=0&ids=1"])
+def test_a_setting_given_twice_in_an_emulator_url_is_refused(url: str) -> None:
+    """The last one won in silence."""
+    from rcb4hv.transport import SerialTransport
+
+    with pytest.raises(TransportError, match="is given twice"):
+        SerialTransport.open(url)
+
+
 def test_cli_motion_play_reads_the_layout_or_takes_it() -> None:
     from click.testing import CliRunner
 

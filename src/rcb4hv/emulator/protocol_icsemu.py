@@ -25,6 +25,7 @@ from serial.serialutil import SerialException
 from rcb4hv.emulator.clock import RealClock
 from rcb4hv.emulator.protocol_rcb4emu import Serial as _EmulatorSerial
 from rcb4hv.emulator.protocol_rcb4emu import emulator_url, registered_device
+from rcb4hv.emulator.urlquery import query_settings
 from rcb4hv.ics import EmulatedBus, IcsSettings, parse_ids
 from rcb4hv.ics.codec import BAUD_RATES
 
@@ -76,8 +77,7 @@ class Serial(_EmulatorSerial):
             raise SerialException(f"expected {SCHEME}://[?ids=0,1&baud=B], got {url!r}")
         self._speed, self._board_id = 1.0, None
         try:
-            for key, values in urllib.parse.parse_qs(parts.query, True).items():
-                value = values[-1]
+            for key, value in query_settings(parts.query).items():
                 if key == "ids":
                     self._ids = parse_ids(value)
                 elif key == "baud":

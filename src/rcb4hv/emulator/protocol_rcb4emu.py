@@ -46,6 +46,7 @@ from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 from rcb4hv.emulator.board import Board
 from rcb4hv.emulator.boot import BootClock, boot_to_main_loop
 from rcb4hv.emulator.config import EmulatorConfig, ad_inputs_from
+from rcb4hv.emulator.urlquery import query_settings
 from rcb4hv.rom.default import default_image
 from rcb4hv.rom.layout import LAYOUTS
 
@@ -175,8 +176,7 @@ class Serial(SerialBase):
         self._ics_comm = False
         self._ad: dict[int, int] = {}
         try:
-            for key, values in urllib.parse.parse_qs(parts.query, True).items():
-                value = values[-1]
+            for key, value in query_settings(parts.query).items():
                 if key == "speed":
                     self._speed = float(value)
                     if not 0 < self._speed < math.inf:
