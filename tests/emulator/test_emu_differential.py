@@ -324,6 +324,29 @@ def test_random_programs_run_the_same_accelerated_and_plain(
     _run_both(config, _build(*program, mixing), plan)
 
 
+def test_a_loop_that_reads_the_flags_is_not_skipped_as_a_polling_loop() -> None:
+    """Found by the test above (30 Nov 2026): OR (no write-back) of the system register's
+    high byte with 0 sets Z from the Z the pass before set, so Z flips every iteration; the
+    accelerated path counted the loop's iterations as identical and left Z one off."""
+    never = Condition(False, False, False, False)
+    program = Program(
+        instructions=(
+            Move(Ram(0x0462), Ram(0x0462), 1),
+            Move(Ram(0x0462), Ram(0x0462), 1),
+            Or(Ram(1), Ram(0x0462), 1, no_write=True),
+            Branch(call=False, target=2, condition=never),
+            Branch(call=False, target=0, condition=never),
+        ),
+        loops=True,
+    )
+    config = EmulatorConfig(
+        branch_condition="and", virtual_servos=(0, 1, 2, 3), power_on_system_register=3
+    )
+    read_ram = bytes.fromhex("0a 00 20 00 00 00 00 00 0c 36")
+    plan: list[tuple[float, bytes | None]] = [(0.001, None)] * 3 + [(0.001, read_ram)]
+    _run_both(config, _build(program, b"", False), plan)
+
+
 @settings(max_examples=15)
 @given(
     st.lists(

@@ -223,6 +223,16 @@ def _compile_binary(
     return binary
 
 
+def _reads_flags(cmd: object) -> bool:
+    """Whether an operand of ``cmd`` covers the system register (RAM 0000h-0001h), where the
+    Z and C flags live: an op that reads them sets them from what the iteration before set
+    (OR of the register's high byte with 0 flips Z every pass), so its iterations differ."""
+    return any(
+        isinstance(op, Ram) and op.address < 2
+        for op in (getattr(cmd, "dst", None), getattr(cmd, "src", None))
+    )
+
+
 def flags_only_loop(interp: Machine, start: int, jump_pc: int) -> bool:
     """The loop ``start``..``jump_pc`` only reads memory and sets flags (no-write-back data
     ops, Not/Shift without write-back, conditional JUMPs; at most 64 instructions), so every
@@ -241,7 +251,9 @@ def flags_only_loop(interp: Machine, start: int, jump_pc: int) -> bool:
             break
         cmd = entry[0]
         pure = isinstance(cmd, Jump) or (
-            getattr(cmd, "no_write", False) and not isinstance(getattr(cmd, "dst", None), Com)
+            getattr(cmd, "no_write", False)
+            and not isinstance(getattr(cmd, "dst", None), Com)
+            and not _reads_flags(cmd)
         )
         if not pure or pc == jump_pc:
             break
