@@ -221,6 +221,86 @@ def test_cli_detect_refuses_a_named_model_that_does_not_fit(kxr_project_path: Pa
     assert json.loads(r.output)["notes"] == ["chosen with --robot kxr-l2-gripper"]
 
 
+@pytest.mark.parametrize("code", ["kxr:L6", "kxr:L4T", "kxr:L4D", "kxr:R4LL"])
+def test_a_kit_code_the_servo_names_contradict_is_refused_for_every_family(
+    kxr_project_path: Path, code: str
+) -> None:
+    """``--robot kxr:L6`` on the fixture's KXR-L2 humanoid: its ICS numbers 2-19 are also a
+    stock KXR-L6's, and the L6 was built on them in silence (右肩（ピッチ） on r_front_yaw,
+    hexapod legs in `project poses`, a wrong mirror) where ``kxr:L4T`` was refused. Every
+    family is refused alike, naming the servo and the joint, and says how to use it anyway;
+    the project's own model is still taken."""
+    if not kxr_project_path.is_file():
+        pytest.skip("the HeartToHeart4 fixture project is missing")
+    from rcb4hv.errors import NoRobotModelError
+    from rcb4hv.hth4.robotpick import project_model
+
+    project = load_project(kxr_project_path)
+    family = code.removeprefix("kxr:")
+    with pytest.raises(NoRobotModelError, match=f"servo names do not fit a KXR-{family}") as e:
+        project_model(project, code)
+    assert f"右肩（ピッチ）: no {family} joint" in str(e.value)
+    assert f"rcb4hv robot export {code} -o X.urdf --joint-map X.toml" in str(e.value)
+    if code == "kxr:L6":
+        assert "(ICS 2 is the stock r_front_yaw)" in str(e.value)
+    r = CliRunner().invoke(cli, ["robot", "detect", str(kxr_project_path), "--robot", code])
+    assert r.exit_code == 1 and "右肩（ピッチ）" in r.output
+    assert project_model(project, "kxr:L2L5A3G").name == "kxr:L2L5A3G"
+
+
+def test_the_escape_from_the_name_check_is_a_joint_map(
+    kxr_project_path: Path, tmp_path: Path
+) -> None:
+    """The refusal's way out: the kit exported with its joint map, then ``--robot X.urdf``."""
+    if not kxr_project_path.is_file():
+        pytest.skip("the HeartToHeart4 fixture project is missing")
+    runner = CliRunner()
+    urdf, jmap = tmp_path / "X.urdf", tmp_path / "X.toml"
+    out = runner.invoke(
+        cli, ["robot", "export", "kxr:L6", "-o", str(urdf), "--joint-map", str(jmap)]
+    )
+    assert out.exit_code == 0, out.output
+    r = runner.invoke(cli, ["robot", "detect", str(kxr_project_path), "--robot", str(urdf)])
+    assert r.exit_code == 0, r.output
+    assert "r_front_yaw" in r.output
+
+
+def test_a_humanoid_code_on_a_hexapod_is_refused_too() -> None:
+    """The other way round: a KXR-L6's servo names on the stock KXR-L2's ICS numbers."""
+    from rcb4hv.errors import NoRobotModelError
+    from rcb4hv.hth4.robotpick import detect_project
+    from tests.robot.kit_names import names_for, stock
+
+    _, l6 = stock("kxr:L6")
+    names = names_for(l6)
+    assert detect_project(names, "kxr:L6")[0].name == "kxr:L6"
+    with pytest.raises(NoRobotModelError, match=r"右前脚（元）: no humanoid joint \(ICS 2 is"):
+        detect_project(names, "kxr:L2L5A3G")
+
+
+@pytest.mark.parametrize("blank", ["", "spare"])
+def test_servo_names_that_say_nothing_take_any_kit_code(kxr_project_path: Path, blank: str) -> None:
+    """Blank or spare servo names contradict no model: any kit code whose stock build's limbs
+    the project has is taken on its stock ICS numbers, the other servos left out."""
+    if not kxr_project_path.is_file():
+        pytest.skip("the HeartToHeart4 fixture project is missing")
+    from rcb4hv.hth4.robotpick import detect_project, project_model
+
+    project = load_project(kxr_project_path)
+    mute = dataclasses.replace(
+        project,
+        servos=tuple(
+            dataclasses.replace(s, name=f"右拡張{s.device_number}" if blank else "")
+            for s in project.servos
+        ),
+    )
+    for code in ("kxr:L6", "kxr:L4T", "kxr:L2", "kxr:R4LL", "kxr:L2L5A3G"):
+        assert project_model(mute, code).name.startswith(code), code
+    _, det = detect_project(mute, "kxr:L4T")
+    assert det is not None and any("left out" in n for n in det.notes)
+    assert project_model(mute, "kxr:L6").servo(2).joint == "r_front_yaw"
+
+
 def test_detect_says_where_the_model_differs_from_its_stock_code() -> None:
     """A kit model whose servo names give it more or fewer joints than the stock build of the
     code printed says so (``robot show`` of that code is the stock build); the stock build

@@ -4,7 +4,9 @@ dashboard.
 1. An explicit ``--robot NAME|FILE``: that model (a built-in name, a kit code ``kxr:CODE``,
    or a URDF file with its joint map; :func:`rcb4hv.robot.builtin.load_robot`). A kit code
    on a project builds the kit's frame with the project's own servo names (its joint map),
-   so ``--robot kxr:L4T`` settles an ambiguous project.
+   so ``--robot kxr:L4T`` settles an ambiguous project; a code whose frame the names
+   contradict is refused for every family, naming the servo and the joint (names that say
+   nothing take the code's stock build; :func:`rcb4hv.robot.kit.detect.detect_kit`).
 2. Otherwise the project's own evidence (:func:`detect_project`):
 
    * a title carrying a KXR kit code (``Hello_KXR-L6(V1.0)``): the kit model built from the

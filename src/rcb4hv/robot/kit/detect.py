@@ -4,7 +4,9 @@
    out. Every family whose frame takes all named servos and has its core joints is a
    candidate (:mod:`~rcb4hv.robot.kit.mapping`).
 2. The title's kit code (:mod:`~rcb4hv.robot.kit.code`) picks among them; when the code names
-   a family the servos do not fit, the servo names win and the evidence says so.
+   a family the servos do not fit, the servo names win and the evidence says so. A code
+   given with ``--robot`` (``force``) whose frame the names contradict is refused, naming
+   each servo and joint, whatever the family; names that say nothing take its stock build.
 3. No code and several candidates: :class:`~rcb4hv.errors.AmbiguousRobotError` lists them
    (``--robot kxr:CODE`` picks one); none: :class:`~rcb4hv.errors.NoRobotModelError`.
 4. Signs come from the kit's assembly convention, then the project's home pose is checked:
@@ -252,6 +254,62 @@ def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]
     return [("home pose stands on its limbs", not high, detail)]
 
 
+def _escape(code: KitCode) -> str:
+    """How to play on a KXR-``code`` all the same (docs/robots.md): a joint map of your own."""
+    return (
+        f" (to use a KXR-{code.code} all the same, export it: rcb4hv robot export "
+        f"kxr:{code.code} -o X.urdf --joint-map X.toml, map the servos in X.toml, then "
+        "--robot X.urdf)"
+    )
+
+
+def _forced_stock(
+    force: KitCode, roles: Mapping[int, tuple[str, Role]], used: set[int], notes: list[str]
+) -> tuple[KitCode, dict[str, tuple[int, int]], str]:
+    """``--robot kxr:CODE`` on a project whose servo names do not give that family's frame:
+    the joints of the family's first stock build whose every limb the project uses, provided
+    no servo name contradicts it. A named servo that has no joint in the family (a shoulder
+    on a hexapod), or whose name gives another joint than the stock one at its ICS number,
+    refuses the code, naming the servo and the joint, whichever family it is; names that say
+    nothing (blank, spares) never do. The servos a stock build lacks are left out."""
+    stocks = stock_joint_maps(force)
+    fitting = [
+        st for st in stocks if {i for j, (i, _) in st.items() if j[:2] in ("l_", "r_")} <= used
+    ]
+    fitting.sort(key=lambda st: len(used - {i for i, _ in st.values()}))  # fewest left out
+    at = {i: j for j, (i, _) in (fitting or stocks)[0].items()}
+    placed = map_roles(force.family, roles, wheel_tips=True)
+    clash = [
+        why + (f" (ICS {i} is the stock {at[i]})" if i in at else "") for i, why in placed.unplaced
+    ]
+    clash += [
+        f"{roles[i][0]}: {joint} by its name, "
+        + (f"ICS {i} is the stock {at[i]}" if i in at else f"no stock joint at ICS {i}")
+        for joint, i in sorted(placed.joints.items(), key=lambda item: item[1])
+        if at.get(i) != joint
+    ]
+    if clash:
+        raise NoRobotModelError(
+            f"the servo names do not fit a KXR-{force.code}: " + "; ".join(clash) + _escape(force)
+        )
+    if not fitting:
+        lacking = ", ".join(f"{i} ({j})" for i, j in sorted(at.items()) if i not in used)
+        raise NoRobotModelError(
+            f"the servo names do not give a KXR-{force.code}'s joints and the project has no "
+            f"servo at its stock ICS number(s) {lacking}; it uses {sorted(used)}" + _escape(force)
+        )
+    stock = {j: (i, s) for j, (i, s) in fitting[0].items() if i in used}
+    why = "no joint named" if not roles else "some joints named, each at its stock ICS number"
+    notes.append(
+        f"the servo names do not fit a KXR-{force.code} ({why}), but the ICS numbers are a "
+        "stock build's: joints from its stock map"
+    )
+    left = sorted(used - {i for i, _ in stock.values()})
+    if left:
+        notes.append(f"servo(s) {left}: no joint of the stock KXR-{force.code}: left out")
+    return force, stock, "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
+
+
 def _choose(
     code: KitCode | None,
     force: KitCode | None,
@@ -262,6 +320,8 @@ def _choose(
 ) -> tuple[KitCode, dict[str, tuple[int, int]], str]:
     """The build (its code), its joint map and where the map came from (steps 1-3)."""
     by_names = "the project's servo names (右/左, part, axis, limb)"
+    if force is not None and force.family not in cands:
+        return _forced_stock(force, roles, used, notes)
     if code is not None and code.family not in cands:
         for stock in stock_joint_maps(code):
             limbs = {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
@@ -277,11 +337,6 @@ def _choose(
     family: Family
     if code is not None and code.family in cands:
         family = code.family
-    elif force is not None:
-        raise NoRobotModelError(
-            f"the servo names do not fit a KXR-{force.code}: "
-            + "; ".join(why for _, why in map_roles(force.family, roles).unplaced)
-        )
     elif len(cands) == 1:
         family = next(iter(cands))
         if code is not None:
