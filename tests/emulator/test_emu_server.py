@@ -7,6 +7,7 @@ import signal
 import socket
 import subprocess
 import sys
+import termios
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -15,7 +16,7 @@ import pytest
 import serial
 
 from rcb4hv import protocol as p
-from rcb4hv.emulator import Board, EmulatorConfig, RealClock
+from rcb4hv.emulator import Board, EmulatorConfig, RealClock, server
 from rcb4hv.emulator.server import PtyServer, TcpServer
 from tests.emulator.test_emu_vectors import VERSION_REPLY
 
@@ -101,6 +102,46 @@ def test_pty_reopen_many_times_with_even_parity(fd_guard: None, baud: int) -> No
         serial.Serial(srv.path, baud, parity="E", timeout=1).close()
         time.sleep(0.3)
         serial.Serial(srv.path, baud, parity="E", timeout=1).close()
+    board.close()
+
+
+def wait_armed(path: str, within: float = 5.0) -> bool:
+    """Whether the slave at ``path`` is armed (CSTOPB) within ``within`` seconds."""
+    fd = os.open(path, os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
+    try:
+        deadline = time.monotonic() + within
+        while not termios.tcgetattr(fd)[2] & termios.CSTOPB:
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.001)
+        return True
+    finally:
+        os.close(fd)
+
+
+@pytest.mark.parametrize("baud", [115200, 1250000])
+def test_pty_is_rearmed_as_soon_as_a_client_has_set_it_up(
+    fd_guard: None, baud: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The kernel reports each client set-up (packet mode, EXTPROC) and the server re-arms at
+    once, not only when the client sends (or every PTY_REARM, turned off here): a client that
+    closes without sending (pyserial leaves the pty as it set it up) can reopen, and a second
+    client can open while the first holds the pty in silence."""
+    monkeypatch.setattr(server, "PTY_REARM", 3600.0)
+    monkeypatch.setattr(PtyServer, "_max_wait", 1.0)
+    board = Board(clock=RealClock())
+    with PtyServer(board) as srv:
+        for _ in range(3):
+            serial.Serial(srv.path, baud, parity="E").close()
+            assert wait_armed(srv.path)
+        first = serial.Serial(srv.path, baud, parity="E", timeout=2)
+        try:
+            assert wait_armed(srv.path)
+            serial.Serial(srv.path, baud, parity="E").close()
+            assert wait_armed(srv.path)
+            assert exchange(first, "03 FE 01") == bytes.fromhex("04 FE 06 08")
+        finally:
+            first.close()
     board.close()
 
 

@@ -26,7 +26,15 @@ import serial
 
 from rcb4hv.errors import TransportError
 from rcb4hv.transport import DEFAULT_BAUD, resolve_port
-from rcb4hv.transport.serial_port import set_port_rate
+from rcb4hv.transport.serial_port import (
+    OPEN_ERRORS,
+    PORT_ERRORS,
+    check_url,
+    leave_pty_armed,
+    link_error,
+    open_error,
+    set_port_rate,
+)
 
 __all__ = ["AsyncTransport", "PolledTransport", "StreamTransport", "open_async_transport"]
 
@@ -34,6 +42,9 @@ log = logging.getLogger(__name__)
 
 POLL_INTERVAL: Final = 0.001
 """Seconds between two polls of a port without a file descriptor."""
+CLOSE_TIMEOUT: Final = 2.0
+"""Seconds a close waits for bytes still queued to leave (the blocking face's write timeout);
+then they are dropped and the port closed at once."""
 
 
 class AsyncTransport(abc.ABC):
@@ -87,6 +98,7 @@ class _LinkProtocol(asyncio.Protocol):
         self.buffer = bytearray()
         self.arrived = asyncio.Event()
         self.lost: str | None = None
+        self.closed = asyncio.Event()  # connection_lost ran: the port or socket is closed
         self.transport: asyncio.BaseTransport | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
@@ -105,6 +117,7 @@ class _LinkProtocol(asyncio.Protocol):
         if self.lost is None:
             self.lost = f"connection lost: {exc}" if exc else "connection closed"
         self.arrived.set()
+        self.closed.set()
 
 
 class StreamTransport(AsyncTransport):
@@ -137,7 +150,7 @@ class StreamTransport(AsyncTransport):
         try:
             self._transport.write(data)
         except (OSError, RuntimeError, serial.SerialException) as exc:
-            raise TransportError(f"{self.url}: write failed: {exc}") from exc
+            raise link_error(self.url, "write failed", exc) from exc
 
     async def _wait(self, count: int, deadline: float) -> None:
         """Until ``count`` bytes are buffered, or ``deadline``."""
@@ -171,8 +184,8 @@ class StreamTransport(AsyncTransport):
         if self._port is not None:
             try:
                 self._port.reset_input_buffer()
-            except (OSError, serial.SerialException) as exc:
-                raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
+            except PORT_ERRORS as exc:
+                raise link_error(self.url, "cannot flush input", exc) from exc
 
     def set_baudrate(self, baudrate: int) -> None:
         if self._port is None:
@@ -183,17 +196,31 @@ class StreamTransport(AsyncTransport):
         set_port_rate(self._port, baudrate, self.url)
 
     async def close(self) -> None:
-        if not self._transport.is_closing():
-            self._transport.close()
-            await asyncio.sleep(0)  # let the loop run connection_lost
+        """Return once the port (or socket) is closed: the event loop closes it after the
+        bytes still queued have left (a serial port's in an executor thread), then tells the
+        protocol, last."""
+        transport, closed = self._transport, self._protocol.closed
+        if not transport.is_closing():
+            if self._port is not None and self._port.is_open:
+                leave_pty_armed(self._port)
+            transport.close()
+        with contextlib.suppress(asyncio.TimeoutError):
+            await asyncio.wait_for(closed.wait(), CLOSE_TIMEOUT)
+            return
+        if transport.get_write_buffer_size():  # stuck: drop them (else the close is under way)
+            log.warning(
+                "%s: %d byte(s) not sent at close", self.url, transport.get_write_buffer_size()
+            )
+            transport.abort()
+        await closed.wait()
 
     async def reopen(self) -> None:
         await self.close()
         port = self._port
         if port is None:
-            fresh: AsyncTransport = await _open_socket(self.url)
+            fresh: AsyncTransport = await _open_socket(self.url, "reopen")
         else:
-            fresh = await _open_serial(self.url, int(port.baudrate))
+            fresh = await _open_serial(self.url, int(port.baudrate), "reopen")
         if not isinstance(fresh, StreamTransport):  # pragma: no cover - the fd went away
             await fresh.close()
             raise TransportError(f"cannot reopen {self.url}: the port has no file descriptor")
@@ -214,8 +241,8 @@ class PolledTransport(AsyncTransport):
     def write(self, data: bytes) -> None:
         try:
             self._port.write(data)
-        except (OSError, serial.SerialException) as exc:
-            raise TransportError(f"{self.url}: write failed: {exc}") from exc
+        except PORT_ERRORS as exc:
+            raise link_error(self.url, "write failed", exc) from exc
 
     async def read(self, size: int, deadline: float) -> bytes:
         buf = b""
@@ -229,13 +256,13 @@ class PolledTransport(AsyncTransport):
                     return buf
                 await asyncio.sleep(min(POLL_INTERVAL, remaining))
         except (OSError, ValueError, TypeError, serial.SerialException) as exc:
-            raise TransportError(f"{self.url}: read failed: {exc}") from exc
+            raise link_error(self.url, "read failed", exc) from exc
 
     def reset_input(self) -> None:
         try:
             self._port.reset_input_buffer()
-        except (OSError, serial.SerialException) as exc:
-            raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
+        except PORT_ERRORS as exc:
+            raise link_error(self.url, "cannot flush input", exc) from exc
 
     def set_baudrate(self, baudrate: int) -> None:
         set_port_rate(self._port, baudrate, self.url)
@@ -248,8 +275,8 @@ class PolledTransport(AsyncTransport):
         await self.close()
         try:
             self._port.open()
-        except (OSError, ValueError, serial.SerialException) as exc:
-            raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
+        except OPEN_ERRORS as exc:
+            raise open_error(self.url, exc, "reopen") from exc
 
 
 def _has_fd(port: serial.Serial) -> bool:
@@ -259,21 +286,20 @@ def _has_fd(port: serial.Serial) -> bool:
         return False
 
 
-async def _open_socket(url: str) -> StreamTransport:
+async def _open_socket(url: str, verb: str = "open") -> StreamTransport:
+    check_url(url)  # the blocking face's rule: a host, and a port within 1..65535
     parts = urllib.parse.urlsplit(url)
-    if not parts.hostname or parts.port is None:
-        raise ValueError(f"expected socket://HOST:PORT, got {url!r}")
+    host, port = parts.hostname, parts.port
+    assert host is not None and port is not None  # check_url saw to it
     loop = asyncio.get_running_loop()
     try:
-        transport, protocol = await loop.create_connection(
-            _LinkProtocol, parts.hostname, parts.port
-        )
+        transport, protocol = await loop.create_connection(_LinkProtocol, host, port)
     except OSError as exc:
-        raise TransportError(f"cannot open {url}: {exc}") from exc
+        raise open_error(url, exc, verb) from exc
     return StreamTransport(transport, protocol, url)
 
 
-async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
+async def _open_serial(url: str, baudrate: int, verb: str = "open") -> AsyncTransport:
     # Import here: the package is only needed for serial devices. pyserial-asyncio-fast
     # watches the port's file descriptor with the event loop (no thread, no polling).
     import serial_asyncio_fast
@@ -284,10 +310,8 @@ async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
 
     try:
         port = await loop.run_in_executor(None, serial_port.open_8e1, url, baudrate, 0)
-    except serial_port.PORT_ERRORS as exc:
-        raise TransportError(f"cannot open {url}: {exc}") from exc
-    except ValueError as exc:  # as the blocking face: a bad fault:// spec, an unknown scheme
-        raise TransportError(f"cannot open {url}: {exc} ({serial_port.KINDS})") from exc
+    except OPEN_ERRORS as exc:  # as the blocking face (a bad fault:// spec...)
+        raise open_error(url, exc, verb) from exc
     if not _has_fd(port):
         return PolledTransport(port, url)
     # pyserial-asyncio-fast sets timeout = write_timeout = 0, which pyserial applies with a
@@ -298,9 +322,9 @@ async def _open_serial(url: str, baudrate: int) -> AsyncTransport:
         transport, protocol = await serial_asyncio_fast.connection_for_serial(
             loop, _LinkProtocol, port
         )
-    except serial_port.PORT_ERRORS as exc:
+    except PORT_ERRORS as exc:
         port.close()
-        raise TransportError(f"cannot use {url}: {exc}") from exc
+        raise open_error(url, exc, "use") from exc
     finally:
         delattr(port, "_reconfigure_port")
     assert isinstance(protocol, _LinkProtocol)

@@ -22,23 +22,24 @@ that is allowed, so re-arming does not wait for a CPU.
 
 from __future__ import annotations
 
-import fcntl
 import logging
 import os
-import struct
 import termios
 import time
 from typing import Final
 
-from rcb4hv.emulator.server import PtyServer, Served, fine_timer_slack
+from rcb4hv.emulator.server import (
+    TIOCPKT_DATA,
+    TIOCPKT_IOCTL,
+    PtyServer,
+    Served,
+    fine_timer_slack,
+)
 
 __all__ = ["WatchingPtyServer"]
 
 log = logging.getLogger(__name__)
 
-EXTPROC: Final = 0o200000  # <asm-generic/termbits.h>; not exported by Python's termios
-TIOCPKT_DATA: Final = 0x00
-TIOCPKT_IOCTL: Final = 0x40
 # A client seen reconfiguring between command and reply always does (rcb4's synchronize):
 # hold its replies until it has, however long a busy machine makes it take.
 LEARNED_GATE_S: Final = 1.0
@@ -53,10 +54,12 @@ class WatchingPtyServer(PtyServer):
     """A :class:`PtyServer` that re-arms on every client ``tcsetattr`` and gates replies."""
 
     name = "rcb4hv-emulator-pty-watch"
-    _arm_lflag = EXTPROC  # makes the driver report termios changes to the master
 
     def __init__(self, board: Served, *, reply_gate_s: float) -> None:
-        super().__init__(board)
+        super().__init__(board)  # the master in packet mode, EXTPROC armed on the slave
+        if not self._packet:
+            self.stop()
+            raise OSError("the ICS pty server needs the pty's packet mode (Linux)")
         self.reply_gate_s = reply_gate_s
         self._gate_until: float | None = None
         self._reconfigures = 0  # client tcsetattr calls seen
@@ -66,8 +69,6 @@ class WatchingPtyServer(PtyServer):
         self._plain_streak = 0  # gates that ran out with no reconfigure, in a row
         self._held = bytearray()  # the servo's answer, waiting for the gate
         self._stopped_until: float | None = None  # the slave's output is stopped until then
-        fcntl.ioctl(self._master, termios.TIOCPKT, struct.pack("i", 1))
-        self._rearm()
         # Until the first client sets the port up (its open's tcsetattr) and that is re-armed,
         # its first command waits: the first timeout change follows it by 2 ms only.
         self._before_first = True  # no client has set the port up yet

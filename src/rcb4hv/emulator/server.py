@@ -20,8 +20,13 @@ server keeps the slave *armed*: CSTOPB (pyserial clears it in every reconfigure;
 custom-baud ``TCSETS2`` keeps it) and a sentinel speed, so the client's next ``tcsetattr``
 changes ``c_cflag``. Each arming writes the other of two sentinel speeds: one that lands inside
 a client's call (after its ioctl, before glibc's read-back) still leaves ``c_cflag`` changed.
-It re-arms when the client has been active (before answering) and every :data:`PTY_REARM`
-seconds. Clients that reconfigure around every read need more: :mod:`rcb4hv.emulator.ptywatch`.
+It re-arms as soon as a client has set the slave up (the master runs in packet mode and the
+slave carries EXTPROC, so the kernel reports each ``tcsetattr``: a client that opens, closes
+and reopens without sending finds it armed, as does a second client), before answering, and
+every :data:`PTY_REARM` seconds. An open that comes within the server's wake-up time of the
+previous set-up can still be refused (rcb4hv's own transports close a pty armed, so their
+reopen never is). Clients that reconfigure around every read need more:
+:mod:`rcb4hv.emulator.ptywatch`.
 The TCP server serves one connection at a time; a new connection replaces the old one.
 
 Both serve any :class:`Served` device, not only a :class:`~rcb4hv.emulator.Board`: the ICS bus
@@ -32,11 +37,13 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import fcntl
 import logging
 import os
 import pty
 import select
 import socket
+import struct
 import sys
 import termios
 import threading
@@ -60,6 +67,10 @@ PTY_REARM: Final = 0.2
 SENTINEL_SPEEDS: Final = (termios.B50, termios.B75)
 # One stop bit: every pyserial reconfigure clears CSTOPB (ICS and RCB-4 are 8E1), a pty keeps it.
 ARM_CFLAG: Final = termios.CSTOPB
+# Packet mode (TIOCPKT) with EXTPROC on the slave: the kernel reports every termios change.
+EXTPROC: Final = 0o200000  # <asm-generic/termbits.h>; not exported by Python's termios
+TIOCPKT_DATA: Final = 0x00
+TIOCPKT_IOCTL: Final = 0x40
 PR_SET_TIMERSLACK: Final = 29
 # start() waits this long at most for the thread to serve (as long as stop() waits for it)
 START_TIMEOUT_S: Final = 10.0
@@ -289,7 +300,6 @@ class PtyServer(_Server):
 
     name = "rcb4hv-emulator-pty"
     _max_wait = PTY_REARM
-    _arm_lflag = 0  # local flags an armed slave carries too
 
     def __init__(self, board: Served) -> None:
         super().__init__(board)
@@ -300,7 +310,22 @@ class PtyServer(_Server):
         self._last_rearm = 0.0
         self._sentinel = 0  # index of the sentinel speed written last
         self._written: tuple[int, int] = (0, 0)  # c_cflag, c_lflag of the last arming
+        self._arm_lflag = 0  # local flags an armed slave carries too
+        self._packet = self._packet_mode()
         self._rearm()
+
+    def _packet_mode(self) -> bool:
+        """Have the kernel report each termios change of the slave (a client's open, close
+        and reopen with nothing sent included): packet mode on the master, EXTPROC on the
+        slave (armed with it, so a client that clears it is re-armed too). False where the
+        pty has no packet mode: the periodic re-arm alone then."""
+        try:
+            fcntl.ioctl(self._master, termios.TIOCPKT, struct.pack("i", 1))
+        except (OSError, AttributeError) as exc:
+            log.debug("no packet mode on the pty: %s", exc)
+            return False
+        self._arm_lflag = EXTPROC
+        return True
 
     def _armed(self) -> bool:
         """Whether the slave is armed (no client open or reconfigure since the last arming)."""
@@ -367,6 +392,12 @@ class PtyServer(_Server):
 
     def _on_readable(self, fd: int) -> bool:
         data = self._read_master()
+        if self._packet and data:
+            if data[0] != TIOCPKT_DATA:  # a status packet: one byte, no data
+                if data[0] & TIOCPKT_IOCTL and self._touched():  # a client's, not our own
+                    self._rearm()
+                return False
+            data = data[1:]
         if not data:
             return False
         self._rearm()

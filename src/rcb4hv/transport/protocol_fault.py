@@ -4,7 +4,9 @@
 :class:`~rcb4hv.transport.SerialTransport` and wraps it in a
 :class:`~rcb4hv.transport.FaultyTransport` configured by ``SPEC`` (see
 :func:`~rcb4hv.transport.parse_fault_url`); the port object's :attr:`Serial.faults` is that
-wrapper (``faults.inject(...)``, ``faults.history``).
+wrapper (``faults.inject(...)``, ``faults.history``). Closing and opening the port again (a
+client's ``reconnect()``) reopens that same wrapper's link: faults queued with ``inject``, the
+history and the RNG's position carry on, and a reference to ``port.faults`` stays good.
 
 pyserial finds this module by name, as it finds ``rcb4emu://``'s
 (:mod:`rcb4hv.emulator.protocol_rcb4emu`): :mod:`rcb4hv.transport` adds ``rcb4hv.transport``
@@ -37,6 +39,7 @@ class Serial(SerialBase):
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         self.faults: FaultyTransport | None = None
+        self._faults_url: str | None = None  # the URL self.faults was made for
         super().__init__(*args, **kwargs)
 
     def open(self) -> None:
@@ -44,8 +47,14 @@ class Serial(SerialBase):
             raise SerialException("port is already open")
         if self.port is None:
             raise SerialException("port must be configured before it can be used")
-        config, inner = parse_fault_url(str(self.port))
-        self.faults = FaultyTransport(SerialTransport.open(inner, self.baudrate), config)
+        url = str(self.port)
+        if self.faults is not None and self._faults_url == url:
+            self.faults.reopen()  # the same injector: its script, history and RNG go on
+            self.faults.set_baudrate(self.baudrate)
+        else:
+            config, inner = parse_fault_url(url)
+            self.faults = FaultyTransport(SerialTransport.open(inner, self.baudrate), config)
+            self._faults_url = url
         self.is_open = True
 
     def close(self) -> None:

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import logging
 import os
 import select
@@ -24,9 +25,14 @@ __all__ = [
     "KINDS",
     "KONDO_PIDS",
     "KONDO_VID",
+    "OPEN_ERRORS",
     "PORT_ERRORS",
     "SerialTransport",
+    "check_url",
     "find_kondo_ports",
+    "leave_pty_armed",
+    "link_error",
+    "open_error",
     "port_errors",
     "resolve_port",
     "set_port_rate",
@@ -63,7 +69,9 @@ def port_errors() -> tuple[type[BaseException], ...]:
 
 
 PORT_ERRORS: Final = port_errors()
-_RATE_ERRORS: Final[tuple[type[BaseException], ...]] = (*PORT_ERRORS, ValueError)
+OPEN_ERRORS: Final[tuple[type[BaseException], ...]] = (*PORT_ERRORS, ValueError)
+"""A port's errors and pyserial's ValueError (a URL or a setting it rejects): opening, reopening
+and setting the rate catch these."""
 
 
 def set_port_rate(port: serial.Serial, baudrate: int, url: str) -> None:
@@ -74,7 +82,7 @@ def set_port_rate(port: serial.Serial, baudrate: int, url: str) -> None:
         return
     try:
         port.baudrate = baudrate
-    except _RATE_ERRORS as exc:
+    except OPEN_ERRORS as exc:
         raise TransportError(f"{url}: cannot set {baudrate} baud: {exc}") from exc
 
 
@@ -153,23 +161,107 @@ def _disable_nagle(port: object) -> None:
 KINDS = "a port is a device path, socket://HOST:PORT, rfc2217://, rcb4emu://, spy://DEV or fault://"
 
 
-def _check_url(url: str) -> None:
-    """TransportError for a URL pyserial would fail on obscurely (a socket without a port)."""
+def check_url(url: str) -> None:
+    """TransportError for a URL pyserial would fail on obscurely (a socket without a host or a
+    port, a port past 65535); the rule of both faces (the asyncio one opens sockets itself)."""
     if not url.lower().startswith("socket://"):
         return
     try:
-        port = urllib.parse.urlsplit(url).port
+        parts = urllib.parse.urlsplit(url)
+        port = parts.port
     except ValueError as exc:
         raise TransportError(f"cannot open {url}: {exc} (socket://HOST:PORT)") from exc
-    if port is None:
+    if port is None or not parts.hostname:
+        what = "a port" if parts.hostname else "a host"
         raise TransportError(
-            f"cannot open {url}: a socket:// URL needs a port (socket://HOST:PORT)"
+            f"cannot open {url}: a socket:// URL needs {what} (socket://HOST:PORT)"
         )
 
 
+# Linux's Unix98 pty slaves (Documentation/admin-guide/devices.txt: majors 136-143).
+PTY_SLAVE_MAJORS: Final = range(136, 144)
+# A link that is gone: a pty whose master closed (the emulator stopped), an adapter unplugged.
+_GONE_ERRNOS: Final = frozenset({errno.EIO, errno.ENXIO, errno.ENODEV})
+_PTY_EINVAL: Final = (
+    "a pty cannot store even parity, so it refuses a set-up that changes nothing it holds: if "
+    "another client has just set it up, open it again a moment later (`rcb4hv emulate --pty` "
+    "re-arms its pty after every set-up; another program's pty may never be), or serve the "
+    "board on TCP (`rcb4hv emulate --tcp`, socket://HOST:PORT)"
+)
+
+
+def _errno(exc: BaseException) -> int | None:
+    """The errno of ``exc``: an OSError's, a ``termios.error``'s first argument, or that of
+    the OSError pyserial turned into a SerialException."""
+    for e in (exc, exc.__cause__, exc.__context__):
+        if e is None:
+            continue
+        code = getattr(e, "errno", None)
+        if code is None and e.args and isinstance(e.args[0], int):
+            code = e.args[0]
+        if isinstance(code, int):
+            return code
+    return None
+
+
 def _why(exc: BaseException) -> str:
-    """``exc``'s message without a "read failed: " pyserial put in front of it already."""
-    return str(exc).removeprefix("read failed: ")
+    """``exc``'s message without a "read failed: " or "write failed: " pyserial put in front
+    of it already; a ``termios.error`` as an OSError reads."""
+    if not isinstance(exc, OSError) and len(exc.args) == 2 and isinstance(exc.args[0], int):
+        return f"[Errno {exc.args[0]}] {exc.args[1]}"
+    return str(exc).removeprefix("read failed: ").removeprefix("write failed: ")
+
+
+def _is_pty(path: str) -> bool:
+    try:
+        return os.major(os.stat(path).st_rdev) in PTY_SLAVE_MAJORS
+    except (OSError, ValueError):
+        return False
+
+
+def open_error(url: str, exc: BaseException, verb: str = "open") -> TransportError:
+    """The TransportError of a port that would not ``verb`` (open, reopen), both faces."""
+    message = f"cannot {verb} {url}: {_why(exc)}"
+    if isinstance(exc, ValueError):  # pyserial: "invalid URL, protocol 'x' not known"
+        message += f" ({KINDS})"
+    elif _errno(exc) == errno.EINVAL and _is_pty(url):
+        message += f" ({_PTY_EINVAL})"
+    return TransportError(message)
+
+
+def link_error(url: str, failed: str, exc: BaseException) -> TransportError:
+    """The TransportError of a port call that ``failed`` ("read failed", "cannot flush
+    input"...), one wording for both faces: a port not open and a link that is gone said so."""
+    if isinstance(exc, serial.PortNotOpenError):  # "Attempting to use a port that is not open"
+        return TransportError(f"{url}: the port is not open (closed, or its reopen failed)")
+    if _errno(exc) in _GONE_ERRNOS:
+        return TransportError(
+            f"{url}: the link is gone ({failed}: {_why(exc)}): the board's adapter was "
+            "unplugged, or the emulator serving the port stopped"
+        )
+    return TransportError(f"{url}: {failed}: {_why(exc)}")
+
+
+def leave_pty_armed(port: serial.Serial) -> None:
+    """Before a pty is closed: set CSTOPB on it, so that the next open's set-up changes
+    ``c_cflag`` however soon it comes. A pty cannot store even parity, and glibc's
+    ``tcsetattr`` fails (EINVAL) a set-up that changes nothing the pty holds, which is what
+    reopening with the same settings asks for; ``rcb4hv emulate --pty`` re-arms its pty after
+    every set-up, but an open right after a close can come first. Other ports: nothing."""
+    fd = getattr(port, "fd", None)
+    if _POSIX_SERIAL is None or not isinstance(port, _POSIX_SERIAL) or not isinstance(fd, int):
+        return
+    import termios  # POSIX only, as _POSIX_SERIAL
+
+    try:
+        if os.major(os.fstat(fd).st_rdev) not in PTY_SLAVE_MAJORS:
+            return
+        attrs = termios.tcgetattr(fd)
+        if not attrs[2] & termios.CSTOPB:
+            attrs[2] |= termios.CSTOPB
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
+    except (OSError, termios.error) as exc:
+        log.debug("%s: could not leave the pty armed: %s", port.port, exc)
 
 
 class SerialTransport(Transport):
@@ -179,14 +271,8 @@ class SerialTransport(Transport):
         self.port = port
         self.url = url if url is not None else str(port.port)
         self._fd: int | None = None
-        try:
-            self._fd = int(port.fileno())
-        except (AttributeError, OSError, ValueError, serial.SerialException):
-            self._fd = None
-        # A POSIX serial port (device, pty) is opened non-blocking by pyserial and keeps no
-        # buffer of its own: its fd is read and written directly (one system call each way
-        # instead of pyserial's select/read loops).
-        self._raw_fd = self._fd if type(port) is _POSIX_SERIAL else None
+        self._raw_fd: int | None = None
+        self._opened()
         wanted = 0 if self._fd is not None else _SLICE
         try:
             if port.timeout != wanted:
@@ -202,16 +288,31 @@ class SerialTransport(Transport):
         """
         if baudrate <= 0:
             raise ValueError(f"baud rate {baudrate} must be positive")
-        _check_url(url)
+        check_url(url)
         try:
             port = open_8e1(url, baudrate, write_timeout=2.0)
-        except PORT_ERRORS as exc:
-            raise TransportError(f"cannot open {url}: {exc}") from exc
-        except ValueError as exc:  # pyserial: "invalid URL, protocol 'x' not known"
-            raise TransportError(f"cannot open {url}: {exc} ({KINDS})") from exc
-        _disable_nagle(port)
+        except OPEN_ERRORS as exc:
+            raise open_error(url, exc) from exc
         log.debug("opened %s at %d baud", url, baudrate)
-        return cls(port, url)
+        try:
+            return cls(port, url)
+        except BaseException:
+            port.close()
+            raise
+
+    def _opened(self) -> None:
+        """What every open of the port does once pyserial has opened it (:meth:`open` and
+        :meth:`reopen` alike, so they cannot drift apart): find the fd, and turn Nagle off."""
+        port = self.port
+        try:
+            self._fd = int(port.fileno())
+        except (AttributeError, OSError, ValueError, TypeError, serial.SerialException):
+            self._fd = None  # no fd: rcb4emu://, loop://, fault://
+        # A POSIX serial port (device, pty) is opened non-blocking by pyserial and keeps no
+        # buffer of its own: its fd is read and written directly (one system call each way
+        # instead of pyserial's select/read loops).
+        self._raw_fd = self._fd if type(port) is _POSIX_SERIAL else None
+        _disable_nagle(port)
 
     @property
     def is_open(self) -> bool:
@@ -232,14 +333,14 @@ class SerialTransport(Transport):
             except BlockingIOError:
                 n = 0
             except OSError as exc:
-                raise TransportError(f"{self.url}: write failed: {exc}") from exc
+                raise link_error(self.url, "write failed", exc) from exc
             if n == len(data):
                 return
             data = data[n:]
         try:
             self.port.write(data)
         except PORT_ERRORS as exc:
-            raise TransportError(f"{self.url}: write failed: {exc}") from exc
+            raise link_error(self.url, "write failed", exc) from exc
 
     def read(self, size: int, deadline: float) -> bytes:
         port, fd = self.port, self._fd
@@ -255,7 +356,7 @@ class SerialTransport(Transport):
                 if fd is not None:
                     select.select((fd,), (), (), remaining)
         except (serial.SerialException, OSError, ValueError) as exc:
-            raise TransportError(f"{self.url}: read failed: {_why(exc)}") from exc
+            raise link_error(self.url, "read failed", exc) from exc
         except TypeError as exc:  # pyserial on a port closed under it (fd None)
             raise TransportError(f"{self.url}: port closed: {exc}") from exc
 
@@ -276,7 +377,7 @@ class SerialTransport(Transport):
                     return b""
                 select.select((fd,), (), (), remaining)
         except OSError as exc:
-            raise TransportError(f"{self.url}: read failed: {_why(exc)}") from exc
+            raise link_error(self.url, "read failed", exc) from exc
 
     def _read_some_port(self, size: int, deadline: float) -> bytes:
         port, fd = self.port, self._fd
@@ -298,7 +399,7 @@ class SerialTransport(Transport):
                 if fd is not None:
                     select.select((fd,), (), (), remaining)
         except (serial.SerialException, OSError, ValueError) as exc:
-            raise TransportError(f"{self.url}: read failed: {_why(exc)}") from exc
+            raise link_error(self.url, "read failed", exc) from exc
         except TypeError as exc:  # pyserial on a port closed under it (fd None)
             raise TransportError(f"{self.url}: port closed: {exc}") from exc
 
@@ -306,7 +407,7 @@ class SerialTransport(Transport):
         try:
             self.port.reset_input_buffer()
         except PORT_ERRORS as exc:
-            raise TransportError(f"{self.url}: cannot flush input: {exc}") from exc
+            raise link_error(self.url, "cannot flush input", exc) from exc
 
     def close(self) -> None:
         self._raw_fd = None
@@ -321,6 +422,8 @@ class SerialTransport(Transport):
             sock.close()
             port.is_open = False
             return
+        if port.is_open:
+            leave_pty_armed(port)
         try:
             port.close()
         except PORT_ERRORS as exc:
@@ -330,11 +433,6 @@ class SerialTransport(Transport):
         self.close()
         try:
             self.port.open()
-        except PORT_ERRORS as exc:
-            raise TransportError(f"cannot reopen {self.url}: {exc}") from exc
-        try:
-            fd = int(self.port.fileno())
-        except Exception:  # no fd (rcb4emu://, loop://): nothing to refresh
-            return
-        self._fd = fd
-        self._raw_fd = fd if type(self.port) is _POSIX_SERIAL else None
+        except OPEN_ERRORS as exc:
+            raise open_error(self.url, exc, "reopen") from exc
+        self._opened()
