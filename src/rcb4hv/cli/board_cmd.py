@@ -298,11 +298,12 @@ def servo_move(
         if not sep:
             raise click.BadParameter(f"{t!r} is not ICS=VALUE")
         try:
-            values[parse_int(k)] = float(v)
+            ics, value = parse_int(k), float(v)
         except ValueError as exc:
             raise click.BadParameter(f"{t!r}: {v!r} is not a number") from exc
-        if not deg and not values[parse_int(k)].is_integer():
+        if not deg and not value.is_integer():
             raise click.BadParameter(f"{t!r}: a position is a whole number of counts")
+        values[ics] = value
 
     def checked(positions: dict[int, int]) -> dict[int, int]:
         """The robot API's check; its message names --unchecked, not check_range=False."""

@@ -95,7 +95,7 @@ def gait_command(
     if robot_name is None:
         raise click.UsageError("which robot: --robot NAME (rcb4hv robot list)")
     # --port on the command line sends the walk to that board (RCB4HV_PORT alone does not)
-    play = play or ctx.get_parameter_source("port") == click.core.ParameterSource.COMMANDLINE
+    play = play or _given(ctx, "port")
     from rcb4hv.cli.project_common import parse_buttons
     from rcb4hv.gait.generate import default_params, walk
     from rcb4hv.gait.motion import load_or_new, period_ms, walk_motion

@@ -24,6 +24,7 @@ from rcb4hv.cli._util import (
 from rcb4hv.protocol.memory import SERVO
 
 if TYPE_CHECKING:
+    from rcb4hv.client import Robot
     from rcb4hv.hth4.model import Project
 
 __all__ = ["register"]
@@ -41,22 +42,26 @@ def trim() -> None:
 def board_trims(conn: Connection) -> dict[int, int]:
     """ICS number -> trim of every servo the board has."""
     with conn.open() as robot:
-        return {s.ics: s.trim for s in robot.discover_servos()}
+        return trims_of(robot)
+
+
+def trims_of(robot: Robot) -> dict[int, int]:
+    """ICS number -> trim of every servo ``robot``'s board has."""
+    return {s.ics: s.trim for s in robot.discover_servos()}
 
 
 MOTION_PROBE: Final = 64
 """Bytes of each motion compared between the project and the board's ROM."""
 
 
-def holds_a_motion_of(conn: Connection, motions: list[tuple[int, bytes]]) -> bool | None:
+def holds_a_motion_of(robot: Robot, motions: list[tuple[int, bytes]]) -> bool | None:
     """Whether the board's ROM holds one of ``motions`` ((address, first bytes) of a
     project's motions) byte for byte: a board the project was uploaded to does, even after
     later edits of some motions; another robot's board does not. None when there is nothing
     to compare (a project without motions)."""
     if not motions:
         return None
-    with conn.open() as robot:
-        return any(robot.client.read_rom(a, len(code)) == code for a, code in motions)
+    return any(robot.client.read_rom(a, len(code)) == code for a, code in motions)
 
 
 def project_motions(project: Project) -> list[tuple[int, bytes]]:
@@ -126,7 +131,9 @@ def save_command(conn: Connection, file: Path, output: Path | None, force: bool)
 
     session = EditSession.open(file)
     used = {s.device_number for s in session.project.servos if s.in_use}
-    trims = board_trims(conn)
+    with conn.open() as robot:  # one link: the trims and the motions the ROM holds
+        trims = trims_of(robot)
+        ours = None if force else holds_a_motion_of(robot, project_motions(session.project))
     if set(trims) != used and not force:
         only_board, only_file = sorted(set(trims) - used), sorted(used - set(trims))
         raise EditError(
@@ -134,7 +141,7 @@ def save_command(conn: Connection, file: Path, output: Path | None, force: bool)
             f"{only_board or 'none'}; only in the project: {only_file or 'none'}): is it "
             "this robot's board? (--force stores the trims of the servos both use)"
         )
-    if not force and holds_a_motion_of(conn, project_motions(session.project)) is False:
+    if ours is False:
         raise EditError(
             f"the board's ROM holds none of {file.name}'s motions: is it this robot's board? "
             "(upload the project first, or --force stores the board's trims anyway)"

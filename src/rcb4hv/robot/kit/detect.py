@@ -254,6 +254,15 @@ def _feet_down(model: RobotModel, family: Family) -> list[tuple[str, bool, str]]
     return [("home pose stands on its limbs", not high, detail)]
 
 
+def _limb_ics(stock: Mapping[str, tuple[int, int]]) -> set[int]:
+    """The ICS numbers of a stock joint map's limbs (left and right joints; not the head)."""
+    return {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
+
+
+STOCK_SOURCE = "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
+"""Where a joint map taken from a stock build came from (the report's evidence)."""
+
+
 def _escape(code: KitCode) -> str:
     """How to play on a KXR-``code`` all the same (docs/robots.md): a joint map of your own."""
     return (
@@ -273,9 +282,7 @@ def _forced_stock(
     refuses the code, naming the servo and the joint, whichever family it is; names that say
     nothing (blank, spares) never do. The servos a stock build lacks are left out."""
     stocks = stock_joint_maps(force)
-    fitting = [
-        st for st in stocks if {i for j, (i, _) in st.items() if j[:2] in ("l_", "r_")} <= used
-    ]
+    fitting = [st for st in stocks if _limb_ics(st) <= used]
     fitting.sort(key=lambda st: len(used - {i for i, _ in st.values()}))  # fewest left out
     at = {i: j for j, (i, _) in (fitting or stocks)[0].items()}
     placed = map_roles(force.family, roles, wheel_tips=True)
@@ -307,7 +314,7 @@ def _forced_stock(
     left = sorted(used - {i for i, _ in stock.values()})
     if left:
         notes.append(f"servo(s) {left}: no joint of the stock KXR-{force.code}: left out")
-    return force, stock, "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
+    return force, stock, STOCK_SOURCE
 
 
 def _choose(
@@ -324,8 +331,7 @@ def _choose(
         return _forced_stock(force, roles, used, notes)
     if code is not None and code.family not in cands:
         for stock in stock_joint_maps(code):
-            limbs = {i for j, (i, _) in stock.items() if j[:2] in ("l_", "r_")}
-            if not limbs <= used <= {i for i, _ in stock.values()}:  # every limb; head optional
+            if not _limb_ics(stock) <= used <= {i for i, _ in stock.values()}:  # head optional
                 continue
             stock = {j: (i, s) for j, (i, s) in stock.items() if i in used}
             why = "; ".join(w for _, w in map_roles(code.family, roles).unplaced)
@@ -333,7 +339,7 @@ def _choose(
                 f"the servo names do not fit a KXR-{code.code} ({why or 'no joint named'}), "
                 "but the ICS numbers are a stock build's: joints from its stock map"
             )
-            return code, stock, "the kit's stock ICS numbers (KXR-KITS.md §1.4)"
+            return code, stock, STOCK_SOURCE
     family: Family
     if code is not None and code.family in cands:
         family = code.family
